@@ -1,0 +1,401 @@
+"""Smoothing, edge points along epipolar lines and their features (seed 3.1-3.2).
+
+Images come in as ``(H, W)`` (or ``(H, W, 3|4)`` colour) arrays of any integer bit
+depth; they are converted to grey and scaled to the seed's 0..127 grey scale so that
+the seed's gradient threshold of 8.0 means the same contrast at any bit depth.  The
+rows of a rectified image are its epipolar lines; edge points are the peaks of the
+1-D intensity gradient along the rows of the smoothed image, located to sub-pixel
+precision.
+
+Each edge point ``P[i, j](d, s, m, p, a)`` (seed 3.2) carries its position ``d``
+(here ``x``, pixels), contrast sign ``s``, gradient magnitude ``m``, connectivity
+pattern type ``p`` (1..16) and 5 x 5 mean grey level ``a``; robostereo adds the
+grey levels on either side of the edge, which tell edges apart better than one mean.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import cv2
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robostereo.errors import InputError, require_positive
+
+__all__ = [
+    "SEED_KERNEL",
+    "EdgeSet",
+    "connectivity",
+    "detect_edges",
+    "pattern_difference",
+    "pattern_type",
+    "smooth",
+    "to_grey",
+]
+
+SEED_KERNEL: NDArray[np.float64] = np.array(
+    [
+        [2, 2, 2, 2, 2],
+        [2, 10, 10, 10, 2],
+        [2, 10, 15, 10, 2],
+        [2, 10, 10, 10, 2],
+        [2, 2, 2, 2, 2],
+    ],
+    dtype=float,
+) / 126.0
+"""The seed's 5 x 5 averaging-Gaussian filter (figure 3-1), normalised by its sum 126."""
+
+#: grey levels of the seed's vision system: 0..127 (7 bit)
+SEED_GREY_LEVELS = 128
+
+#: how far (pixels) the grey levels beside an edge are sampled, either side
+SIDE_OFFSET = 3
+
+
+def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "image") -> NDArray[
+    np.float32
+]:
+    """Convert an image to grey on the seed's 0..127 scale.
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W) or (H, W, 3) or (H, W, 4)
+        Grey or colour (RGB or RGBA) image, integer or float.
+    bit_depth : int, optional
+        Bits per grey level of the input.  Default: 8 for ``uint8``, 16 for
+        ``uint16``; float images are taken to be on the 0..127 scale already.
+        The simulated camera's 7-bit images use ``bit_depth=7``.
+    name : str
+        Name used in error messages.
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W)
+        Grey levels scaled by ``128 / 2**bit_depth``.
+
+    Examples
+    --------
+    >>> to_grey(np.array([[0, 255]], dtype=np.uint8))
+    array([[  0. , 127.5]], dtype=float32)
+    >>> to_grey(np.array([[0, 65535]], dtype=np.uint16))[0, 1].round(3)
+    np.float32(127.998)
+    """
+    arr = np.asarray(image)
+    if arr.ndim == 3 and arr.shape[2] in (3, 4):
+        if arr.shape[2] == 4:
+            arr = arr[:, :, :3]
+        work = arr.astype(np.float32) if arr.dtype != np.float32 else arr
+        grey = cv2.cvtColor(np.ascontiguousarray(work), cv2.COLOR_RGB2GRAY)
+    elif arr.ndim == 2:
+        grey = arr.astype(np.float32)
+    else:
+        raise InputError(
+            f"{name} must be a grey (H, W) or colour (H, W, 3|4) image, got shape {arr.shape}"
+        )
+    if grey.size == 0:
+        raise InputError(f"{name} is empty (shape {arr.shape})")
+    if bit_depth is None:
+        if arr.dtype == np.uint8 or arr.dtype == np.int8:
+            bit_depth = 8
+        elif arr.dtype in (np.uint16, np.int16):
+            bit_depth = 16
+        elif np.issubdtype(arr.dtype, np.integer):
+            raise InputError(f"{name}: bit_depth must be given for {arr.dtype} images")
+        else:
+            bit_depth = 7
+    if not 1 <= bit_depth <= 32:
+        raise InputError(f"bit_depth must be in 1..32, got {bit_depth}")
+    if not np.isfinite(grey).all():
+        raise InputError(f"{name} contains NaN or infinite grey levels")
+    if bit_depth != 7:
+        grey *= np.float32(SEED_GREY_LEVELS / 2.0**bit_depth)
+    return grey
+
+
+def smooth(grey: NDArray[np.floating]) -> NDArray[np.float32]:
+    """Smooth with the seed's 5 x 5 averaging-Gaussian filter (figure 3-1).
+
+    Parameters
+    ----------
+    grey : ndarray, shape (H, W)
+
+    Returns
+    -------
+    ndarray of float32, shape (H, W)
+        The filtered image; borders are reflected (``BORDER_REFLECT_101``).
+
+    Examples
+    --------
+    >>> img = np.zeros((9, 9), np.float32); img[4, 4] = 126.0
+    >>> smooth(img)[4, 4], smooth(img)[2, 2]
+    (np.float32(15.0), np.float32(2.0))
+    """
+    return cv2.filter2D(
+        np.asarray(grey, dtype=np.float32), -1, SEED_KERNEL, borderType=cv2.BORDER_REFLECT_101
+    )
+
+
+@dataclass(frozen=True)
+class EdgeSet:
+    """Edge points of one image with their features (seed 3.2, ``P[i, j](d, s, m, p, a)``).
+
+    All arrays have shape ``(N,)`` and are sorted by ``(line, x)``.
+
+    Attributes
+    ----------
+    line : ndarray of int
+        Index ``i`` of the epipolar line (0, 1, ... over the sampled rows).
+    row : ndarray of int
+        Image row of the line, ``line * row_step + row_offset``.
+    x : ndarray of float
+        Sub-pixel position along the row (pixels; the seed's distance ``d``).
+    column : ndarray of int
+        Pixel column of the gradient peak.
+    sign : ndarray of int8
+        Contrast sign: +1 where the grey level rises along the row, -1 where it falls.
+    magnitude : ndarray of float
+        Gradient magnitude at the peak (grey levels per pixel, 0..127 scale).
+    pattern : ndarray of int8
+        Connectivity pattern type 1..16 (see :func:`pattern_type`).
+    up, down : ndarray of int
+        Index of the connected edge point on the line above / below, -1 if none.
+    up_offset, down_offset : ndarray of int8
+        Column offset -1, 0 or +1 of that neighbour; 0 where there is none.
+    mean_grey : ndarray of float
+        Mean grey level of the 5 x 5 window centred on the edge pixel.
+    grey_before, grey_after : ndarray of float
+        Smoothed grey level ``SIDE_OFFSET`` pixels before and after the edge along the row.
+    row_step, row_offset : int
+        Sampling of the epipolar lines: rows ``row_offset, row_offset + row_step, ...``.
+    n_lines : int
+        Number of sampled lines.
+    """
+
+    line: NDArray[np.intp]
+    row: NDArray[np.intp]
+    x: NDArray[np.float64]
+    column: NDArray[np.intp]
+    sign: NDArray[np.int8]
+    magnitude: NDArray[np.float64]
+    pattern: NDArray[np.int8]
+    up: NDArray[np.intp]
+    down: NDArray[np.intp]
+    up_offset: NDArray[np.int8]
+    down_offset: NDArray[np.int8]
+    mean_grey: NDArray[np.float64]
+    grey_before: NDArray[np.float64]
+    grey_after: NDArray[np.float64]
+    row_step: int = 1
+    row_offset: int = 0
+    n_lines: int = 0
+    line_start: NDArray[np.intp] = field(default_factory=lambda: np.zeros(1, np.intp))
+
+    def __len__(self) -> int:
+        return int(self.x.shape[0])
+
+    @property
+    def points(self) -> NDArray[np.float64]:
+        """Edge positions as ``(N, 2)`` image points ``(x, y)``."""
+        return np.column_stack([self.x, self.row.astype(float)])
+
+
+def pattern_type(up_offset: ArrayLike, down_offset: ArrayLike, has_up: ArrayLike,
+                 has_down: ArrayLike) -> NDArray[np.int8]:
+    """Connectivity pattern type 1..16 (seed 3.2, figure 3-2c as read in seed-notes).
+
+    Types 1-9: connected above and below, ``1 + 3 (u + 1) + (v + 1)`` for offsets
+    ``u, v`` in {-1, 0, 1}; 10-12: above only, ``11 + u``; 13-15: below only,
+    ``14 + v``; 16: connected to neither.
+
+    Examples
+    --------
+    >>> pattern_type([0, -1, 1, 0], [0, 0, 0, 1], [True, True, True, False],
+    ...              [True, True, False, False]).tolist()
+    [5, 2, 12, 16]
+    """
+    u = np.asarray(up_offset, dtype=np.int16)
+    v = np.asarray(down_offset, dtype=np.int16)
+    hu = np.asarray(has_up, dtype=bool)
+    hd = np.asarray(has_down, dtype=bool)
+    out = np.full(np.broadcast(u, v, hu, hd).shape, 16, dtype=np.int16)
+    out = np.where(hu & hd, 1 + 3 * (u + 1) + (v + 1), out)
+    out = np.where(hu & ~hd, 11 + u, out)
+    out = np.where(~hu & hd, 14 + v, out)
+    return out.astype(np.int8)
+
+
+def pattern_difference(
+    up_l: ArrayLike, down_l: ArrayLike, has_up_l: ArrayLike, has_down_l: ArrayLike,
+    up_r: ArrayLike, down_r: ArrayLike, has_up_r: ArrayLike, has_down_r: ArrayLike,
+) -> NDArray[np.int8]:
+    """Difference 0..6 of two connectivity patterns (seed 3.2 (b)).
+
+    The upper neighbours are compared first: 0 when both are absent or at the same
+    offset, 1 or 2 when both are present with offsets one or two apart, 3 when one
+    is connected and the other is not; then the lower ones; the two are added.
+
+    Examples
+    --------
+    >>> pattern_difference(0, 0, True, True, 0, 0, True, True).item()
+    0
+    >>> pattern_difference(-1, 0, True, True, 1, 0, True, False).item()
+    5
+    """
+    def one(a, b, ha, hb):
+        a = np.asarray(a, np.int16)
+        b = np.asarray(b, np.int16)
+        ha = np.asarray(ha, bool)
+        hb = np.asarray(hb, bool)
+        return np.where(ha & hb, np.abs(a - b), np.where(ha == hb, 0, 3))
+
+    return (one(up_l, up_r, has_up_l, has_up_r) + one(down_l, down_r, has_down_l, has_down_r)
+            ).astype(np.int8)
+
+
+def connectivity(
+    line: NDArray[np.intp], column: NDArray[np.intp], sign: NDArray[np.int8], n_lines: int,
+    width: int,
+) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.int8], NDArray[np.int8]]:
+    """Connect each edge point to edge points on the lines above and below.
+
+    Two edge points on neighbouring lines are connected when their pixel columns
+    differ by at most one and their contrast signs agree (seed 3.2 (b)).  Where
+    several qualify, the one straight above (below) is preferred, then the one at
+    offset -1, then +1.
+
+    Returns
+    -------
+    up, down : ndarray of int, shape (N,)
+        Index of the connected edge point above / below, -1 if none.
+    up_offset, down_offset : ndarray of int8, shape (N,)
+        Its column offset -1, 0 or +1 (0 where none).
+    """
+    n = line.shape[0]
+    grid = np.full((n_lines + 2, width + 2), -1, dtype=np.intp)
+    grid[line + 1, column + 1] = np.arange(n)
+    signs = np.append(sign, np.int8(0))  # index -1 -> sign 0, never equal to +-1
+
+    def look(dl: int) -> tuple[NDArray[np.intp], NDArray[np.int8]]:
+        best = np.full(n, -1, dtype=np.intp)
+        off = np.zeros(n, dtype=np.int8)
+        for o in (1, -1, 0):  # later offsets overwrite: 0 wins, then -1, then +1
+            cand = grid[line + 1 + dl, column + 1 + o]
+            ok = signs[cand] == sign
+            best = np.where(ok, cand, best)
+            off = np.where(ok, np.int8(o), off)
+        return best, off
+
+    up, up_off = look(-1)
+    down, down_off = look(+1)
+    return up, down, up_off, down_off
+
+
+def detect_edges(
+    image: ArrayLike,
+    *,
+    threshold: float = 8.0,
+    row_step: int = 1,
+    row_offset: int = 0,
+    bit_depth: int | None = None,
+    subpixel: bool = True,
+    grey: NDArray[np.float32] | None = None,
+) -> EdgeSet:
+    """Find edge points along the rows (epipolar lines) of an image (seed 3.1-3.2).
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W) or (H, W, 3|4)
+        Rectified image: its rows are epipolar lines.
+    threshold : float
+        Least gradient magnitude of an edge point, grey levels per pixel on the seed's
+        0..127 scale (seed: 8.0; figure 4-3 also shows 6).
+    row_step : int
+        Spacing of the epipolar lines in rows (1 = every row).
+    row_offset : int
+        First row used.
+    bit_depth : int, optional
+        Bit depth of the input grey levels (see :func:`to_grey`).
+    subpixel : bool
+        Locate edges to sub-pixel precision (default) or at whole pixels, as the seed.
+    grey : ndarray, optional
+        The image already converted by :func:`to_grey` (saves the conversion).
+
+    Returns
+    -------
+    EdgeSet
+
+    Notes
+    -----
+    1. Convert to grey on the 0..127 scale and smooth with the 5 x 5 filter of
+       figure 3-1.
+    2. On every ``row_step``-th row take the gradient along the row,
+       ``g(x) = (S(x + 1) - S(x - 1)) / 2``.
+    3. An edge point is a local maximum of ``|g|`` along the row (strictly above the
+       left neighbour, at least the right one) with ``|g| >= threshold``.
+    4. Sub-pixel position: the vertex of the parabola through ``|g|`` at the peak and
+       its two neighbours; the magnitude is the parabola's peak value.
+    5. Features: contrast sign ``sign(g)``, connectivity to the lines above and below
+       (:func:`connectivity`) and pattern type (:func:`pattern_type`), the 5 x 5 mean
+       grey level of the unsmoothed image, and the smoothed grey levels three pixels
+       before and after the edge.
+
+    References
+    ----------
+    .. [1] T.-Q. Kim, "A robot vision system for determining 3-D coordinates of
+       object points", M.S. thesis, NJIT, 1989, sections 3.1-3.2, figure 3-1.
+
+    Examples
+    --------
+    >>> img = np.zeros((9, 20), np.uint8); img[:, 10:] = 200
+    >>> e = detect_edges(img)
+    >>> len(e), e.x[:2].round(3).tolist(), e.sign[0].item(), e.pattern[[0, 4, 8]].tolist()
+    (9, [9.5, 9.5], 1, [14, 5, 11])
+    """
+    require_positive("threshold", float(threshold))
+    if int(row_step) != row_step or row_step < 1:
+        raise InputError(f"row_step must be a whole number >= 1, got {row_step}")
+    g0 = to_grey(image, bit_depth=bit_depth) if grey is None else grey
+    h, w = g0.shape
+    if h < 5 or w < 5:
+        raise InputError(f"image must be at least 5 x 5 pixels, got {w} x {h}")
+    if not 0 <= row_offset < h:
+        raise InputError(f"row_offset must be in 0..{h - 1}, got {row_offset}")
+    s = smooth(g0)
+    rows = np.arange(row_offset, h, row_step)
+    sr = s[rows]
+    g = np.zeros_like(sr)
+    g[:, 1:-1] = 0.5 * (sr[:, 2:] - sr[:, :-2])
+    a = np.abs(g)
+    c = a[:, 2:-2]
+    peak = (c > a[:, 1:-3]) & (c >= a[:, 3:-1]) & (c >= threshold)
+    k, j = np.nonzero(peak)
+    j = j + 2
+    am, a0, ap = a[k, j - 1], a[k, j], a[k, j + 1]
+    if subpixel:
+        den = am - 2.0 * a0 + ap
+        with np.errstate(divide="ignore", invalid="ignore"):
+            off = np.where(den < 0, 0.5 * (am - ap) / den, 0.0)
+        off = np.clip(off, -0.5, 0.5)
+        mag = a0 - 0.25 * (am - ap) * off
+    else:
+        off = np.zeros(k.shape[0])
+        mag = a0
+    x = j + off
+    sign = np.sign(g[k, j]).astype(np.int8)
+    n_lines = rows.shape[0]
+    up, down, up_off, down_off = connectivity(k, j, sign, n_lines, w)
+    pattern = pattern_type(up_off, down_off, up >= 0, down >= 0)
+    mean5 = cv2.blur(g0, (5, 5), borderType=cv2.BORDER_REFLECT_101)
+    r = rows[k]
+    before = sr[k, np.clip(j - SIDE_OFFSET, 0, w - 1)]
+    after = sr[k, np.clip(j + SIDE_OFFSET, 0, w - 1)]
+    line_start = np.searchsorted(k, np.arange(n_lines + 1))
+    return EdgeSet(
+        line=k.astype(np.intp), row=r.astype(np.intp), x=x.astype(float),
+        column=j.astype(np.intp), sign=sign, magnitude=mag.astype(float), pattern=pattern,
+        up=up, down=down, up_offset=up_off, down_offset=down_off,
+        mean_grey=mean5[r, j].astype(float), grey_before=before.astype(float),
+        grey_after=after.astype(float), row_step=int(row_step), row_offset=int(row_offset),
+        n_lines=int(n_lines), line_start=line_start.astype(np.intp),
+    )

@@ -1,0 +1,248 @@
+"""Match candidates, similarity indices and initial probabilities (seed 3.2-3.3, 3.5).
+
+For every edge point of the left image, the candidates are the edge points of the
+right image on the same epipolar line, with the same contrast sign, inside the
+disparity search range (the seed's matchable region, 3.5).  Each candidate gets the
+similarity indices GI, PI and AI of section 3.2, their weighted sum ``w`` (3.3), and
+an initial probability by eq. (1)-(3) as read in seed-notes (after Barnard and
+Thompson, 1980).
+
+Candidates are held in compressed-row form: the pairs are sorted by left edge, and
+the pairs of left edge ``i`` are ``starts[i]:starts[i + 1]``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from robostereo.edges import EdgeSet, pattern_difference
+from robostereo.errors import InputError, require_finite
+
+__all__ = [
+    "Candidates",
+    "SimilarityWeights",
+    "find_candidates",
+    "group_max",
+    "group_sum",
+    "initial_probabilities",
+]
+
+
+@dataclass(frozen=True)
+class SimilarityWeights:
+    """Weights ``lambda`` of the similarity indices in ``w`` (seed 3.3).
+
+    ``w = gradient * GI + pattern * PI + mean_grey * AI + sides * SI``.  The seed uses
+    GI, PI, AI with 1/3 each.  ``sides`` weights robostereo's side index SI, which
+    compares the grey levels on either side of the two edges.  Weights must be >= 0;
+    they are normalised to sum 1.
+
+    Examples
+    --------
+    >>> SimilarityWeights().normalised()
+    (0.333..., 0.333..., 0.333..., 0.0)
+    """
+
+    gradient: float = 1.0 / 3.0
+    pattern: float = 1.0 / 3.0
+    mean_grey: float = 1.0 / 3.0
+    sides: float = 0.0
+
+    def __post_init__(self) -> None:
+        vals = (self.gradient, self.pattern, self.mean_grey, self.sides)
+        require_finite("similarity weights", vals)
+        if min(vals) < 0 or sum(vals) <= 0:
+            raise InputError(f"similarity weights must be >= 0 with a positive sum, got {vals}")
+
+    def normalised(self) -> tuple[float, float, float, float]:
+        vals = (self.gradient, self.pattern, self.mean_grey, self.sides)
+        total = math.fsum(vals)
+        g, p, a, s = (v / total for v in vals)
+        return g, p, a, s
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """Candidate pairs (left edge, right edge) with their similarities.
+
+    Arrays of shape ``(M,)`` are per pair, sorted by ``left``; ``starts`` has shape
+    ``(N_left + 1,)``.
+
+    Attributes
+    ----------
+    left, right : ndarray of int
+        Edge indices in the left and right :class:`~robostereo.edges.EdgeSet`.
+    disparity : ndarray of float
+        ``x_left - x_right`` in pixels.
+    gi, pi, ai, si : ndarray of float
+        Similarity indices (seed 3.2 (a)-(c); SI is robostereo's side index).
+    w : ndarray of float
+        Combined similarity (seed 3.3), in ``[0, 1]``.
+    starts : ndarray of int
+        Pairs of left edge ``i`` are ``starts[i]:starts[i + 1]``.
+    """
+
+    left: NDArray[np.intp]
+    right: NDArray[np.intp]
+    disparity: NDArray[np.float64]
+    gi: NDArray[np.float64]
+    pi: NDArray[np.float64]
+    ai: NDArray[np.float64]
+    si: NDArray[np.float64]
+    w: NDArray[np.float64]
+    starts: NDArray[np.intp]
+
+    def __len__(self) -> int:
+        return int(self.left.shape[0])
+
+    @property
+    def counts(self) -> NDArray[np.intp]:
+        """Number of candidates of each left edge, shape ``(N_left,)``."""
+        return np.diff(self.starts)
+
+
+def group_sum(values: NDArray[np.floating], starts: NDArray[np.intp]) -> NDArray[np.float64]:
+    """Sum of ``values`` over each group ``starts[i]:starts[i + 1]`` (0 for empty groups).
+
+    >>> group_sum(np.array([1.0, 2.0, 4.0]), np.array([0, 2, 2, 3])).tolist()
+    [3.0, 0.0, 4.0]
+    """
+    c = np.concatenate([[0.0], np.cumsum(values, dtype=float)])
+    return c[starts[1:]] - c[starts[:-1]]
+
+
+def group_max(
+    values: NDArray[np.floating], starts: NDArray[np.intp], empty: float = 0.0
+) -> NDArray[np.float64]:
+    """Maximum of ``values`` over each group (``empty`` for empty groups).
+
+    >>> group_max(np.array([1.0, 2.0, 4.0]), np.array([0, 2, 2, 3])).tolist()
+    [2.0, 0.0, 4.0]
+    """
+    n = starts.shape[0] - 1
+    out = np.full(n, empty, dtype=float)
+    nonempty = starts[1:] > starts[:-1]
+    if values.shape[0]:
+        red = np.maximum.reduceat(values, np.minimum(starts[:-1], values.shape[0] - 1))
+        out[nonempty] = red[nonempty]
+    return out
+
+
+def find_candidates(
+    left: EdgeSet,
+    right: EdgeSet,
+    disparity_range: tuple[float, float],
+    *,
+    weights: SimilarityWeights | None = None,
+) -> Candidates:
+    """Candidate pairs and their similarity indices (seed 3.2, 3.3, 3.5).
+
+    Parameters
+    ----------
+    left, right : EdgeSet
+        Edge points of the two images, found with the same row sampling.
+    disparity_range : tuple of float
+        ``(min, max)`` disparity ``x_left - x_right`` in pixels, whole-pixel bounds:
+        candidates within half a pixel outside them are kept, as a pixel matcher would.
+    weights : SimilarityWeights, optional
+        Weights of the indices in ``w``; default the seed's 1/3 each.
+
+    Returns
+    -------
+    Candidates
+
+    Notes
+    -----
+    1. Candidates of a left edge: right edges on the same line with the same contrast
+       sign and ``min - 0.5 <= x_l - x_r <= max + 0.5`` (the matchable region, 3.5).
+    2. ``GI = 1 / (1 + |G_l - G_r|)`` of the gradient magnitudes,
+       ``PI = 1 / (1 + diff)`` with the pattern difference 0..6,
+       ``AI = 1 / (1 + |A_l - A_r|)`` of the 5 x 5 mean grey levels (3.2);
+       ``SI = 1 / (1 + (|B_l - B_r| + |F_l - F_r|) / 2)`` of the grey levels before and
+       after the edges (robostereo).
+    3. ``w = sum(lambda_k * index_k)`` with the normalised weights (3.3).
+    """
+    lo_d, hi_d = disparity_range
+    require_finite("disparity_range", [lo_d, hi_d])
+    if lo_d > hi_d:
+        raise InputError(f"disparity_range must have min <= max, got ({lo_d}, {hi_d})")
+    if left.row_step != right.row_step or left.row_offset != right.row_offset:
+        raise InputError("left and right edges must be found on the same rows (row_step)")
+    wg, wp, wa, ws = (weights or SimilarityWeights()).normalised()
+    span = float(max(np.max(left.x, initial=0.0), np.max(right.x, initial=0.0)))
+    big = span + abs(lo_d) + abs(hi_d) + 10.0
+    key_r = right.line * big + right.x
+    key_l = left.line * big + left.x
+    lo = np.searchsorted(key_r, key_l - (hi_d + 0.5), side="left")
+    hi = np.searchsorted(key_r, key_l - (lo_d - 0.5), side="right")
+    counts = np.maximum(hi - lo, 0)
+    total = int(counts.sum())
+    li = np.repeat(np.arange(len(left)), counts)
+    first = np.repeat(np.cumsum(counts) - counts, counts)
+    ri = np.repeat(lo, counts) + (np.arange(total) - first)
+    keep = left.sign[li] == right.sign[ri]
+    li, ri = li[keep], ri[keep]
+    starts = np.searchsorted(li, np.arange(len(left) + 1)).astype(np.intp)
+    gi = 1.0 / (1.0 + np.abs(left.magnitude[li] - right.magnitude[ri]))
+    pdiff = pattern_difference(
+        left.up_offset[li], left.down_offset[li], left.up[li] >= 0, left.down[li] >= 0,
+        right.up_offset[ri], right.down_offset[ri], right.up[ri] >= 0, right.down[ri] >= 0,
+    )
+    pi = 1.0 / (1.0 + pdiff)
+    ai = 1.0 / (1.0 + np.abs(left.mean_grey[li] - right.mean_grey[ri]))
+    side = 0.5 * (
+        np.abs(left.grey_before[li] - right.grey_before[ri])
+        + np.abs(left.grey_after[li] - right.grey_after[ri])
+    )
+    si = 1.0 / (1.0 + side)
+    w = wg * gi + wp * pi + wa * ai + ws * si
+    return Candidates(
+        left=li.astype(np.intp), right=ri.astype(np.intp),
+        disparity=left.x[li] - right.x[ri], gi=gi, pi=pi.astype(float), ai=ai, si=si, w=w,
+        starts=starts,
+    )
+
+
+def initial_probabilities(
+    cands: Candidates,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Initial match probabilities, eq. (1)-(3) as read in seed-notes.
+
+    Parameters
+    ----------
+    cands : Candidates
+
+    Returns
+    -------
+    p : ndarray, shape (M,)
+        ``P0(l_i) = P(l_i | match) * (1 - P(no match))`` per candidate pair.
+    p_none : ndarray, shape (N_left,)
+        ``P(no match) = 1 - max_i w_i`` per left edge (1 where there is no candidate).
+
+    Notes
+    -----
+    ``P(l_i | match) = w_i / sum_j w_j`` (eq. 3) and ``P(no match) = 1 - max_i w_i``
+    (eq. 2, the seed's ``P_m``).  The probabilities of each left edge and its
+    no-match label sum to 1 only when it has a single candidate; they are
+    renormalised in the first relaxation step.
+
+    Examples
+    --------
+    Two candidates with ``w = 0.8`` and ``0.2``:
+
+    >>> c = Candidates(*(np.array(v) for v in ([0, 0], [0, 1], [1.0, 2.0],
+    ...     [1, 1], [1, 1], [1, 1], [1, 1], [0.8, 0.2], [0, 2])))
+    >>> p, p_none = initial_probabilities(c)
+    >>> p.round(3).tolist(), p_none.round(3).tolist()
+    ([0.64, 0.16], [0.2])
+    """
+    wsum = group_sum(cands.w, cands.starts)
+    wmax = group_max(cands.w, cands.starts)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cond = cands.w / wsum[cands.left]
+    p = cond * wmax[cands.left]
+    return p, 1.0 - wmax
