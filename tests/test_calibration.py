@@ -1,0 +1,401 @@
+"""Tests for robostereo.calibration: readers, validation, rectification, point maps."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+import yaml
+
+from robostereo.calibration import (
+    StereoCalibration,
+    check_image_size,
+    original_to_rectified,
+    points_in_left_camera,
+    read_calibration,
+    read_middlebury_calib,
+    read_opencv_calibration,
+    read_ros_calibration,
+    rectified_to_original,
+    rectify_images,
+    rectify_stereo,
+    triangulate_rectified,
+    write_opencv_calibration,
+)
+from robostereo.camera import Camera, Pose
+from robostereo.errors import InputError
+
+W, H = 640, 480
+K1 = np.array([[820.0, 0.0, 330.0], [0.0, 815.0, 245.0], [0.0, 0.0, 1.0]])
+K2 = np.array([[810.0, 0.0, 315.0], [0.0, 812.0, 238.0], [0.0, 0.0, 1.0]])
+D1 = np.array([-0.12, 0.05, 0.001, -0.0005, 0.0])
+D2 = np.array([-0.10, 0.03, -0.0008, 0.0004, 0.0])
+R = cv2.Rodrigues(np.deg2rad([1.5, -3.0, 2.0]).reshape(3, 1))[0]
+T = np.array([-60.0, 0.5, 1.0])  # mm
+
+
+@pytest.fixture(scope="module")
+def calib() -> StereoCalibration:
+    return StereoCalibration(K1, D1, K2, D2, R, T, (W, H), source="synthetic")
+
+
+@pytest.fixture(scope="module")
+def rect(calib: StereoCalibration):
+    return rectify_stereo(calib)
+
+
+def _write_fs(path: Path, entries: dict, size_key: str | None = "image_size") -> Path:
+    fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_WRITE)
+    for k, v in entries.items():
+        fs.write(k, v)
+    if size_key is not None:
+        fs.startWriteStruct(size_key, cv2.FileNode_SEQ)
+        fs.write("", W)
+        fs.write("", H)
+        fs.endWriteStruct()
+    fs.release()
+    return path
+
+
+def _assert_same(a: StereoCalibration, b: StereoCalibration) -> None:
+    for name in ("K1", "D1", "K2", "D2", "R", "T"):
+        np.testing.assert_allclose(getattr(a, name), getattr(b, name), rtol=1e-12, atol=1e-12)
+    assert a.image_size == b.image_size
+
+
+# ------------------------------------------------------------------------------ readers
+
+
+@pytest.mark.parametrize("ext", ["yml", "yaml", "json", "xml"])
+def test_filestorage_round_trip(tmp_path: Path, calib: StereoCalibration, ext: str) -> None:
+    p = _write_fs(tmp_path / f"stereo.{ext}", {"K1": K1, "D1": D1, "K2": K2, "D2": D2, "R": R,
+                                               "T": T.reshape(3, 1)})  # fmt: skip
+    got = read_opencv_calibration(p)
+    _assert_same(got, calib)
+    assert got.source == str(p)
+    _assert_same(read_calibration(p), calib)
+
+
+def test_opencv_sample_aliases_and_two_files(tmp_path: Path, calib: StereoCalibration) -> None:
+    # OpenCV's stereo_calib sample: intrinsics.yml (M1 D1 M2 D2), extrinsics.yml (R T ...)
+    intr = _write_fs(tmp_path / "intrinsics.yml", {"M1": K1, "D1": D1, "M2": K2, "D2": D2},
+                     size_key="imageSize")  # fmt: skip
+    extr = _write_fs(tmp_path / "extrinsics.yml", {"R": R, "T": T / 1000.0}, size_key=None)
+    got = read_opencv_calibration(intr, extrinsics_path=extr, unit_to_mm=1000.0)
+    np.testing.assert_allclose(got.T, T, rtol=1e-12)
+    _assert_same(got, calib)
+    assert got.baseline_mm == pytest.approx(np.sqrt(60.0**2 + 0.25 + 1.0))
+
+
+def test_width_height_keys_and_size_argument(tmp_path: Path, calib: StereoCalibration) -> None:
+    p = _write_fs(tmp_path / "wh.yml", {"K1": K1, "D1": D1, "K2": K2, "D2": D2, "R": R, "T": T,
+                                        "width": W, "height": H}, size_key=None)  # fmt: skip
+    _assert_same(read_opencv_calibration(p), calib)
+    q = _write_fs(tmp_path / "nosize.yml", {"K1": K1, "D1": D1, "K2": K2, "D2": D2, "R": R,
+                                            "T": T}, size_key=None)  # fmt: skip
+    with pytest.raises(InputError, match=r"nosize\.yml: missing key image_size"):
+        read_opencv_calibration(q)
+    _assert_same(read_opencv_calibration(q, image_size=(W, H)), calib)
+
+
+def test_plain_json_and_yaml_fallback(tmp_path: Path, calib: StereoCalibration) -> None:
+    body = {"K1": K1.tolist(), "D1": D1.tolist(), "K2": K2.ravel().tolist(),
+            "D2": {"rows": 1, "cols": 5, "data": D2.tolist()}, "R": R.tolist(),
+            "T": T.tolist(), "imageSize": [W, H]}  # fmt: skip
+    pj = tmp_path / "plain.json"
+    pj.write_text(json.dumps(body))
+    _assert_same(read_opencv_calibration(pj), calib)
+    py = tmp_path / "plain.yaml"
+    py.write_text(yaml.safe_dump(body))
+    _assert_same(read_opencv_calibration(py), calib)
+
+
+def test_writer_round_trip_in_metres(tmp_path: Path, calib: StereoCalibration) -> None:
+    p = write_opencv_calibration(calib, tmp_path / "out.json", unit_to_mm=1000.0)
+    raw = json.loads(p.read_text())
+    assert raw["T"]["data"] == pytest.approx((T / 1000.0).tolist())
+    _assert_same(read_opencv_calibration(p, unit_to_mm=1000.0), calib)
+
+
+def _ros_pair(tmp_path: Path, t_metres: np.ndarray) -> tuple[Path, Path, tuple]:
+    R1, R2, P1, P2, *_ = cv2.stereoRectify(K1, D1, K2, D2, (W, H), R, t_metres.reshape(3, 1),
+                                           flags=cv2.CALIB_ZERO_DISPARITY, alpha=0.0)  # fmt: skip
+    paths = []
+    for name, K, D, Rr, P in (("left", K1, D1, R1, P1), ("right", K2, D2, R2, P2)):
+        info = {
+            "image_width": W, "image_height": H, "camera_name": name,
+            "camera_matrix": {"rows": 3, "cols": 3, "data": K.ravel().tolist()},
+            "distortion_model": "plumb_bob",
+            "distortion_coefficients": {"rows": 1, "cols": 5, "data": D.tolist()},
+            "rectification_matrix": {"rows": 3, "cols": 3, "data": Rr.ravel().tolist()},
+            "projection_matrix": {"rows": 3, "cols": 4, "data": P.ravel().tolist()},
+        }  # fmt: skip
+        p = tmp_path / f"{name}.yaml"
+        p.write_text(yaml.safe_dump(info, sort_keys=False))
+        paths.append(p)
+    return paths[0], paths[1], (R1, R2, P1, P2)
+
+
+def test_ros_pair(tmp_path: Path, calib: StereoCalibration) -> None:
+    left, right, (_, _, _, P2) = _ros_pair(tmp_path, T / 1000.0)
+    # ROS convention: P2[0, 3] = -fx' * B with B in metres
+    assert -P2[0, 3] / P2[0, 0] == pytest.approx(np.linalg.norm(T) / 1000.0)
+    got = read_ros_calibration(left, right)
+    np.testing.assert_allclose(got.R, R, atol=1e-12)
+    np.testing.assert_allclose(got.T, T, atol=1e-9)
+    np.testing.assert_allclose(got.K1, K1)
+    np.testing.assert_allclose(got.D2, D2)
+    assert got.image_size == (W, H)
+    np.testing.assert_allclose(read_calibration(left, right).T, T, atol=1e-9)
+
+
+def test_ros_size_mismatch(tmp_path: Path) -> None:
+    left, right, _ = _ros_pair(tmp_path, T / 1000.0)
+    d = yaml.safe_load(right.read_text())
+    d["image_width"] = 320
+    right.write_text(yaml.safe_dump(d))
+    with pytest.raises(InputError, match=r"right\.yaml: image size"):
+        read_ros_calibration(left, right)
+
+
+MB_TEXT = """cam0=[4161.221 0 1445.577; 0 4161.221 984.686; 0 0 1]
+cam1=[4161.221 0 1654.636; 0 4161.221 984.686; 0 0 1]
+doffs=209.059
+baseline=176.252
+width=2880
+height=1988
+ndisp=290
+isint=0
+vmin=33
+vmax=218
+dyavg=0
+dymax=0
+"""
+
+
+def test_middlebury_calib(tmp_path: Path) -> None:
+    p = tmp_path / "calib.txt"
+    p.write_text(MB_TEXT)
+    mb = read_middlebury_calib(p)
+    assert (mb.width, mb.height, mb.ndisp, mb.vmin, mb.vmax) == (2880, 1988, 290, 33.0, 218.0)
+    assert mb.doffs == pytest.approx(209.059)
+    c = mb.calibration
+    np.testing.assert_array_equal(c.T, [-176.252, 0.0, 0.0])
+    np.testing.assert_array_equal(c.R, np.eye(3))
+    assert c.K2[0, 2] == 1654.636 and c.image_size == (2880, 1988)
+    assert read_calibration(p).K1[0, 0] == 4161.221
+    # an already rectified pair: rectification keeps the geometry; doffs as in the file
+    r = rectify_stereo(c, zero_disparity=False)
+    assert r.doffs == pytest.approx(209.059, abs=1e-6)
+    assert r.fx == pytest.approx(4161.221, rel=1e-9)
+    assert r.baseline_mm == pytest.approx(176.252)
+    # Middlebury's depth formula Z = baseline * f / (d + doffs)
+    assert r.depth_from_disparity(100.0) == pytest.approx(176.252 * 4161.221 / 309.059)
+    np.testing.assert_array_equal(r.map_right[0][5, :4], [0, 1, 2, 3])
+    # with zero_disparity OpenCV moves both principal points to their mean
+    r0 = rectify_stereo(c, zero_disparity=True)
+    assert r0.cx_left == r0.cx_right == pytest.approx((1445.577 + 1654.636) / 2, abs=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("text", "pattern"),
+    [
+        (MB_TEXT.replace("doffs=209.059", "doffs=10"), "doffs must equal cx1 - cx0"),
+        (MB_TEXT.replace("baseline=176.252\n", ""), "missing key baseline"),
+        (MB_TEXT.replace("baseline=176.252", "baseline=abc"), "baseline must be a number"),
+        (MB_TEXT.replace("cam0=[4161.221 0", "cam0=[nan 0"), "cam0 must be"),
+        (MB_TEXT.replace("width=2880", "width=0"), "width/height must be"),
+    ],
+)
+def test_middlebury_invalid(tmp_path: Path, text: str, pattern: str) -> None:
+    p = tmp_path / "calib.txt"
+    p.write_text(text)
+    with pytest.raises(InputError, match=rf"calib\.txt: {pattern}"):
+        read_middlebury_calib(p)
+
+
+# ------------------------------------------------------------------------- invalid files
+
+SINGULAR = np.array([[800.0, 0, 320], [1600.0, 0, 640], [0, 0, 1]])
+NAN_K = K1.copy()
+NAN_K[0, 2] = np.nan
+
+
+@pytest.mark.parametrize(
+    ("entries", "field"),
+    [
+        ({"K1": NAN_K}, "K1 must be finite"),
+        ({"K2": SINGULAR}, "K2 must"),
+        ({"K1": np.eye(2)}, "K1 must be a 3x3"),
+        ({"D1": np.zeros(6)}, "D1 must have 4, 5, 8, 12 or 14"),
+        ({"D2": np.array([0.1, np.nan, 0, 0, 0])}, "D2 must be finite"),
+        ({"R": R * 1.01}, "R must be a rotation"),
+        ({"R": np.diag([1.0, 1.0, -1.0])}, "R must be a rotation"),
+        ({"T": np.zeros(3)}, "T must be non-zero"),
+        ({"T": np.array([-60.0, np.inf, 0])}, "T must be finite"),
+        ({"T": np.array([-60.0, 0])}, "T must be a 3-vector"),
+    ],
+)
+def test_invalid_values_name_file_and_field(tmp_path: Path, entries: dict, field: str) -> None:
+    base = {"K1": K1, "D1": D1, "K2": K2, "D2": D2, "R": R, "T": T}
+    base.update(entries)
+    p = _write_fs(tmp_path / "bad.yml", base)
+    with pytest.raises(InputError, match=rf"bad\.yml: {field}") as info:
+        read_opencv_calibration(p)
+    assert "\n" not in str(info.value)
+
+
+def test_missing_key_and_unreadable_files(tmp_path: Path) -> None:
+    p = _write_fs(tmp_path / "nok.json", {"K1": K1, "D1": D1, "K2": K2, "D2": D2, "R": R})
+    with pytest.raises(InputError, match=r"nok\.json: missing key T"):
+        read_opencv_calibration(p)
+    q = _write_fs(tmp_path / "m.yml", {"D1": D1, "K2": K2, "D2": D2, "R": R, "T": T})
+    with pytest.raises(InputError, match=r"m\.yml: missing key K1 or M1"):
+        read_opencv_calibration(q)
+    with pytest.raises(InputError, match=r"absent\.yml: calibration file not found"):
+        read_opencv_calibration(tmp_path / "absent.yml")
+    empty = tmp_path / "empty.yml"
+    empty.write_text("")
+    with pytest.raises(InputError, match=r"empty\.yml: calibration file is empty"):
+        read_opencv_calibration(empty)
+    broken = tmp_path / "broken.yml"
+    broken.write_text("%YAML:1.0\nK1: [1, 2,\n")
+    with pytest.raises(InputError, match=r"broken\.yml: cannot parse"):
+        read_opencv_calibration(broken)
+    binary = tmp_path / "garbage.json"
+    binary.write_bytes(bytes(range(256)))
+    with pytest.raises(InputError, match=r"garbage\.json: cannot"):
+        read_opencv_calibration(binary)
+    with pytest.raises(InputError, match=r"garbage\.json: cannot"):
+        read_calibration(binary)
+
+
+def test_check_image_size(calib: StereoCalibration) -> None:
+    check_image_size(calib, (H, W), "a.png")
+    check_image_size(calib, (H, W, 3), "a.png")
+    with pytest.raises(InputError, match=r"^b\.png: image is 480 x 640 \(W x H\)"):
+        check_image_size(calib, (W, H), "b.png")
+
+
+def test_from_poses_matches_camera_projection() -> None:
+    cam = Camera()
+    left, right = Pose(-25.0, 3.0, 900.0, 0.05), Pose(35.0, -2.0, 905.0, -0.04)
+    c = StereoCalibration.from_poses(cam, left, right)
+    P = np.array([[10.0, 20.0, 0.0], [-40.0, 15.0, 60.0]])
+    uv_r, _ = cam.project(P, right)
+    x_left = (P - left.position) @ left.rotation  # left camera frame
+    proj, _ = cv2.projectPoints(x_left, cv2.Rodrigues(c.R)[0], c.T, c.K2, c.D2)
+    np.testing.assert_allclose(proj.reshape(-1, 2), uv_r, atol=1e-9)
+    assert c.baseline_mm == pytest.approx(np.linalg.norm(left.position - right.position))
+
+
+# ------------------------------------------------------------------------- rectification
+
+
+def _scene_points(rng: np.random.Generator, n: int = 200) -> np.ndarray:
+    z = rng.uniform(400.0, 3000.0, n)
+    x = rng.uniform(-0.3, 0.3, n) * z
+    y = rng.uniform(-0.22, 0.22, n) * z
+    return np.column_stack([x, y, z])
+
+
+def _project(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    pl, _ = cv2.projectPoints(points, np.zeros(3), np.zeros(3), K1, D1)
+    pr, _ = cv2.projectPoints(points, cv2.Rodrigues(R)[0], T, K2, D2)
+    return pl.reshape(-1, 2), pr.reshape(-1, 2)
+
+
+@pytest.mark.parametrize("zero_disparity", [True, False])
+def test_rectified_rows_and_depth(calib: StereoCalibration, zero_disparity: bool) -> None:
+    rect = rectify_stereo(calib, zero_disparity=zero_disparity)
+    rng = np.random.default_rng(7)
+    X = _scene_points(rng)
+    pl, pr = _project(X)
+    inside = (pl[:, 0] > 0) & (pl[:, 0] < W - 1) & (pl[:, 1] > 0) & (pl[:, 1] < H - 1)
+    inside &= (pr[:, 0] > 0) & (pr[:, 0] < W - 1) & (pr[:, 1] > 0) & (pr[:, 1] < H - 1)
+    assert inside.sum() > 100
+    X, pl, pr = X[inside], pl[inside], pr[inside]
+    ql, qr = original_to_rectified(pl, rect, "left"), original_to_rectified(pr, rect, "right")
+    assert np.abs(ql[:, 1] - qr[:, 1]).max() < 0.01  # same rows
+    d = ql[:, 0] - qr[:, 0]
+    assert np.all(d > 0)
+    z_rect = (X @ rect.R1.T)[:, 2]
+    if zero_disparity:
+        assert rect.cx_left == rect.cx_right
+        np.testing.assert_allclose(rect.fx * rect.baseline_mm / d, z_rect, rtol=1e-4)
+    np.testing.assert_allclose(rect.depth_from_disparity(d), z_rect, rtol=1e-4)
+    assert rect.baseline_mm == pytest.approx(calib.baseline_mm, rel=1e-9)
+    # full triangulation back to the original left camera frame
+    X_back = points_in_left_camera(triangulate_rectified(ql, d, rect), rect)
+    np.testing.assert_allclose(X_back, X, rtol=1e-4, atol=0.05)
+
+
+def test_point_maps_round_trip(rect) -> None:
+    xs, ys = np.meshgrid(np.linspace(0, W - 1, 17), np.linspace(0, H - 1, 13))
+    pts = np.column_stack([xs.ravel(), ys.ravel()])
+    for which in ("left", "right"):
+        back = rectified_to_original(original_to_rectified(pts, rect, which), rect, which)
+        assert np.abs(back - pts).max() < 0.01
+        # and the other way, starting in the rectified image
+        fwd = original_to_rectified(rectified_to_original(pts, rect, which), rect, which)
+        assert np.abs(fwd - pts).max() < 0.01
+
+
+def test_point_maps_agree_with_remap_tables(rect) -> None:
+    ij = np.array([[0, 0], [100, 37], [479, 639], [240, 320], [13, 600]])
+    pts = ij[:, ::-1].astype(float)  # (x, y) = (j, i)
+    for which, (mx, my) in (("left", rect.map_left), ("right", rect.map_right)):
+        orig = rectified_to_original(pts, rect, which)
+        table = np.column_stack([mx[ij[:, 0], ij[:, 1]], my[ij[:, 0], ij[:, 1]]])
+        np.testing.assert_allclose(orig, table, atol=2e-3)
+
+
+def test_rectify_images_samples_the_right_place(rect) -> None:
+    yy, xx = np.mgrid[0:H, 0:W].astype(np.float64)
+    left = 0.25 * xx + 0.5 * yy  # a linear ramp: bilinear interpolation is exact on it
+    right = 0.5 * xx - 0.25 * yy + 200.0
+    lr, rr = rectify_images(rect, left, right)
+    assert lr.dtype == np.float64 and lr.shape == (H, W)
+    x, y = rect.roi_left[0] + 50, rect.roi_left[1] + 40
+    ox, oy = rectified_to_original([[x, y]], rect, "left")[0]
+    assert lr[y, x] == pytest.approx(0.25 * ox + 0.5 * oy, abs=0.01)
+    x, y = rect.roi_right[0] + 200, rect.roi_right[1] + 120
+    ox, oy = rectified_to_original([[x, y]], rect, "right")[0]
+    assert rr[y, x] == pytest.approx(0.5 * ox - 0.25 * oy + 200.0, abs=0.01)
+
+
+def test_rectify_images_dtypes(rect) -> None:
+    rng = np.random.default_rng(3)
+    u8 = rng.integers(0, 256, (H, W, 3), dtype=np.uint8)
+    a, b = rectify_images(rect, u8, u8, interpolation="cubic")
+    assert a.dtype == np.uint8 and a.shape == (H, W, 3) and b.dtype == np.uint8
+    u16 = rng.integers(0, 65536, (H, W), dtype=np.uint16)
+    a, _ = rectify_images(rect, u16, u16)
+    assert a.dtype == np.uint16
+    f = rng.uniform(0.0, 1.0, (H, W))
+    a, _ = rectify_images(rect, f, f, interpolation="cubic")
+    assert a.dtype == np.float64 and a.min() >= 0.0 and a.max() <= f.max()
+    i32 = rng.integers(-(2**31), 2**31 - 1, (H, W), dtype=np.int32)
+    a, _ = rectify_images(rect, i32, i32, interpolation="cubic")
+    assert a.dtype == np.int32
+    with pytest.raises(InputError, match=r"^left: image is 320 x 480"):
+        rectify_images(rect, u8[:, :320], u8)
+    with pytest.raises(InputError, match="interpolation must be"):
+        rectify_images(rect, u8, u8, interpolation="lanczos")  # type: ignore[arg-type]
+
+
+def test_identity_rig_rectification() -> None:
+    K = np.array([[800.0, 0, 319.5], [0, 800.0, 239.5], [0, 0, 1]])
+    c = StereoCalibration(K, None, K, None, np.eye(3), [-60.0, 0, 0], (W, H))
+    r = rectify_stereo(c)
+    np.testing.assert_allclose(r.R1, np.eye(3), atol=1e-12)
+    yy, xx = np.mgrid[0:H, 0:W]
+    np.testing.assert_allclose(r.map_left[0], xx, atol=1e-3)
+    np.testing.assert_allclose(r.map_left[1], yy, atol=1e-3)
+    # a point 1200 mm away at x = 100 mm: d = f B / Z = 40 px
+    ql = original_to_rectified([[319.5 + 800 * 100 / 1200, 239.5]], r, "left")
+    qr = original_to_rectified([[319.5 + 800 * 40 / 1200, 239.5]], r, "right")
+    assert ql[0, 0] - qr[0, 0] == pytest.approx(40.0, abs=1e-6)
