@@ -159,6 +159,14 @@ def test_ros_size_mismatch(tmp_path: Path) -> None:
     right.write_text(yaml.safe_dump(d))
     with pytest.raises(InputError, match=r"right\.yaml: image size"):
         read_ros_calibration(left, right)
+    d["image_width"] = W
+    d["distortion_coefficients"]["data"] = [0.1, float("nan"), 0, 0, 0]
+    right.write_text(yaml.safe_dump(d))
+    with pytest.raises(InputError, match=r"right\.yaml: distortion_coefficients must be finite"):
+        read_ros_calibration(left, right)
+    del d["distortion_coefficients"]  # absent: no distortion
+    right.write_text(yaml.safe_dump(d))
+    assert read_ros_calibration(left, right).D2.tolist() == [0.0] * 5
 
 
 MB_TEXT = """cam0=[4161.221 0 1445.577; 0 4161.221 984.686; 0 0 1]
@@ -255,6 +263,10 @@ def test_missing_key_and_unreadable_files(tmp_path: Path) -> None:
     q = _write_fs(tmp_path / "m.yml", {"D1": D1, "K2": K2, "D2": D2, "R": R, "T": T})
     with pytest.raises(InputError, match=r"m\.yml: missing key K1 or M1"):
         read_opencv_calibration(q)
+    z = _write_fs(tmp_path / "size.xml", {"K1": K1, "D1": D1, "K2": K2, "D2": D2, "R": R, "T": T,
+                                          "width": 0, "height": H}, size_key=None)  # fmt: skip
+    with pytest.raises(InputError, match=r"size\.xml: image_size must be \(width, height\)"):
+        read_opencv_calibration(z)
     with pytest.raises(InputError, match=r"absent\.yml: calibration file not found"):
         read_opencv_calibration(tmp_path / "absent.yml")
     empty = tmp_path / "empty.yml"

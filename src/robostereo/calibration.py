@@ -536,7 +536,9 @@ def read_ros_calibration(
             )
         K = _as_array(p, "camera_matrix", _pick(p, d, "camera_matrix"))
         K = _check_K(str(p), "camera_matrix", K)
-        D = _as_array(p, "distortion_coefficients", d.get("distortion_coefficients"))
+        D_raw = d.get("distortion_coefficients")
+        D = None if D_raw is None else _as_array(p, "distortion_coefficients", D_raw)
+        D = _check_D(str(p), "distortion_coefficients", D)
         Rr = _check_R(
             str(p), "rectification_matrix",
             _as_array(p, "rectification_matrix", _pick(p, d, "rectification_matrix")),
