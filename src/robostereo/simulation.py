@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.ndimage import gaussian_filter
 
 from robostereo.camera import Camera, Pose
 from robostereo.errors import InputError, require_finite, require_positive
@@ -117,8 +118,6 @@ class NoiseTexture:
         >>> t.values.shape, float(np.abs(t.values).max())
         ((16, 16), 1.0)
         """
-        from scipy.ndimage import gaussian_filter
-
         if not isinstance(rng, np.random.Generator):
             raise InputError("rng must be a numpy.random.Generator")
         if int(size) != size or size < 2:
@@ -862,11 +861,14 @@ def _cast(
 ) -> tuple[_Arr, NDArray[np.int32], _Arr]:
     """Cast one ray per pixel and offset: nearest t, label and radiance, shape (S, H, W)."""
     w, h = camera.width, camera.height
-    cx, cy = camera.principal_point
+    k_inv = np.linalg.inv(camera.K)
     r = pose.rotation
     o = pose.position
-    u = (np.arange(w)[None, None, :] + offsets[:, 0, None, None] - cx) / camera.fx
-    v = (np.arange(h)[None, :, None] + offsets[:, 1, None, None] - cy) / camera.fy
+    x = np.arange(w)[None, None, :] + offsets[:, 0, None, None]
+    y = np.arange(h)[None, :, None] + offsets[:, 1, None, None]
+    # camera-frame direction K^-1 (x, y, 1); K's last row is (0, 0, 1), so its z is 1
+    u = k_inv[0, 0] * x + k_inv[0, 1] * y + k_inv[0, 2]
+    v = k_inv[1, 0] * x + k_inv[1, 1] * y + k_inv[1, 2]
     shape = (len(offsets), h, w)
     # world direction R @ (u, v, 1): its camera-z component is 1, so t is the depth
     dx = np.broadcast_to(r[0, 0] * u + r[0, 1] * v + r[0, 2], shape)
