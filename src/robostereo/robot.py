@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Literal, Protocol, runtime_checkable
 
 import numpy as np
@@ -607,7 +607,7 @@ class StereoAcquisition:
     pose_left: Pose
     pose_right: Pose
     camera: Camera
-    joints: tuple[Joints, Joints] = field(default=(Joints(), Joints()))
+    joints: tuple[Joints, Joints]
 
     @property
     def epipolar(self) -> EpipolarGeometry:
