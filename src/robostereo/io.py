@@ -1,0 +1,227 @@
+"""Reading cameras and writing results: CSV tables, PLY point clouds, PNG figures.
+
+Every writer is atomic: it writes a temporary file beside the target and renames it
+into place only when the whole file is written, so a failure never leaves a partial
+output file.  Images are read by :func:`robostereo.datasets.load_image`.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import math
+import os
+import tempfile
+from collections.abc import Callable, Iterator, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+from numpy.typing import NDArray
+
+from robostereo.datasets import load_image
+from robostereo.errors import InputError
+from robostereo.triangulation import StereoCamera
+
+__all__ = [
+    "atomic_path",
+    "load_image",
+    "load_stereo_camera",
+    "stereo_camera_from_dict",
+    "stereo_camera_to_dict",
+    "write_csv",
+    "write_ply",
+]
+
+PathLike = str | os.PathLike[str]
+
+
+@contextlib.contextmanager
+def atomic_path(path: PathLike) -> Iterator[Path]:
+    """Yield a temporary path beside ``path``; rename it to ``path`` on success.
+
+    On an exception the temporary file is removed and ``path`` is left untouched.
+    """
+    target = Path(path)
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{target}: output folder {parent} does not exist")
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=parent)
+    os.close(fd)
+    tmp_path = Path(tmp)
+    umask = os.umask(0)
+    os.umask(umask)
+    try:
+        yield tmp_path
+        os.chmod(tmp_path, 0o666 & ~umask)
+        os.replace(tmp_path, target)
+    finally:
+        if tmp_path.exists():
+            tmp_path.unlink()
+
+
+def _fmt(v: Any) -> str:
+    if isinstance(v, float | np.floating):
+        return "" if not math.isfinite(float(v)) else f"{float(v):.6g}"
+    return str(v)
+
+
+def write_csv(path: PathLike, columns: Mapping[str, NDArray[Any]]) -> Path:
+    """Write equal-length columns as a CSV file with a header (NaN as empty cells).
+
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "m.csv"
+    >>> _ = write_csv(p, {"row": np.array([3]), "x": np.array([1.25]), "d": np.array([np.nan])})
+    >>> p.read_text().splitlines()
+    ['row,x,d', '3,1.25,']
+    """
+    names = list(columns)
+    arrays = [np.asarray(columns[n]) for n in names]
+    n = {a.shape[0] for a in arrays}
+    if len(n) > 1:
+        raise ValueError(f"columns differ in length: {dict(zip(names, n, strict=False))}")
+    with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(names)
+        for row in zip(*(a.tolist() for a in arrays), strict=True):
+            w.writerow([_fmt(v) for v in row])
+    return Path(path)
+
+
+def write_ply(
+    path: PathLike, xyz: NDArray[np.floating], colors: NDArray[np.uint8] | None = None
+) -> Path:
+    """Write 3-D points (``(N, 3)``, millimetres) as a binary PLY point cloud (trimesh).
+
+    Points with a NaN coordinate are left out.
+    """
+    import trimesh
+
+    pts = np.asarray(xyz, dtype=float).reshape(-1, 3)
+    good = np.isfinite(pts).all(axis=1)
+    cloud = trimesh.PointCloud(
+        pts[good], colors=None if colors is None else np.asarray(colors)[good]
+    )
+    with atomic_path(path) as tmp:
+        data = cloud.export(file_type="ply")
+        tmp.write_bytes(data if isinstance(data, bytes) else str(data).encode())
+    return Path(path)
+
+
+_PHYSICAL = {
+    "focal_length_mm", "pixel_pitch_mm", "baseline_mm", "principal_point",
+    "focal_length_uncertainty_mm", "baseline_uncertainty_mm", "disparity_uncertainty_px",
+    "image_size", "grey_levels",
+}
+_PIXEL = {
+    "fx", "fy", "cx", "cy", "doffs", "baseline_mm", "focal_uncertainty_px",
+    "baseline_uncertainty_mm", "disparity_uncertainty_px",
+}
+
+
+def _number(source: str, key: str, v: Any) -> float:
+    try:
+        f = float(v)
+    except (TypeError, ValueError):
+        raise InputError(f"{source}: {key} must be a number, got {v!r}") from None
+    if not math.isfinite(f):
+        raise InputError(f"{source}: {key} must be finite, got {v!r}")
+    return f
+
+
+def stereo_camera_from_dict(data: Mapping[str, Any], source: str = "camera") -> StereoCamera:
+    """Build a :class:`StereoCamera` from a camera mapping (the camera YAML format).
+
+    Two forms are accepted: physical (``focal_length_mm``, ``pixel_pitch_mm``,
+    ``baseline_mm`` [, ``principal_point``, ``focal_length_uncertainty_mm``,
+    ``baseline_uncertainty_mm``, ``disparity_uncertainty_px``]) and pixel
+    (``fx``, ``fy``, ``baseline_mm`` [, ``cx``, ``cy``, ``doffs``,
+    ``focal_uncertainty_px``, ``baseline_uncertainty_mm``, ``disparity_uncertainty_px``]).
+
+    >>> stereo_camera_from_dict({"focal_length_mm": 25, "pixel_pitch_mm": [0.0172, 0.0137],
+    ...                          "baseline_mm": 20}).baseline_mm
+    20.0
+    >>> stereo_camera_from_dict({"fx": 1000, "fy": 1000, "baseline_mm": -5})
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: camera: baseline_mm must be a finite number > 0, got -5.0
+    """
+    if not isinstance(data, Mapping):
+        raise InputError(f"{source}: expected a mapping of camera parameters")
+    try:
+        if "fx" in data:
+            unknown = set(data) - _PIXEL
+            if unknown:
+                raise InputError(f"{source}: unknown camera keys {sorted(unknown)}")
+            kw = {k: _number(source, k, v) for k, v in data.items()}
+            for k in ("fy", "baseline_mm"):
+                if k not in kw:
+                    raise InputError(f"{source}: missing camera key {k}")
+            return StereoCamera(**kw)  # type: ignore[arg-type]
+        unknown = set(data) - _PHYSICAL
+        if unknown:
+            raise InputError(f"{source}: unknown camera keys {sorted(unknown)}")
+        for k in ("focal_length_mm", "pixel_pitch_mm", "baseline_mm"):
+            if k not in data:
+                raise InputError(f"{source}: missing camera key {k}")
+        pitch = data["pixel_pitch_mm"]
+        if not isinstance(pitch, list | tuple) or len(pitch) != 2:
+            raise InputError(f"{source}: pixel_pitch_mm must be [horizontal, vertical]")
+        pp = data.get("principal_point")
+
+        def opt(key: str, default: float) -> float:
+            return _number(source, key, data.get(key, default))
+
+        if pp is not None and (not isinstance(pp, list | tuple) or len(pp) != 2):
+            raise InputError(f"{source}: principal_point must be [cx, cy]")
+        return StereoCamera.from_physical(
+            _number(source, "focal_length_mm", data["focal_length_mm"]),
+            (_number(source, "pixel_pitch_mm", pitch[0]),
+             _number(source, "pixel_pitch_mm", pitch[1])),
+            _number(source, "baseline_mm", data["baseline_mm"]),
+            principal_point=None if pp is None else (
+                _number(source, "principal_point", pp[0]),
+                _number(source, "principal_point", pp[1])),
+            focal_length_uncertainty_mm=opt("focal_length_uncertainty_mm", 0.01),
+            baseline_uncertainty_mm=opt("baseline_uncertainty_mm", 0.01),
+            disparity_uncertainty_px=opt("disparity_uncertainty_px", 1.0),
+        )
+    except InputError as e:
+        msg = str(e)
+        raise InputError(msg if msg.startswith(source) else f"{source}: {msg}") from None
+
+
+def stereo_camera_to_dict(camera: StereoCamera) -> dict[str, float]:
+    """The pixel form of the camera YAML format (round-trips through
+    :func:`stereo_camera_from_dict`)."""
+    out = {
+        "fx": camera.fx, "fy": camera.fy, "baseline_mm": camera.baseline_mm,
+        "doffs": camera.doffs, "focal_uncertainty_px": camera.focal_uncertainty_px,
+        "baseline_uncertainty_mm": camera.baseline_uncertainty_mm,
+        "disparity_uncertainty_px": camera.disparity_uncertainty_px,
+    }
+    if camera.cx is not None:
+        out["cx"] = camera.cx
+    if camera.cy is not None:
+        out["cy"] = camera.cy
+    return {k: float(v) for k, v in out.items()}
+
+
+def load_stereo_camera(path: PathLike) -> StereoCamera:
+    """Read a camera YAML file (see :func:`stereo_camera_from_dict`)."""
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: camera file not found")
+    try:
+        data = yaml.safe_load(p.read_text())
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
+        raise InputError(f"{p}: cannot read camera YAML ({e.__class__.__name__})") from None
+    return stereo_camera_from_dict(data, source=str(p))
+
+
+def write_atomic(path: PathLike, writer: Callable[[Path], None]) -> Path:
+    """Call ``writer(tmp_path)`` and move the result to ``path`` only if it succeeds."""
+    with atomic_path(path) as tmp:
+        writer(tmp)
+    return Path(path)

@@ -1,0 +1,95 @@
+"""Figures: matched edge points over an image, and 3-D point views.
+
+Every function draws on a Matplotlib ``ax`` it is given and returns it; none calls
+``plt.show()``.  :func:`save_overlay` renders off-screen (Agg) to a PNG file.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+__all__ = ["plot_matches", "plot_points_3d", "save_figure", "save_overlay"]
+
+
+def plot_matches(
+    ax: Any,
+    image: ArrayLike,
+    x: ArrayLike,
+    y: ArrayLike,
+    values: ArrayLike,
+    *,
+    cmap: str = "turbo",
+    vmin: float | None = None,
+    vmax: float | None = None,
+    size: float = 4.0,
+    label: str = "disparity (px)",
+    colorbar: bool = True,
+) -> Any:
+    """Draw points ``(x, y)`` over a grey image, coloured by ``values``.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    image : array_like, shape (H, W) or (H, W, 3)
+    x, y : array_like, shape (N,)
+        Image coordinates of the points.
+    values : array_like, shape (N,)
+        Colour values (e.g. disparity or depth).
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+    """
+    img = np.asarray(image)
+    ax.imshow(img, cmap="gray" if img.ndim == 2 else None, interpolation="nearest")
+    sc = ax.scatter(np.asarray(x), np.asarray(y), c=np.asarray(values), s=size, cmap=cmap,
+                    vmin=vmin, vmax=vmax, linewidths=0)
+    if colorbar and np.asarray(x).size:
+        ax.figure.colorbar(sc, ax=ax, label=label, shrink=0.8)
+    ax.set_xlim(-0.5, img.shape[1] - 0.5)
+    ax.set_ylim(img.shape[0] - 0.5, -0.5)
+    ax.set_axis_off()
+    return ax
+
+
+def plot_points_3d(ax: Any, xyz: ArrayLike, *, values: ArrayLike | None = None,
+                   cmap: str = "viridis", size: float = 3.0) -> Any:
+    """Scatter 3-D points ``(N, 3)`` (millimetres) on a 3-D ``ax``, equal axis scales."""
+    p = np.asarray(xyz, dtype=float).reshape(-1, 3)
+    p = p[np.isfinite(p).all(axis=1)]
+    c = p[:, 2] if values is None else np.asarray(values)[: p.shape[0]]
+    ax.scatter(p[:, 0], p[:, 1], p[:, 2], c=c, s=size, cmap=cmap, depthshade=False)
+    ax.set_xlabel("X (mm)")
+    ax.set_ylabel("Y (mm)")
+    ax.set_zlabel("Z (mm)")
+    if p.shape[0]:
+        span = np.ptp(p, axis=0)
+        ax.set_box_aspect(np.maximum(span, span.max() * 0.05))
+    return ax
+
+
+def save_figure(fig: Any, path: str | os.PathLike[str]) -> None:
+    """Save a figure as PNG atomically (no partial file on failure)."""
+    from robostereo.io import atomic_path
+
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=110, bbox_inches="tight")
+
+
+def save_overlay(path: str | os.PathLike[str], image: ArrayLike, x: ArrayLike, y: ArrayLike,
+                 values: ArrayLike, *, title: str | None = None, **kwargs: Any) -> None:
+    """Write a PNG of the matched points over the image (off-screen rendering)."""
+    from matplotlib.figure import Figure
+
+    img = np.asarray(image)
+    h, w = img.shape[:2]
+    fig = Figure(figsize=(max(4.0, w / 80), max(3.0, h / 80)))
+    ax = fig.add_subplot(1, 1, 1)
+    plot_matches(ax, img, x, y, values, **kwargs)
+    if title:
+        ax.set_title(title)
+    save_figure(fig, path)
