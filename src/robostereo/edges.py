@@ -34,7 +34,7 @@ __all__ = [
     "to_grey",
 ]
 
-SEED_KERNEL: NDArray[np.float64] = np.array(
+_SEED_WEIGHTS = np.array(
     [
         [2, 2, 2, 2, 2],
         [2, 10, 10, 10, 2],
@@ -43,14 +43,23 @@ SEED_KERNEL: NDArray[np.float64] = np.array(
         [2, 2, 2, 2, 2],
     ],
     dtype=float,
-) / 126.0
-"""The seed's 5 x 5 averaging-Gaussian filter (figure 3-1), normalised by its sum 126."""
+)
+SEED_KERNEL: NDArray[np.float64] = _SEED_WEIGHTS / _SEED_WEIGHTS.sum()
+"""The seed's 5 x 5 averaging-Gaussian filter (figure 3-1), normalised by its sum.
+
+The weights 2 (16 border cells), 10 (8 inner cells) and 15 (centre) add up to 127;
+seed-notes says 126, an arithmetic slip: dividing by the true sum keeps a constant
+image constant."""
 
 #: grey levels of the seed's vision system: 0..127 (7 bit)
 SEED_GREY_LEVELS = 128
 
 #: how far (pixels) the grey levels beside an edge are sampled, either side
 SIDE_OFFSET = 3
+
+#: edge points lie at least this many pixels inside the left and right borders, so that
+#: their features (5 x 5 window, side grey levels) are not cut by the border
+BORDER = SIDE_OFFSET + 1
 
 
 def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "image") -> NDArray[
@@ -72,14 +81,15 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
     Returns
     -------
     ndarray of float32, shape (H, W)
-        Grey levels scaled by ``128 / 2**bit_depth``.
+        Grey levels scaled by ``127 / (2**bit_depth - 1)``: full scale at any bit depth
+        becomes the seed's 127.
 
     Examples
     --------
     >>> to_grey(np.array([[0, 255]], dtype=np.uint8))
-    array([[  0. , 127.5]], dtype=float32)
-    >>> to_grey(np.array([[0, 65535]], dtype=np.uint16))[0, 1].round(3)
-    np.float32(127.998)
+    array([[  0., 127.]], dtype=float32)
+    >>> to_grey(np.array([[0, 65535]], dtype=np.uint16))
+    array([[  0., 127.]], dtype=float32)
     """
     arr = np.asarray(image)
     if arr.ndim == 3 and arr.shape[2] in (3, 4):
@@ -109,7 +119,7 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
     if not np.isfinite(grey).all():
         raise InputError(f"{name} contains NaN or infinite grey levels")
     if bit_depth != 7:
-        grey *= np.float32(SEED_GREY_LEVELS / 2.0**bit_depth)
+        grey *= np.float32((SEED_GREY_LEVELS - 1) / (2.0**bit_depth - 1))
     return grey
 
 
@@ -127,7 +137,7 @@ def smooth(grey: NDArray[np.floating]) -> NDArray[np.float32]:
 
     Examples
     --------
-    >>> img = np.zeros((9, 9), np.float32); img[4, 4] = 126.0
+    >>> img = np.zeros((9, 9), np.float32); img[4, 4] = 127.0
     >>> smooth(img)[4, 4], smooth(img)[2, 2]
     (np.float32(15.0), np.float32(2.0))
     """
@@ -332,7 +342,8 @@ def detect_edges(
     2. On every ``row_step``-th row take the gradient along the row,
        ``g(x) = (S(x + 1) - S(x - 1)) / 2``.
     3. An edge point is a local maximum of ``|g|`` along the row (strictly above the
-       left neighbour, at least the right one) with ``|g| >= threshold``.
+       left neighbour, at least the right one) with ``|g| >= threshold``, at least
+       ``BORDER`` (4) pixels inside the left and right borders.
     4. Sub-pixel position: the vertex of the parabola through ``|g|`` at the peak and
        its two neighbours; the magnitude is the parabola's peak value.
     5. Features: contrast sign ``sign(g)``, connectivity to the lines above and below
@@ -367,10 +378,11 @@ def detect_edges(
     g = np.zeros_like(sr)
     g[:, 1:-1] = 0.5 * (sr[:, 2:] - sr[:, :-2])
     a = np.abs(g)
-    c = a[:, 2:-2]
-    peak = (c > a[:, 1:-3]) & (c >= a[:, 3:-1]) & (c >= threshold)
+    m = BORDER
+    c = a[:, m:-m]
+    peak = (c > a[:, m - 1:-m - 1]) & (c >= a[:, m + 1:w - m + 1]) & (c >= threshold)
     k, j = np.nonzero(peak)
-    j = j + 2
+    j = j + m
     am, a0, ap = a[k, j - 1], a[k, j], a[k, j + 1]
     if subpixel:
         den = am - 2.0 * a0 + ap

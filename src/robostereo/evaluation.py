@@ -21,6 +21,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from robostereo.edges import to_grey
 from robostereo.errors import InputError
 
 __all__ = ["MatchScore", "sample_dense", "score_matches"]
@@ -136,3 +137,44 @@ def sample_dense(dense: NDArray[np.floating], rows: ArrayLike, x: ArrayLike) -> 
     r = np.clip(np.asarray(rows, dtype=np.intp), 0, h - 1)
     c = np.clip(np.rint(np.asarray(x, dtype=float)).astype(np.intp), 0, w - 1)
     return d[r, c]
+
+
+def sgbm_disparity(
+    left: ArrayLike,
+    right: ArrayLike,
+    disparity_range: tuple[float, float],
+    *,
+    block_size: int = 5,
+    uniqueness_ratio: int = 10,
+    bit_depth: int | None = None,
+) -> NDArray[np.float64]:
+    """OpenCV StereoSGBM on the same pair and range: the project's dense reference.
+
+    Parameters
+    ----------
+    left, right : array_like, shape (H, W) or (H, W, 3|4)
+    disparity_range : tuple of float
+        ``(min, max)`` disparity; SGBM searches ``numDisparities`` rounded up to a
+        multiple of 16 from ``floor(min)``, and values above ``max + 0.5`` are dropped.
+    block_size, uniqueness_ratio : int
+        SGBM's ``blockSize`` (5) and ``uniquenessRatio`` (10); ``P1 = 8 * block_size**2``
+        and ``P2 = 32 * block_size**2`` as OpenCV's documentation recommends for grey input.
+
+    Returns
+    -------
+    ndarray, shape (H, W)
+        Disparity in pixels, NaN where SGBM gives none.
+    """
+    import cv2
+
+    lo, hi = disparity_range
+    g = [np.clip(np.rint(to_grey(im, bit_depth=bit_depth) * 2.0), 0, 255).astype(np.uint8)
+         for im in (left, right)]
+    n = int(np.ceil((np.floor(hi) - np.floor(lo) + 1) / 16.0) * 16)
+    sgbm = cv2.StereoSGBM_create(
+        minDisparity=int(np.floor(lo)), numDisparities=n, blockSize=block_size,
+        uniquenessRatio=uniqueness_ratio, P1=8 * block_size**2, P2=32 * block_size**2,
+    )
+    d = sgbm.compute(g[0], g[1]).astype(float) / 16.0
+    d[(d < np.floor(lo)) | (d > hi + 0.5)] = np.nan
+    return d

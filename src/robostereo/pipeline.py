@@ -53,9 +53,10 @@ class MatchParameters:
         Edge-profile factor of ``w`` (see :func:`~robostereo.matching.find_candidates`);
         None for the seed's ``w``.
     relaxation : RelaxationParameters
-        Iterations (5) and coefficients of the relaxation.
+        Iterations (5) and coefficients of the relaxation; the no-match label's
+        support is 0.6 (1.0 in the seed's mode).
     min_probability : float
-        Least probability of an accepted match.
+        Least probability of an accepted match (0.7; the seed's mode 0.5).
     bit_depth : int or None
         Bit depth of the input grey levels; None: from the dtype.
     """
@@ -67,9 +68,9 @@ class MatchParameters:
     weights: SimilarityWeights = field(default_factory=SimilarityWeights)
     profile_scale: float | None = 8.0
     relaxation: RelaxationParameters = field(
-        default_factory=lambda: RelaxationParameters(no_match_support=0.8)
+        default_factory=lambda: RelaxationParameters(no_match_support=0.6)
     )
-    min_probability: float = 0.5
+    min_probability: float = 0.7
     bit_depth: int | None = None
 
     def __post_init__(self) -> None:
@@ -91,7 +92,7 @@ class MatchParameters:
         """
         base = cls(
             right_threshold_ratio=1.0, subpixel=False, profile_scale=None,
-            relaxation=RelaxationParameters(no_match_support=1.0),
+            relaxation=RelaxationParameters(no_match_support=1.0), min_probability=0.5,
         )
         return replace(base, **changes)  # type: ignore[arg-type]
 

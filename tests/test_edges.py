@@ -1,0 +1,151 @@
+"""Edge points and their features (seed 3.1-3.2) against hand-computed values."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from synthetic import render_profile
+
+from robostereo.edges import (
+    SEED_KERNEL,
+    detect_edges,
+    pattern_difference,
+    pattern_type,
+    smooth,
+    to_grey,
+)
+from robostereo.errors import InputError
+
+
+def test_seed_kernel_is_figure_3_1_normalised():
+    raw = SEED_KERNEL * 127  # 16 x 2 + 8 x 10 + 15 = 127 (seed-notes' "126" is a slip)
+    assert raw[2, 2] == pytest.approx(15)
+    assert raw[1:4, 1:4].sum() == pytest.approx(8 * 10 + 15)
+    assert SEED_KERNEL.sum() == pytest.approx(1.0)
+    assert np.allclose(raw, raw.T) and np.allclose(raw, raw[::-1, ::-1])
+
+
+def test_smoothing_keeps_constant_and_spreads_an_impulse():
+    assert np.allclose(smooth(np.full((9, 9), 50.0)), 50.0)
+    img = np.zeros((9, 9), np.float32)
+    img[4, 4] = 127
+    out = smooth(img)
+    assert out[4, 4] == pytest.approx(15) and out[3, 4] == pytest.approx(10)
+    assert out[2, 2] == pytest.approx(2) and out[1, 1] == pytest.approx(0)
+
+
+def test_grey_scale_is_the_same_contrast_at_any_bit_depth():
+    g8 = np.zeros((12, 40), np.uint8)
+    g8[:, 20:] = 160
+    g16 = g8.astype(np.uint16) * 257
+    rgb = np.repeat(g8[:, :, None], 3, axis=2)
+    e8, e16, ec = detect_edges(g8), detect_edges(g16), detect_edges(rgb)
+    assert len(e8) == len(e16) == len(ec) == 12
+    assert np.allclose(e8.x, e16.x) and np.allclose(e8.x, ec.x)
+    assert np.allclose(e8.magnitude, e16.magnitude, rtol=1e-5)
+    assert to_grey(np.array([[255]], np.uint8))[0, 0] == 127.0
+    assert to_grey(np.array([[100]], np.uint8), bit_depth=7)[0, 0] == 100.0
+
+
+def test_step_magnitude_and_position_by_hand():
+    # a step of h grey levels (0..127 scale) between columns 19 and 20: the smoothed row
+    # follows the column sums of the kernel, 10, 34, 39, 34, 10 (/127)
+    h = 40.0
+    img = np.zeros((11, 40), np.float32)
+    img[:, 20:] = h
+    e = detect_edges(img, bit_depth=7)
+    # g(19) = (S(20) - S(18)) / 2 = h * (39 + 34) / 127 / 2, and g(20) the same
+    expected_peak = h * (34 + 39) / 127 / 2
+    assert e.x[0] == pytest.approx(19.5, abs=1e-6)
+    assert e.column[0] in (19, 20)
+    assert e.magnitude.min() >= expected_peak - 1e-4
+    assert e.sign[0] == 1
+    assert np.all(e.mean_grey >= 0) and np.all(e.mean_grey <= h)
+
+
+@pytest.mark.parametrize("pos", [20.1, 20.37, 20.5, 20.81, 21.0])
+def test_subpixel_position_of_area_sampled_steps(pos):
+    row = render_profile(np.array([pos]), np.array([30.0, 110.0]), 48, 0.0)
+    img = np.tile(row, (7, 1)).astype(np.float32)
+    e = detect_edges(img, bit_depth=7)
+    # the area-sampled step at ``pos`` crosses half height at ``pos`` (pixel centres)
+    assert np.all(np.abs(e.x - pos) < 0.05)
+    assert np.all(detect_edges(img, bit_depth=7, subpixel=False).x == np.round(e.x))
+
+
+def test_threshold_constant_and_weak_images():
+    assert len(detect_edges(np.full((20, 30), 77, np.uint8))) == 0
+    weak = np.zeros((10, 30), np.uint8)
+    weak[:, 15:] = 20  # 10 grey levels on the seed's scale: gradient ~2.9 < 8
+    assert len(detect_edges(weak)) == 0
+    assert len(detect_edges(weak, threshold=2.0)) == 10
+
+
+def test_pattern_types_of_a_slanted_edge():
+    # an edge that moves one column right per row: above at -1, below at +1 -> type 3;
+    # the first row has only a lower neighbour (13..15), the last only an upper (10..12)
+    img = np.zeros((11, 40), np.uint8)
+    for r in range(11):
+        img[r, 15 + r:] = 200
+    e = detect_edges(img)
+    assert e.pattern[3:8].tolist() == [3] * 5
+    assert 13 <= e.pattern[0] <= 15 and 10 <= e.pattern[-1] <= 12
+    assert e.up[0] == -1 and e.down[-1] == -1
+    assert np.all(e.up[1:] == np.arange(10)) and np.all(e.down[:-1] == np.arange(1, 11))
+
+
+def test_pattern_type_numbering_covers_1_to_16():
+    u, v = np.meshgrid([-1, 0, 1], [-1, 0, 1], indexing="ij")
+    both = pattern_type(u.ravel(), v.ravel(), True, True)
+    assert sorted(both.tolist()) == list(range(1, 10))
+    assert pattern_type([-1, 0, 1], 0, True, False).tolist() == [10, 11, 12]
+    assert pattern_type(0, [-1, 0, 1], False, True).tolist() == [13, 14, 15]
+    assert pattern_type(0, 0, False, False).item() == 16
+
+
+def test_pattern_difference_by_hand():
+    # upper: both at offset 0 -> 0; lower: left -1, right +1 -> 2
+    assert pattern_difference(0, -1, True, True, 0, 1, True, True).item() == 2
+    # upper: one connected, the other not -> 3; lower: both absent -> 0
+    assert pattern_difference(0, 0, True, False, 0, 0, False, False).item() == 3
+    assert pattern_difference(1, 1, True, True, -1, 0, False, True).item() == 3 + 1
+    assert pattern_difference(-1, -1, True, True, 1, 1, False, False).item() == 6
+
+
+def test_connectivity_needs_the_same_contrast_sign():
+    img = np.zeros((6, 40), np.uint8)
+    img[:3, 20:] = 200          # rising edge on rows 0-2
+    img[3:, :20] = 200          # falling edge at the same column on rows 3-5
+    e = detect_edges(img)
+    rows = e.row
+    assert e.down[rows == 2][0] == -1 and e.up[rows == 3][0] == -1
+
+
+def test_row_step_samples_lines():
+    img = np.zeros((40, 30), np.uint8)
+    img[:, 15:] = 200
+    e = detect_edges(img, row_step=10, row_offset=5)
+    assert e.row.tolist() == [5, 15, 25, 35] and e.line.tolist() == [0, 1, 2, 3]
+
+
+@pytest.mark.parametrize(
+    ("image", "message"),
+    [
+        (np.zeros((0, 10), np.uint8), "empty"),
+        (np.zeros((4, 4, 2), np.uint8), "shape"),
+        (np.full((8, 8), np.nan), "NaN"),
+        (np.zeros((3, 30), np.uint8), "at least 5 x 5"),
+    ],
+)
+def test_bad_images_raise_one_line_errors(image, message):
+    with pytest.raises(InputError, match=message) as info:
+        detect_edges(image)
+    assert "\n" not in str(info.value)
+
+
+def test_bad_parameters():
+    img = np.zeros((10, 10), np.uint8)
+    with pytest.raises(InputError, match="threshold"):
+        detect_edges(img, threshold=float("nan"))
+    with pytest.raises(InputError, match="row_step"):
+        detect_edges(img, row_step=0)
