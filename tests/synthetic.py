@@ -5,8 +5,10 @@ from __future__ import annotations
 import numpy as np
 
 
-def step_profile(rng: np.random.Generator, width: float, *, min_run: float = 7.0,
-                 max_run: float = 16.0, contrast: tuple[float, float] = (70.0, 100.0)) -> tuple[np.ndarray, np.ndarray]:
+def step_profile(
+    rng: np.random.Generator, width: float, *, min_run: float = 7.0, max_run: float = 16.0,
+    contrast: tuple[float, float] = (70.0, 100.0),
+) -> tuple[np.ndarray, np.ndarray]:
     """Random piecewise-constant 1-D profile: edge positions and the levels between them.
 
     Successive levels differ by ``contrast`` grey levels (0..255 scale), so every edge's
