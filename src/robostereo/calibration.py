@@ -20,7 +20,8 @@ or built from the robot's :class:`~robostereo.camera.Camera` and two
 ``stereoRectify`` + ``initUndistortRectifyMap``); :func:`rectify_images` resamples a
 pair; :func:`original_to_rectified` and :func:`rectified_to_original` map points
 exactly between the original (distorted) and the rectified images, and
-:func:`triangulate_rectified` / :func:`points_in_left_camera` turn rectified matches
+:func:`triangulate_rectified` (through :func:`robostereo.triangulation.triangulate`, the
+project's one triangulation path) and :func:`points_in_left_camera` turn rectified matches
 into millimetres.
 """
 
@@ -41,6 +42,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from robostereo.camera import Camera, Pose
 from robostereo.errors import InputError
+from robostereo.triangulation import StereoCamera, triangulate
 
 __all__ = [
     "MiddleburyCalib",
@@ -797,6 +799,44 @@ class Rectification:
         """``cx_right - cx_left`` (Middlebury's doffs); depth ``Z = fx B / (d + doffs)``."""
         return self.cx_right - self.cx_left
 
+    def stereo_camera(
+        self,
+        *,
+        disparity_uncertainty_px: float = 1.0,
+        focal_uncertainty_px: float = 0.0,
+        baseline_uncertainty_mm: float = 0.0,
+    ) -> StereoCamera:
+        """The rectified pair as a :class:`~robostereo.triangulation.StereoCamera`.
+
+        This is how calibrated rigs reach the project's one triangulation path
+        (:func:`robostereo.triangulation.triangulate`, seed eq. 6-9).
+
+        Parameters
+        ----------
+        disparity_uncertainty_px, focal_uncertainty_px, baseline_uncertainty_mm : float
+            ``d(disp)``, ``ds`` and ``dD`` of the eq. (9) depth bound.
+
+        Returns
+        -------
+        StereoCamera
+            ``fx, fy`` of ``P1``, ``cx = cx_left``, ``cy``, ``doffs = cx_right - cx_left``
+            and ``baseline_mm``.
+
+        Examples
+        --------
+        >>> K = [[800.0, 0, 319.5], [0, 800.0, 239.5], [0, 0, 1]]
+        >>> c = StereoCalibration(K, None, K, None, np.eye(3), [-60.0, 0, 0], (640, 480))
+        >>> cam = rectify_stereo(c).stereo_camera()
+        >>> cam.fx, cam.baseline_mm, cam.cx, cam.doffs
+        (800.0, 60.0, 319.5, 0.0)
+        """
+        return StereoCamera(
+            fx=self.fx, fy=self.fy, baseline_mm=self.baseline_mm, cx=self.cx_left, cy=self.cy,
+            doffs=self.doffs, focal_uncertainty_px=focal_uncertainty_px,
+            baseline_uncertainty_mm=baseline_uncertainty_mm,
+            disparity_uncertainty_px=disparity_uncertainty_px,
+        )  # fmt: skip
+
     def depth_from_disparity(self, disparity: ArrayLike) -> NDArray[np.float64]:
         """Depth in the rectified left frame, millimetres: ``fx * B / (d + doffs)``.
 
@@ -1115,16 +1155,23 @@ def triangulate_rectified(
         ``Z = fx B / (d + doffs)``, ``X = (x - cx_left) Z / fx``, ``Y = (y - cy) Z / fy``;
         rows with ``d + doffs <= 0`` are NaN.  Use :func:`points_in_left_camera` to
         express them in the original left camera frame.
+
+    Notes
+    -----
+    A thin wrapper of the project's one triangulation path:
+
+    1. :func:`robostereo.triangulation.triangulate` with :meth:`Rectification.stereo_camera`
+       gives the points in the epipolar frame (origin mid-baseline, seed eq. 6-8);
+    2. shifting by ``+B/2`` along X moves the origin to the left optical centre.
     """
     p = _points("points_left", points_left)
     d = np.asarray(disparity, dtype=float).ravel()
     if d.shape[0] != p.shape[0]:
         raise InputError(f"disparity must have {p.shape[0]} values, got {d.shape[0]}")
-    z = rect.depth_from_disparity(d)
-    z = np.where(np.isfinite(z), z, np.nan)
-    x = (p[:, 0] - rect.cx_left) * z / rect.fx
-    y = (p[:, 1] - rect.cy) * z / rect.fy
-    return np.column_stack([x, y, z])
+    w, h = rect.image_size
+    xyz, _ = triangulate(rect.stereo_camera(), p[:, 0], p[:, 0] - d, p[:, 1], (h, w))
+    xyz[:, 0] += 0.5 * rect.baseline_mm
+    return xyz
 
 
 def points_in_left_camera(points_rect_xyz: ArrayLike, rect: Rectification) -> NDArray[np.float64]:
