@@ -282,19 +282,22 @@ def connectivity(
         Its column offset -1, 0 or +1 (0 where none).
     """
     n = line.shape[0]
-    grid = np.full((n_lines + 2, width + 2), -1, dtype=np.intp)
-    grid[line + 1, column + 1] = np.arange(n)
+    stride = width + 2
+    grid = np.full((n_lines + 2) * stride, -1, dtype=np.int32)
+    flat = (line + 1) * stride + (column + 1)
+    grid[flat] = np.arange(n, dtype=np.int32)
     signs = np.append(sign, np.int8(0))  # index -1 -> sign 0, never equal to +-1
 
     def look(dl: int) -> tuple[NDArray[np.intp], NDArray[np.int8]]:
-        best = np.full(n, -1, dtype=np.intp)
+        best = np.full(n, -1, dtype=np.int32)
         off = np.zeros(n, dtype=np.int8)
+        base = flat + dl * stride
         for o in (1, -1, 0):  # later offsets overwrite: 0 wins, then -1, then +1
-            cand = grid[line + 1 + dl, column + 1 + o]
-            ok = signs[cand] == sign
-            best = np.where(ok, cand, best)
-            off = np.where(ok, np.int8(o), off)
-        return best, off
+            cand = grid.take(base + o)
+            ok = signs.take(cand) == sign
+            best[ok] = cand[ok]
+            off[ok] = o
+        return best.astype(np.intp), off
 
     up, up_off = look(-1)
     down, down_off = look(+1)

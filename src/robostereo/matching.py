@@ -313,12 +313,20 @@ def assign_matches(
         & (probability > no_match[cands.left])
     )
     idx = np.nonzero(ok)[0]
-    # one per left edge (ties: the first), then one per right edge (most probable)
-    idx = idx[np.unique(cands.left[idx], return_index=True)[1]]
-    order = idx[np.lexsort((-probability[idx], cands.right[idx]))]
-    first = np.ones(order.shape[0], bool)
-    first[1:] = cands.right[order[1:]] != cands.right[order[:-1]]
-    chosen = order[first]
+    # one per left edge (ties: the first); pairs are sorted by left edge
+    li = cands.left[idx]
+    keep = np.ones(idx.shape[0], bool)
+    keep[1:] = li[1:] != li[:-1]
+    idx = idx[keep]
+    # one per right edge: the most probable pair (ties: the first left edge)
+    ri = cands.right[idx]
+    n_right = int(ri.max()) + 1 if ri.size else 0
+    best_right = np.full(n_right, -1.0)
+    np.maximum.at(best_right, ri, probability[idx])
+    top = idx[probability[idx] >= best_right[ri]]
+    first = np.full(n_right, np.iinfo(np.intp).max, dtype=np.intp)
+    np.minimum.at(first, cands.right[top], top)
+    chosen = top[first[cands.right[top]] == top]
     out = np.full(n_left, -1, dtype=np.intp)
     out[cands.left[chosen]] = chosen
     return out
