@@ -13,10 +13,43 @@ Conventions used throughout
 * disparity is ``d = x_left - x_right`` (pixels, positive for points in front);
 * world and camera-frame coordinates are millimetres; camera frames have x to the
   image's right, y down the image, z along the optical axis (depth positive).
+
+One module per stage: :mod:`~robostereo.edges`, :mod:`~robostereo.matching`,
+:mod:`~robostereo.relaxation`, :mod:`~robostereo.triangulation`,
+:mod:`~robostereo.pipeline` (all of them in one call), :mod:`~robostereo.camera`
+(camera, poses, epipolar frames), :mod:`~robostereo.robot`, :mod:`~robostereo.simulation`,
+:mod:`~robostereo.calibration`, :mod:`~robostereo.datasets`,
+:mod:`~robostereo.evaluation`, :mod:`~robostereo.io`, :mod:`~robostereo.plots` and the
+command line in :mod:`~robostereo.cli`.
 """
 
+from robostereo.camera import Camera, EpipolarGeometry, Pose
+from robostereo.edges import EdgeSet, detect_edges
 from robostereo.errors import InputError, UnreachablePoseError
+from robostereo.evaluation import MatchScore, score_matches
+from robostereo.matching import SimilarityWeights
+from robostereo.pipeline import MatchParameters, MatchResult, match_stereo
+from robostereo.relaxation import RelaxationParameters
+from robostereo.triangulation import StereoCamera, triangulate
 
 __version__ = "0.1.0"
 
-__all__ = ["InputError", "UnreachablePoseError", "__version__"]
+__all__ = [
+    "Camera",
+    "EdgeSet",
+    "EpipolarGeometry",
+    "InputError",
+    "MatchParameters",
+    "MatchResult",
+    "MatchScore",
+    "Pose",
+    "RelaxationParameters",
+    "SimilarityWeights",
+    "StereoCamera",
+    "UnreachablePoseError",
+    "__version__",
+    "detect_edges",
+    "match_stereo",
+    "score_matches",
+    "triangulate",
+]
