@@ -731,7 +731,7 @@ def check_image_size(
     >>> check_image_size(c, (480, 639), "left.png")
     Traceback (most recent call last):
     ...
-    robostereo.errors.InputError: left.png: image is 639 x 480 (W x H), calibration 640 x 480
+    robostereo.errors.InputError: left.png: image is 639 x 480 (W x H), calibration 640 x 480 ...
     """
     if len(image_shape) not in (2, 3):
         raise InputError(f"{path}: image must be (H, W) or (H, W, C), got shape {image_shape}")
@@ -739,7 +739,7 @@ def check_image_size(
     cw, ch = calibration.image_size
     if (w, h) != (cw, ch):
         raise InputError(
-            f"{path}: image is {w} x {h} (W x H), calibration {cw} x {ch}"
+            f"{path}: image is {w} x {h} (W x H), calibration {cw} x {ch} ({calibration.source})"
         )
 
 

@@ -127,7 +127,190 @@ def run_match(args: argparse.Namespace) -> int:
     return 0
 
 
+# --- calibrated rigs, evaluation, batch (issue 4) ---------------------------------------
+
+
+def _range_args(args: argparse.Namespace) -> tuple[float, float] | None:
+    lo, hi = args.min_disparity, args.max_disparity
+    if (lo is None) != (hi is None):
+        raise InputError("give both --min-disparity and --max-disparity, or neither")
+    return None if lo is None else (lo, hi)
+
+
+def add_rig_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "rig", help="match an original pair from a calibrated stereo rig",
+        description="Rectify an original (distorted) pair with its calibration (OpenCV "
+                    "YAML/JSON, ROS camera_info pair, Middlebury calib.txt), match, and "
+                    "write points in rectified and original pixels and in millimetres "
+                    "(left camera frame).",
+    )
+    p.add_argument("left", type=Path, help="original left image")
+    p.add_argument("right", type=Path, help="original right image")
+    p.add_argument("--calibration", type=Path, required=True,
+                   help="stereo calibration (OpenCV FileStorage, calib.txt, or ROS left.yaml)")
+    p.add_argument("--calibration-right", type=Path,
+                   help="the right camera's ROS camera_info YAML (or OpenCV extrinsics)")
+    p.add_argument("--min-disparity", type=_finite("--min-disparity"),
+                   help="least rectified disparity, pixels")
+    p.add_argument("--max-disparity", type=_finite("--max-disparity"),
+                   help="largest rectified disparity, pixels")
+    p.add_argument("--min-depth", type=_finite("--min-depth"), help="nearest depth, mm")
+    p.add_argument("--max-depth", type=_finite("--max-depth"), help="farthest depth, mm")
+    p.add_argument("-o", "--output", type=Path, required=True, help="matched points CSV")
+    p.add_argument("--ply", type=Path, help="write the 3-D points as PLY")
+    p.set_defaults(handler=run_rig)
+
+
+def run_rig(args: argparse.Namespace) -> int:
+    from robostereo.io import write_csv, write_ply
+    from robostereo.pipeline import MatchParameters
+    from robostereo.rig import load_rig_pair, match_rig
+
+    drange = _range_args(args)
+    if (args.min_depth is None) != (args.max_depth is None):
+        raise InputError("give both --min-depth and --max-depth, or neither")
+    depth = None if args.min_depth is None else (args.min_depth, args.max_depth)
+    if (drange is None) == (depth is None):
+        raise InputError("give a disparity range (--min/--max-disparity) or a depth range "
+                         "(--min/--max-depth)")
+    _check_outputs(args.output, args.ply)
+    left, right, calib, bits = load_rig_pair(args.left, args.right, args.calibration,
+                                             args.calibration_right)
+    status, say = _stage_reporter(sys.stderr.isatty())
+    with status:
+        res = match_rig(left, right, calib, drange, depth_range_mm=depth,
+                        params=MatchParameters(bit_depth=bits),
+                        names=(str(args.left), str(args.right)), progress=say)
+    table = res.table()
+    write_csv(args.output, table)
+    if args.ply is not None:
+        write_ply(args.ply, np.column_stack([table["X"], table["Y"], table["Z"]]))
+    n_left, n = len(res.match.left_edges), len(res)
+    pct = 100.0 * n / n_left if n_left else 0.0
+    lo, hi = res.match.disparity_range
+    print(f"{args.left.name}: rectified, disparity {lo:.1f} .. {hi:.1f} px, {n_left} edge "
+          f"points, {n} matched ({pct:.1f}%) in {1000 * res.match.timings['total']:.1f} ms "
+          f"-> {args.output}")
+    return 0
+
+
+def add_evaluate_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "evaluate", help="score the matcher and StereoSGBM on scenes with ground truth",
+        description="For each scene folder (left/right/gt_disp_left as in the developer "
+                    "set, or a Middlebury layout): edge points, %% matched, %% false by the "
+                    "project's rule, disparity RMS, and the same for StereoSGBM at the same "
+                    "pixels, with times; 3-D errors in mm with a Middlebury calib.txt.",
+    )
+    p.add_argument("scenes", type=Path, nargs="+", metavar="SCENE_DIR",
+                   help="scene folders (other arguments, e.g. README.md, are skipped)")
+    p.add_argument("--json", action="store_true", help="print JSON instead of tables")
+    p.add_argument("--min-disparity", type=_finite("--min-disparity"),
+                   help="search range (default: the ground truth's)")
+    p.add_argument("--max-disparity", type=_finite("--max-disparity"))
+    p.add_argument("--scale", type=_finite("--scale"),
+                   help="ground-truth scale d = raw / scale (default: scenes.json or known)")
+    p.add_argument("--no-sgbm", action="store_true", help="leave out StereoSGBM")
+    p.set_defaults(handler=run_evaluate)
+
+
+def run_evaluate(args: argparse.Namespace) -> int:
+    import json
+
+    from robostereo.datasets import load_scene
+    from robostereo.evaluate import evaluate_scene, format_evaluation
+
+    drange = _range_args(args)
+    dirs = [s for s in args.scenes if s.is_dir()]
+    for s in args.scenes:
+        if not s.is_dir():
+            print(f"robostereo: note: skipping {s} (not a scene folder)", file=sys.stderr)
+    if not dirs:
+        raise InputError(f"no scene folders among {', '.join(map(str, args.scenes))}")
+    results, failed = [], 0
+    status, say = _stage_reporter(sys.stderr.isatty())
+    with status:
+        for d in dirs:
+            say(f"evaluating {d}")
+            try:
+                ev = evaluate_scene(load_scene(d, scale=args.scale), disparity_range=drange,
+                                    sgbm=not args.no_sgbm)
+            except InputError as e:
+                print(f"robostereo: error: {e}", file=sys.stderr)
+                failed += 1
+                continue
+            results.append(ev)
+            if not args.json:
+                print(format_evaluation(ev) + "\n", flush=True)
+    if args.json:
+        print(json.dumps([ev.as_dict() for ev in results], indent=2))
+    return 2 if failed else 0
+
+
+def add_batch_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "batch", help="match many pairs or capture folders, resumable, local or on Dask",
+        description="Run the pipeline over every input folder of INPUT_DIR (pair folders: "
+                    "left.*, right.*, optional camera.yaml and disparity.yaml; capture "
+                    "folders: capture.yaml, left.png, right.png); write OUT_DIR/NAME.csv per "
+                    "input and OUT_DIR/summary.csv.  Finished inputs are skipped on a rerun.",
+    )
+    p.add_argument("input_dir", type=Path, metavar="INPUT_DIR")
+    p.add_argument("--out", type=Path, required=True, metavar="OUT_DIR", help="output folder")
+    p.add_argument("--min-disparity", type=_finite("--min-disparity"),
+                   help="range for pair folders without disparity.yaml")
+    p.add_argument("--max-disparity", type=_finite("--max-disparity"))
+    p.add_argument("--calibration", type=Path,
+                   help="rig calibration for every pair folder (original images)")
+    p.add_argument("--calibration-right", type=Path, help="right ROS camera_info YAML")
+    p.add_argument("--ply", action="store_true", help="also write NAME.ply where 3-D is known")
+    p.add_argument("--scheduler", metavar="ADDRESS",
+                   help="dask.distributed scheduler, e.g. tcp://10.0.0.5:8786 (default: "
+                        "local processes)")
+    p.add_argument("--workers", type=int, help="local processes (default: all cores)")
+    p.set_defaults(handler=run_batch_command)
+
+
+def run_batch_command(args: argparse.Namespace) -> int:
+    from robostereo.batch import BatchOptions, run_batch
+
+    drange = _range_args(args)
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"--workers must be >= 1, got {args.workers}")
+    if args.calibration is not None:
+        from robostereo.calibration import read_calibration
+
+        read_calibration(args.calibration, args.calibration_right)  # fail early, once
+    opts = BatchOptions(
+        disparity_range=drange, ply=args.ply,
+        calibration=None if args.calibration is None else str(args.calibration),
+        calibration_right=None if args.calibration_right is None else str(args.calibration_right),
+    )
+    if sys.stderr.isatty():
+        from rich.progress import Progress
+
+        bar = Progress(transient=True)
+        task = bar.add_task("robostereo batch", total=None)
+
+        def progress(done: int, total: int, row: dict[str, Any]) -> None:
+            bar.update(task, completed=done, total=total, description=f"{row['input']}")
+    else:
+        bar, progress = nullcontext(), None  # type: ignore[assignment]
+    with bar:
+        report = run_batch(args.input_dir, args.out, options=opts, scheduler=args.scheduler,
+                           workers=args.workers, progress=progress)
+    for name in report.failed:
+        print(f"robostereo: error: {report.errors[name]}", file=sys.stderr)
+    n = len(report.rows)
+    print(f"{n} inputs: {len(report.processed) - len(report.failed)} processed, "
+          f"{len(report.skipped)} already finished, {len(report.failed)} failed, in "
+          f"{report.seconds:.1f} s -> {report.summary}")
+    return 2 if report.failed else 0
+
+
 PARSERS: list[Callable[[Any], None]] = [add_match_parser]
+PARSERS += [add_rig_parser, add_evaluate_parser, add_batch_parser]
 
 
 def build_parser() -> argparse.ArgumentParser:
