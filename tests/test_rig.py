@@ -138,7 +138,7 @@ def test_round_trip_recovers_the_scene(result, rendered) -> None:
     # the right camera (occluded)
     steps = np.zeros(n, bool)
     for dx in (-2.0, 2.0):
-        p2, _ = scene.cast(np.zeros(3), _rays(orig + [dx, 0.0], K1, D1))
+        p2, _ = scene.cast(np.zeros(3), _rays(orig + np.array([dx, 0.0]), K1, D1))
         steps |= np.abs(p2[:, 2] - truth[:, 2]) > 20.0
     cr = _centre_right()
     to_p = truth - cr

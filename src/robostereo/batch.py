@@ -1,0 +1,503 @@
+"""Batch runs over many stereo inputs, on the local cores or a Dask cluster, resumable.
+
+An input is a folder, one of
+
+* a **pair folder**: ``left.*`` and ``right.*`` (rectified images), optionally
+  ``camera.yaml`` (the camera YAML of :func:`robostereo.io.load_stereo_camera`, for
+  3-D points) and ``disparity.yaml`` (``min_disparity``, ``max_disparity``; otherwise
+  the batch-wide range); with a batch-wide calibration
+  (:attr:`BatchOptions.calibration`) the images are the original ones of a calibrated
+  rig and go through :func:`robostereo.rig.match_rig`;
+* a **capture folder**: ``capture.yaml``, ``left.png``, ``right.png`` as
+  ``robostereo capture`` writes it, processed by :func:`robostereo.capture.locate_capture`.
+
+:func:`run_batch` processes every input folder of a directory and writes, per input
+``NAME``, ``OUT/NAME.csv`` (the matched points) and then ``OUT/NAME.json`` (its summary
+row and timings), both atomically; the JSON file marks the input as finished, so a
+second run skips it (resume).  A failed input is reported and the others go on; it
+leaves no output, so the next run retries it.  At the end ``OUT/summary.csv`` lists
+every input (its columns hold no timings, so runs on different machines give identical
+files).  The work runs in a local process pool, or with ``scheduler`` on an existing
+``dask.distributed`` cluster, whose workers must see the same file system.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from collections.abc import Callable, Mapping
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import yaml
+
+from robostereo.errors import InputError
+from robostereo.pipeline import MatchParameters
+
+__all__ = [
+    "SUMMARY_COLUMNS",
+    "BatchOptions",
+    "BatchReport",
+    "find_inputs",
+    "process_input",
+    "run_batch",
+]
+
+PathLike = str | os.PathLike[str]
+
+SUMMARY_COLUMNS = (
+    "input", "status", "kind", "edges_left", "edges_right", "matched", "matched_percent",
+    "points_3d", "min_disparity", "max_disparity", "output", "error",
+)  # fmt: skip
+"""Columns of ``summary.csv`` (one row per input, sorted by input name)."""
+
+_IMAGE_EXTS = (".png", ".ppm", ".pgm", ".pnm", ".tif", ".tiff", ".bmp", ".jpg", ".jpeg")
+
+
+@dataclass(frozen=True)
+class BatchOptions:
+    """What every input of a batch shares.
+
+    Attributes
+    ----------
+    disparity_range : tuple of float or None
+        ``(min, max)`` for pair folders without ``disparity.yaml``.
+    params : MatchParameters or None
+        Matcher tuning; default ``MatchParameters()`` with each image's bit depth.
+    calibration, calibration_right : str or None
+        A rig calibration file (and the right ROS file) for every pair folder: the
+        pairs are then original images, rectified by :func:`robostereo.rig.match_rig`.
+    ply : bool
+        Also write ``NAME.ply`` where 3-D points are known.
+    """
+
+    disparity_range: tuple[float, float] | None = None
+    params: MatchParameters | None = None
+    calibration: str | None = None
+    calibration_right: str | None = None
+    ply: bool = False
+
+
+@dataclass(frozen=True)
+class BatchReport:
+    """What :func:`run_batch` did.
+
+    Attributes
+    ----------
+    rows : tuple of dict
+        One summary row per input (see :data:`SUMMARY_COLUMNS`), sorted by name.
+    processed, skipped, failed : tuple of str
+        Inputs run now, inputs already finished (resumed), inputs that failed.
+    summary : Path
+        ``OUT/summary.csv``.
+    seconds : float
+        Wall time of the run.
+    """
+
+    rows: tuple[dict[str, Any], ...]
+    processed: tuple[str, ...]
+    skipped: tuple[str, ...]
+    failed: tuple[str, ...]
+    summary: Path
+    seconds: float
+    errors: dict[str, str] = field(default_factory=dict)
+
+
+def _has_image(d: Path, stem: str) -> Path | None:
+    for ext in _IMAGE_EXTS:
+        for p in (d / f"{stem}{ext}", d / f"{stem}{ext.upper()}"):
+            if p.is_file():
+                return p
+    return None
+
+
+def _is_input(d: Path) -> bool:
+    return (d / "capture.yaml").is_file() or (
+        _has_image(d, "left") is not None and _has_image(d, "right") is not None
+    )
+
+
+def find_inputs(input_dir: PathLike, *, exclude: PathLike | None = None) -> list[Path]:
+    """The input folders of `input_dir`: itself if it is an input, else its subfolders.
+
+    Parameters
+    ----------
+    input_dir : path
+    exclude : path, optional
+        A folder to leave out (the output folder, when it lies inside `input_dir`).
+
+    Returns
+    -------
+    list of Path
+        Sorted by name; hidden folders are left out.  Subfolders that are not inputs
+        are kept: processing them reports why.
+
+    Raises
+    ------
+    InputError
+        `input_dir` missing, unreadable, or without any subfolder.
+    """
+    d = Path(input_dir)
+    if not d.is_dir():
+        raise InputError(f"{d}: input folder not found")
+    if _is_input(d):
+        return [d]
+    ex = Path(exclude).resolve() if exclude is not None else None
+    try:
+        subs = sorted(p for p in d.iterdir() if p.is_dir() and not p.name.startswith("."))
+    except OSError as e:
+        raise InputError(f"{d}: cannot list folder ({e.__class__.__name__})") from None
+    subs = [p for p in subs if ex is None or p.resolve() != ex]
+    if not subs:
+        raise InputError(
+            f"{d}: no input folders (pair folders with left.* and right.*, or capture "
+            "folders with capture.yaml)"
+        )
+    return subs
+
+
+def _read_range(path: Path) -> tuple[float, float]:
+    try:
+        data = yaml.safe_load(path.read_text())
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
+        raise InputError(f"{path}: cannot read disparity YAML ({e.__class__.__name__})") from None
+    if not isinstance(data, Mapping) or not {"min_disparity", "max_disparity"} <= data.keys():
+        raise InputError(f"{path}: expected keys min_disparity and max_disparity")
+    try:
+        lo, hi = float(data["min_disparity"]), float(data["max_disparity"])
+    except (TypeError, ValueError):
+        raise InputError(f"{path}: min_disparity and max_disparity must be numbers") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
+        raise InputError(f"{path}: need finite min_disparity <= max_disparity, got {lo}, {hi}")
+    return lo, hi
+
+
+def _write_outputs(
+    out: Path, name: str, table: Mapping[str, Any], xyz: Any, ply: bool
+) -> str:
+    from robostereo.io import write_csv, write_ply
+
+    csv_path = out / f"{name}.csv"
+    write_csv(csv_path, table)
+    if ply and xyz is not None:
+        write_ply(out / f"{name}.ply", xyz)
+    return csv_path.name
+
+
+def _run_pair(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
+    from dataclasses import replace
+
+    from robostereo.datasets import load_image
+    from robostereo.io import load_stereo_camera
+    from robostereo.pipeline import match_stereo
+
+    lp, rp = _has_image(d, "left"), _has_image(d, "right")
+    assert lp is not None and rp is not None
+    rng_file = d / "disparity.yaml"
+    if rng_file.is_file():
+        lo, hi = _read_range(rng_file)
+    elif options.disparity_range is not None:
+        lo, hi = options.disparity_range
+    else:
+        raise InputError(f"{d}: no disparity.yaml and no batch-wide disparity range")
+    left, bits_l = load_image(lp)
+    right, bits_r = load_image(rp)
+    if bits_l != bits_r:
+        raise InputError(f"{rp}: bit depth {bits_r} differs from the left image's {bits_l}")
+    base = options.params or MatchParameters()
+    params = base if base.bit_depth is not None else replace(base, bit_depth=bits_l)
+    if options.calibration is not None:
+        from robostereo.calibration import read_calibration
+        from robostereo.rig import match_rig
+
+        calib = read_calibration(options.calibration, options.calibration_right)
+        rr = match_rig(left, right, calib, (lo, hi), params=params, names=(str(lp), str(rp)))
+        table = rr.table()
+        xyz = np.column_stack([table["X"], table["Y"], table["Z"]])
+        res, kind = rr.match, "rig"
+    else:
+        if right.shape[:2] != left.shape[:2]:
+            raise InputError(
+                f"{rp}: image is {right.shape[1]} x {right.shape[0]} (W x H), the left "
+                f"image {left.shape[1]} x {left.shape[0]}"
+            )
+        cam_file = d / "camera.yaml"
+        camera = load_stereo_camera(cam_file) if cam_file.is_file() else None
+        res = match_stereo(left, right, (lo, hi), params=params, camera=camera)
+        table = res.table()
+        xyz = np.column_stack([table["X"], table["Y"], table["Z"]]) if camera else None
+        kind = "pair"
+    n_left, n = len(res.left_edges), len(res)
+    return {
+        "kind": kind, "edges_left": n_left, "edges_right": len(res.right_edges),
+        "matched": n, "matched_percent": round(100.0 * n / n_left, 2) if n_left else 0.0,
+        "points_3d": int(np.isfinite(xyz).all(axis=1).sum()) if xyz is not None else 0,
+        "min_disparity": float(lo), "max_disparity": float(hi),
+        "output": _write_outputs(out, d.name, table, xyz, options.ply),
+    }  # fmt: skip
+
+
+def _run_capture(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
+    try:
+        from robostereo.capture import locate_capture
+    except ImportError:
+        raise InputError(
+            f"{d / 'capture.yaml'}: capture folders need robostereo.capture, which this "
+            "installation lacks"
+        ) from None
+    located = locate_capture(d)
+    table = located.table()
+    res = located.result
+    n_left, n = len(res.left_edges), len(located)
+    lo, hi = located.disparity_range
+    return {
+        "kind": "capture", "edges_left": n_left, "edges_right": len(res.right_edges),
+        "matched": n, "matched_percent": round(100.0 * n / n_left, 2) if n_left else 0.0,
+        "points_3d": int(np.isfinite(located.world).all(axis=1).sum()),
+        "min_disparity": float(lo), "max_disparity": float(hi),
+        "output": _write_outputs(out, d.name, table, located.world, options.ply),
+    }  # fmt: skip
+
+
+def _blank_row(name: str) -> dict[str, Any]:
+    row: dict[str, Any] = dict.fromkeys(SUMMARY_COLUMNS, "")
+    row["input"] = name
+    return row
+
+
+def process_input(
+    input_dir: PathLike, out_dir: PathLike, options: BatchOptions | None = None
+) -> dict[str, Any]:
+    """Process one input folder and write its outputs; never raises for bad input.
+
+    Parameters
+    ----------
+    input_dir : path
+        A pair folder or a capture folder (see the module docstring).
+    out_dir : path
+        Existing output folder.
+    options : BatchOptions, optional
+
+    Returns
+    -------
+    dict
+        The summary row (:data:`SUMMARY_COLUMNS`) plus ``seconds``; ``status`` is
+        ``"ok"`` or ``"error"`` with a one-line ``error`` naming the file.
+
+    Notes
+    -----
+    1. Recognise the folder (``capture.yaml`` -> capture; ``left.*`` and ``right.*`` ->
+       pair; otherwise an error naming the folder: empty, or no such files).
+    2. Match (and triangulate, where a camera or calibration is known).
+    3. Write ``NAME.csv`` [and ``NAME.ply``], then ``NAME.json``, each atomically: the
+       JSON file, written last, marks the input finished.
+    """
+    from robostereo.io import atomic_path
+
+    d = Path(input_dir)
+    out = Path(out_dir)
+    opts = options or BatchOptions()
+    row = _blank_row(d.name)
+    t0 = time.perf_counter()
+    try:
+        if not d.is_dir():
+            raise InputError(f"{d}: input folder not found")
+        try:
+            entries = list(d.iterdir())
+        except OSError as e:
+            raise InputError(f"{d}: cannot read folder ({e.__class__.__name__})") from None
+        if not entries:
+            raise InputError(f"{d}: folder is empty")
+        if (d / "capture.yaml").is_file():
+            row.update(_run_capture(d, out, opts))
+        elif _is_input(d):
+            row.update(_run_pair(d, out, opts))
+        else:
+            raise InputError(
+                f"{d}: neither a pair folder (left.* and right.*) nor a capture folder "
+                "(capture.yaml)"
+            )
+        row["status"] = "ok"
+    except InputError as e:
+        row.update(status="error", error=str(e).splitlines()[0] if str(e) else "error")
+    except Exception as e:  # keep the batch going; report the input as failed
+        row.update(status="error", error=f"{d}: {e.__class__.__name__}: {e}".splitlines()[0])
+    row["seconds"] = round(time.perf_counter() - t0, 4)
+    if row["status"] == "ok":
+        with atomic_path(out / f"{d.name}.json") as tmp:
+            tmp.write_text(json.dumps(row, indent=1, sort_keys=True))
+    return row
+
+
+def _finished(out: Path, name: str) -> dict[str, Any] | None:
+    """The stored row of a finished input, or None (missing, partial or failed)."""
+    j = out / f"{name}.json"
+    if not j.is_file():
+        return None
+    try:
+        row = json.loads(j.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError):
+        return None
+    if not isinstance(row, dict) or row.get("status") != "ok":
+        return None
+    if not (out / str(row.get("output", ""))).is_file():
+        return None
+    return row
+
+
+def _write_summary(path: Path, rows: list[dict[str, Any]]) -> None:
+    from robostereo.io import write_csv
+
+    cols = {c: np.array([r.get(c, "") for r in rows], dtype=object) for c in SUMMARY_COLUMNS}
+    write_csv(path, cols)
+
+
+ProgressCallback = Callable[[int, int, dict[str, Any]], None]
+
+
+def run_batch(
+    input_dir: PathLike,
+    out_dir: PathLike,
+    *,
+    options: BatchOptions | None = None,
+    scheduler: str | None = None,
+    workers: int | None = None,
+    progress: ProgressCallback | None = None,
+) -> BatchReport:
+    """Run the pipeline over every input folder of `input_dir`, skipping finished ones.
+
+    Parameters
+    ----------
+    input_dir : path
+        A folder of input folders (or one input folder), see :func:`find_inputs`.
+    out_dir : path
+        Output folder (created if missing).
+    options : BatchOptions, optional
+    scheduler : str, optional
+        Address of a ``dask.distributed`` scheduler (``tcp://host:8786``); default: a
+        local process pool.
+    workers : int, optional
+        Local processes (default: the number of cores); 1 runs in this process.
+    progress : callable, optional
+        ``progress(done, total, row)`` after each input (finished ones count at once).
+
+    Returns
+    -------
+    BatchReport
+
+    Raises
+    ------
+    InputError
+        No input folders, an output folder that cannot be made, a scheduler that cannot
+        be reached.
+
+    Notes
+    -----
+    1. List the inputs; those with a finished ``NAME.json`` (and its CSV) are skipped.
+    2. Submit the others to the pool or the cluster (:func:`process_input`) and collect
+       them as they finish; a failure is a row with ``status = error``.
+    3. Write ``summary.csv`` over all inputs (sorted by name).  An interrupted run
+       leaves every finished input's files in place for the next run.
+    """
+    t0 = time.perf_counter()
+    opts = options or BatchOptions()
+    out = Path(out_dir)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as e:
+        raise InputError(f"{out}: cannot create output folder ({e.__class__.__name__})") from None
+    inputs = find_inputs(input_dir, exclude=out)
+    names = [p.name for p in inputs]
+    if len(set(names)) != len(names):
+        raise InputError(f"{input_dir}: input folder names must be unique")
+    rows: dict[str, dict[str, Any]] = {}
+    skipped: list[str] = []
+    todo: list[Path] = []
+    for p in inputs:
+        row = _finished(out, p.name)
+        if row is None:
+            todo.append(p)
+        else:
+            rows[p.name] = row
+            skipped.append(p.name)
+    total = len(inputs)
+    done = len(skipped)
+    if progress is not None:
+        for name in skipped:
+            progress(done, total, rows[name])
+
+    def collect(row: dict[str, Any]) -> None:
+        nonlocal done
+        rows[row["input"]] = row
+        done += 1
+        if progress is not None:
+            progress(done, total, row)
+
+    if todo:
+        if scheduler is not None:
+            _run_dask(todo, out, opts, scheduler, collect)
+        elif (workers or os.cpu_count() or 1) <= 1 or len(todo) == 1:
+            for p in todo:
+                collect(process_input(p, out, opts))
+        else:
+            import multiprocessing
+
+            n = min(workers or os.cpu_count() or 1, len(todo))
+            ctx = multiprocessing.get_context("spawn")  # safe beside threads (dask, BLAS)
+            with ProcessPoolExecutor(max_workers=n, mp_context=ctx) as pool:
+                futs = [pool.submit(process_input, str(p), str(out), opts) for p in todo]
+                try:
+                    for f in as_completed(futs):
+                        collect(f.result())
+                except BaseException:
+                    for f in futs:
+                        f.cancel()
+                    raise
+    ordered = [rows[n] for n in sorted(rows)]
+    summary = out / "summary.csv"
+    _write_summary(summary, ordered)
+    failed = tuple(r["input"] for r in ordered if r["status"] != "ok")
+    return BatchReport(
+        rows=tuple(ordered), processed=tuple(sorted(p.name for p in todo)),
+        skipped=tuple(sorted(skipped)), failed=failed, summary=summary,
+        seconds=time.perf_counter() - t0,
+        errors={r["input"]: r["error"] for r in ordered if r["status"] != "ok"},
+    )  # fmt: skip
+
+
+def _run_dask(
+    todo: list[Path], out: Path, opts: BatchOptions, scheduler: str,
+    collect: Callable[[dict[str, Any]], None],
+) -> None:
+    try:
+        from distributed import Client
+        from distributed import as_completed as dask_completed
+    except ImportError:
+        raise InputError(
+            "--scheduler needs dask.distributed: pip install 'robostereo[distributed]'"
+        ) from None
+    try:
+        client = Client(scheduler, timeout="10s")
+    except (OSError, TimeoutError) as e:
+        raise InputError(
+            f"cannot reach the Dask scheduler at {scheduler} ({e.__class__.__name__})"
+        ) from None
+    try:
+        futs = [
+            client.submit(process_input, str(p), str(out), opts, pure=False,
+                          key=f"robostereo-{p.name}-{time.time_ns()}")
+            for p in todo
+        ]  # fmt: skip
+        try:
+            for f in dask_completed(futs):
+                collect(f.result())
+        except BaseException:
+            client.cancel(futs)
+            raise
+    finally:
+        client.close()

@@ -1,0 +1,217 @@
+"""Tests for robostereo.batch and ``robostereo batch``: local pool vs Dask, resume, failures."""
+
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+import cv2
+import numpy as np
+import pytest
+from synthetic import synthetic_pair
+
+from robostereo.batch import BatchOptions, find_inputs, process_input, run_batch
+from robostereo.cli import main
+from robostereo.errors import InputError
+
+N_PAIRS = 20
+RANGE = (4.0, 16.0)
+
+
+def _write_pair(d: Path, seed: int, *, camera: bool, range_file: bool) -> None:
+    left, right, _ = synthetic_pair(np.random.default_rng(seed), height=60, width=200)
+    d.mkdir(parents=True)
+    cv2.imwrite(str(d / "left.png"), left)
+    cv2.imwrite(str(d / "right.png"), right)
+    if camera:
+        (d / "camera.yaml").write_text("fx: 800\nfy: 800\nbaseline_mm: 60\n")
+    if range_file:
+        (d / "disparity.yaml").write_text("min_disparity: 4\nmax_disparity: 16\n")
+
+
+@pytest.fixture(scope="module")
+def inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """20 pair folders: half with camera.yaml (3-D), a third with disparity.yaml."""
+    root = tmp_path_factory.mktemp("batch") / "pairs"
+    for k in range(N_PAIRS):
+        _write_pair(root / f"pair{k:02d}", k, camera=k % 2 == 0, range_file=k % 3 == 0)
+    return root
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    """One small in-process Dask cluster on loopback TCP (threads, no worker processes)."""
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(
+        n_workers=1, threads_per_worker=2, processes=False, protocol="tcp://",
+        host="127.0.0.1", dashboard_address=None,
+    ) as c:  # fmt: skip
+        yield c
+
+
+def _csvs(d: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(d.glob("*.csv"))}
+
+
+def test_local_and_dask_give_identical_csvs(inputs: Path, tmp_path: Path, cluster) -> None:
+    opts = BatchOptions(disparity_range=RANGE)
+    local = run_batch(inputs, tmp_path / "local", options=opts, workers=2)
+    dask = run_batch(inputs, tmp_path / "dask", options=opts, scheduler=cluster.scheduler_address)
+    assert local.failed == () and dask.failed == ()
+    assert len(local.processed) == len(dask.processed) == N_PAIRS
+    a, b = _csvs(tmp_path / "local"), _csvs(tmp_path / "dask")
+    assert len(a) == N_PAIRS + 1 and a == b  # 20 results + summary.csv, byte for byte
+    rows = local.rows
+    assert [r["input"] for r in rows] == [f"pair{k:02d}" for k in range(N_PAIRS)]
+    assert all(r["matched_percent"] > 90 for r in rows)
+    # camera.yaml gives 3-D points; disparity.yaml and the batch range both apply
+    assert rows[0]["points_3d"] == rows[0]["matched"] > 0 and rows[1]["points_3d"] == 0
+    head = (tmp_path / "local" / "pair00.csv").read_text().splitlines()[0]
+    assert head.endswith("X,Y,Z,z_bound")
+    assert all(r["min_disparity"] == 4.0 for r in rows)
+
+
+def test_interrupted_batch_resumes_without_redoing(inputs: Path, tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    opts = BatchOptions(disparity_range=RANGE)
+
+    def stop_after_7(done: int, total: int, row: dict) -> None:
+        if done == 7:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_batch(inputs, out, options=opts, workers=1, progress=stop_after_7)
+    finished = sorted(p.stem for p in out.glob("*.json"))
+    assert finished == [f"pair{k:02d}" for k in range(7)]
+    assert not (out / "summary.csv").exists()
+    stamps = {p.name: p.stat().st_mtime_ns for p in out.glob("pair0[0-6].*")}
+    # an interruption between the two writes: a CSV without its JSON is redone
+    (out / "pair06.json").unlink()
+    seen: list[str] = []
+    rep = run_batch(inputs, out, options=opts, workers=1,
+                    progress=lambda d, t, r: seen.append(r["input"]))
+    assert rep.skipped == tuple(f"pair{k:02d}" for k in range(6))
+    assert rep.processed == tuple(f"pair{k:02d}" for k in range(6, N_PAIRS))
+    assert len(seen) == N_PAIRS and rep.failed == ()
+    for name, t in stamps.items():
+        if not name.startswith("pair06"):
+            assert (out / name).stat().st_mtime_ns == t, name
+    # a finished batch does nothing but rewrite the summary
+    again = run_batch(inputs, out, options=opts, workers=1)
+    assert again.processed == () and len(again.skipped) == N_PAIRS
+    assert (out / "summary.csv").read_text() == (rep.summary).read_text()
+
+
+def _bad_inputs(root: Path) -> None:
+    _write_pair(root / "a_good", 1, camera=True, range_file=True)
+    (root / "b_empty").mkdir()
+    _write_pair(root / "c_unreadable", 2, camera=False, range_file=True)
+    (root / "c_unreadable" / "right.png").write_bytes(b"not a png at all")
+    _write_pair(root / "d_size", 3, camera=False, range_file=True)
+    cv2.imwrite(str(root / "d_size" / "right.png"), np.zeros((60, 190), np.uint8))
+    _write_pair(root / "e_camera", 4, camera=False, range_file=True)
+    (root / "e_camera" / "camera.yaml").write_text("fx: .nan\nfy: 800\nbaseline_mm: 60\n")
+    (root / "f_other").mkdir()
+    (root / "f_other" / "notes.txt").write_text("hello")
+    _write_pair(root / "g_norange", 5, camera=False, range_file=False)
+    _write_pair(root / "h_good", 6, camera=False, range_file=True)
+
+
+def test_failed_inputs_are_reported_and_the_rest_go_on(tmp_path: Path, capsys) -> None:
+    root = tmp_path / "in"
+    _bad_inputs(root)
+    out = tmp_path / "out"
+    rc = main(["batch", str(root), "--out", str(out), "--workers", "1"])
+    cap = capsys.readouterr()
+    assert rc == 2
+    errs = [ln for ln in cap.err.splitlines() if ln.startswith("robostereo: error:")]
+    assert len(errs) == 6
+    expect = {
+        "b_empty": "b_empty: folder is empty",
+        "c_unreadable": "right.png: cannot decode image",
+        "d_size": "right.png: image is 190 x 60 (W x H), the left image 200 x 60",
+        "e_camera": "camera.yaml: fx must be finite",
+        "f_other": "f_other: neither a pair folder",
+        "g_norange": "g_norange: no disparity.yaml and no batch-wide disparity range",
+    }
+    for name, text in expect.items():
+        assert any(name in e and text in e for e in errs), (name, errs)
+    assert "8 inputs: 2 processed, 0 already finished, 6 failed" in cap.out
+    summary = (out / "summary.csv").read_text().splitlines()
+    assert summary[0].startswith("input,status,kind")
+    assert [ln.split(",")[1] for ln in summary[1:]] == ["ok"] + ["error"] * 6 + ["ok"]
+    assert sorted(p.name for p in out.glob("*.csv")) == ["a_good.csv", "h_good.csv",
+                                                         "summary.csv"]
+    # a rerun retries the failed inputs only
+    rc = main(["batch", str(root), "--out", str(out), "--workers", "1",
+               "--min-disparity", "4", "--max-disparity", "16"])
+    assert rc == 2
+    assert "8 inputs: 1 processed, 2 already finished, 5 failed" in capsys.readouterr().out
+
+
+def test_failed_input_on_dask(tmp_path: Path, cluster) -> None:
+    root = tmp_path / "in"
+    _bad_inputs(root)
+    rep = run_batch(root, tmp_path / "out", scheduler=cluster.scheduler_address)
+    assert set(rep.failed) == {"b_empty", "c_unreadable", "d_size", "e_camera", "f_other",
+                               "g_norange"}
+    assert "c_unreadable/right.png: cannot decode image" in rep.errors["c_unreadable"]
+
+
+def test_rig_calibration_of_another_size(tmp_path: Path) -> None:
+    from robostereo.calibration import StereoCalibration, write_opencv_calibration
+
+    root = tmp_path / "in"
+    _write_pair(root / "p", 1, camera=False, range_file=True)
+    K = np.array([[800.0, 0, 99.5], [0, 800.0, 29.5], [0, 0, 1]])
+    good = write_opencv_calibration(
+        StereoCalibration(K, None, K, None, np.eye(3), [-60, 0, 0], (200, 60)), tmp_path / "g.yml")
+    bad = write_opencv_calibration(
+        StereoCalibration(K, None, K, None, np.eye(3), [-60, 0, 0], (640, 480)), tmp_path / "b.yml")
+    rep = run_batch(root, tmp_path / "o1", options=BatchOptions(calibration=str(good)),
+                    workers=1)
+    assert rep.failed == () and rep.rows[0]["kind"] == "rig" and rep.rows[0]["points_3d"] > 0
+    rep = run_batch(root, tmp_path / "o2", options=BatchOptions(calibration=str(bad)),
+                    workers=1)
+    assert rep.failed == ("p",)
+    assert "left.png: image is 200 x 60 (W x H), calibration 640 x 480" in rep.errors["p"]
+
+
+def test_capture_folder(tmp_path: Path, monkeypatch) -> None:
+    root = tmp_path / "in"
+    cap_dir = root / "cap"
+    capture = pytest.importorskip("robostereo.capture")
+    from robostereo.camera import Camera, Pose
+
+    left, right, _ = synthetic_pair(np.random.default_rng(3), height=120, width=320)
+    try:
+        c = capture.Capture(left=left, right=right, camera=Camera(image_size=(320, 120)),
+                            pose_left=Pose(-10.0, 0.0, 900.0, 0.0),
+                            pose_right=Pose(10.0, 0.0, 900.0, 0.0), bit_depth=8,
+                            disparity_range=RANGE)
+        root.mkdir()
+        capture.write_capture(cap_dir, c)
+    except (TypeError, AttributeError) as e:  # the capture module is still changing
+        pytest.skip(f"robostereo.capture API differs: {e}")
+    rep = run_batch(root, tmp_path / "out", workers=1)
+    assert rep.failed == (), rep.errors
+    row = rep.rows[0]
+    assert row["kind"] == "capture" and row["matched"] > 0 and row["points_3d"] == row["matched"]
+    head = (tmp_path / "out" / "cap.csv").read_text().splitlines()[0]
+    assert head.startswith("X_w,Y_w,Z_w")
+    # without the capture module: a clear one-line error naming capture.yaml
+    monkeypatch.setitem(sys.modules, "robostereo.capture", None)
+    row = process_input(cap_dir, tmp_path)
+    assert row["status"] == "error" and "capture.yaml: capture folders need" in row["error"]
+
+
+def test_find_inputs(tmp_path: Path, inputs: Path) -> None:
+    assert find_inputs(inputs / "pair03") == [inputs / "pair03"]  # one input folder
+    assert len(find_inputs(inputs)) == N_PAIRS
+    with pytest.raises(InputError, match="no input folders"):
+        find_inputs(tmp_path)
+    with pytest.raises(InputError, match="input folder not found"):
+        find_inputs(tmp_path / "missing")
+    row = json.loads(json.dumps(process_input(tmp_path / "missing", tmp_path)))
+    assert row["status"] == "error"
