@@ -309,8 +309,127 @@ def run_batch_command(args: argparse.Namespace) -> int:
     return 2 if report.failed else 0
 
 
+# --- the robot system: demo, capture, locate (issue 3) -----------------------------------
+
+
+def add_demo_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "demo", help="run the seed's experiments on the simulated AdeptOne (no files needed)",
+        description="Render the precision block at two heights 79.65 mm apart and the "
+                    "hub-pulley as the simulated AdeptOne's forearm camera sees them from "
+                    "two viewpoints 20 mm apart, locate the edge points, and print table 5-1 "
+                    "and the hub-pulley's %% matched and %% false per iteration; write the "
+                    "figures to the output folder.",
+    )
+    p.add_argument("--out", type=Path, default=Path("robostereo-out"),
+                   help="folder for the figures (created; default ./robostereo-out)")
+    p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
+    p.set_defaults(handler=run_demo_command)
+
+
+def run_demo_command(args: argparse.Namespace) -> int:
+    from rich.console import Console
+
+    from robostereo.experiments import print_demo_report, run_demo, save_demo_figures
+
+    if args.seed < 0:
+        raise InputError(f"--seed must be >= 0, got {args.seed}")
+    if args.out.exists() and not args.out.is_dir():
+        raise InputError(f"{args.out}: exists and is not a folder")
+    status, say = _stage_reporter(sys.stderr.isatty())
+    with status:
+        say("rendering and matching the block and the hub-pulley")
+        result = run_demo(seed=args.seed)
+    print_demo_report(result, Console())
+    args.out.mkdir(parents=True, exist_ok=True)
+    paths = save_demo_figures(result, args.out)
+    print(f"figures: {', '.join(str(p) for p in paths)}")
+    return 0
+
+
+def add_capture_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "capture", help="grab two views with the (simulated) robot into a capture folder",
+        description="Move the AdeptOne's forearm camera to -D/2 and +D/2 about the centre "
+                    "along the baseline direction, grab an image at each (rendered by the "
+                    "simulator) and write DIR/left.png, DIR/right.png and DIR/capture.yaml.",
+    )
+    p.add_argument("--out", type=Path, required=True, metavar="DIR",
+                   help="capture folder to create (must not exist, or be empty)")
+    p.add_argument("--scene", choices=("block", "pulley"), default="block",
+                   help="simulated object (block)")
+    p.add_argument("--lift", type=_finite("--lift"), default=0.0,
+                   help="block: raise of its top, mm (0; the seed's second set: 79.65)")
+    p.add_argument("--baseline", type=_finite("--baseline"), default=20.0,
+                   help="baseline D, mm (20)")
+    p.add_argument("--direction", type=_finite("--direction"), default=0.0,
+                   help="baseline direction from world X, degrees (0)")
+    p.add_argument("--roll", type=_finite("--roll"), default=0.0,
+                   help="camera yaw against the baseline at the centre, degrees (0)")
+    p.add_argument("--center", type=_finite("--center"), nargs=2, default=(400.0, 0.0),
+                   metavar=("X", "Y"), help="mid-baseline point, world mm (400 0)")
+    p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
+    p.set_defaults(handler=run_capture_command)
+
+
+def run_capture_command(args: argparse.Namespace) -> int:
+    from robostereo.capture import write_capture
+    from robostereo.experiments import RigSetup, simulate_capture
+
+    if args.seed < 0:
+        raise InputError(f"--seed must be >= 0, got {args.seed}")
+    out = args.out
+    if out.exists() and (not out.is_dir() or any(out.iterdir())):
+        raise InputError(f"{out}: exists and is not an empty folder")
+    if not (out.parent if str(out.parent) else Path(".")).is_dir():
+        raise InputError(f"{out}: parent folder {out.parent} does not exist")
+    setup = RigSetup(center_xy=(args.center[0], args.center[1]), baseline_mm=args.baseline,
+                     direction_deg=args.direction, roll_deg=args.roll)
+    sim = simulate_capture(args.scene, setup=setup, lift_mm=args.lift, seed=args.seed)
+    write_capture(out, sim.capture)
+    g = sim.capture.epipolar
+    print(f"{out}: {args.scene}, D = {g.baseline_mm:.3f} mm, alpha = "
+          f"{math.degrees(g.alpha):.3f} deg, theta_l = {math.degrees(g.theta_l):.3f} deg, "
+          f"theta_r = {math.degrees(g.theta_r):.3f} deg")
+    return 0
+
+
+def add_locate_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "locate", help="3-D world coordinates of the edge points of a capture folder",
+        description="Rectify a capture folder's two views by their poses, match the edge "
+                    "points, and write world and epipolar-frame coordinates with the eq. 9 "
+                    "depth bound of every point (CSV; optionally PLY).",
+    )
+    p.add_argument("capture", type=Path, metavar="DIR", help="capture folder")
+    p.add_argument("-o", "--output", type=Path,
+                   help="points CSV (default DIR/located.csv)")
+    p.add_argument("--ply", type=Path, help="write the world points as PLY")
+    p.set_defaults(handler=run_locate_command)
+
+
+def run_locate_command(args: argparse.Namespace) -> int:
+    from robostereo.capture import locate_capture
+    from robostereo.io import write_csv, write_ply
+
+    output = args.output if args.output is not None else args.capture / "located.csv"
+    _check_outputs(output, args.ply)
+    located = locate_capture(args.capture)
+    write_csv(output, located.table())
+    if args.ply is not None:
+        write_ply(args.ply, located.world)
+    n_left, n = len(located.result.left_edges), len(located)
+    lo, hi = located.disparity_range
+    zb = located.z_bound
+    bound = f", depth bound {np.median(zb):.1f} mm (median)" if n else ""
+    print(f"{args.capture}: disparity {lo:g} .. {hi:g} px, {n_left} edge points, {n} located"
+          f"{bound} -> {output}")
+    return 0
+
+
 PARSERS: list[Callable[[Any], None]] = [add_match_parser]
 PARSERS += [add_rig_parser, add_evaluate_parser, add_batch_parser]
+PARSERS += [add_demo_parser, add_capture_parser, add_locate_parser]
 
 
 def build_parser() -> argparse.ArgumentParser:

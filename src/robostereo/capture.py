@@ -1,0 +1,754 @@
+"""Capture folders and locating object points in the world frame (seed 2.2, 3.6, 4.2).
+
+A *capture* is what the seed's VAL-II program leaves behind: two grabbed images, the
+camera and the two camera poses the robot reported.  :func:`locate` turns one into 3-D
+points in the robot's world frame with a per-point depth bound:
+
+1. the epipolar frame of the two poses (:class:`~robostereo.camera.EpipolarGeometry`:
+   ``alpha``, ``theta_l``, ``theta_r``, ``D``);
+2. each image rectified by its ``theta`` (rows become epipolar lines), the pixels
+   whose source lies outside the grabbed image filled by replicating the nearest valid
+   pixel of the same row (:func:`rectify_pair`);
+3. the matcher of chapter 3 (:func:`robostereo.pipeline.match_stereo`) on the two
+   rectified images, within the capture's disparity range;
+4. matches whose left or right edge point lies within ``invalid_margin_px`` of a filled
+   pixel are dropped (their features would see the fill, not the scene);
+5. eq. (6)-(9) (:func:`robostereo.triangulation.triangulate`) in the epipolar frame,
+   then :meth:`~robostereo.camera.EpipolarGeometry.to_world`.
+
+Capture folder format (``DIR/``)::
+
+    left.png, right.png   the grabbed (unrectified) images, 8-bit PNG, grey levels as
+                          grabbed (0..127 for the seed's 7-bit camera)
+    capture.yaml          camera:          camera mapping (robostereo.camera YAML keys)
+                          pose_left:       {x, y, z (mm), phi_deg}  the reported poses,
+                          pose_right:      {x, y, z (mm), phi_deg}  world frame
+                          bit_depth:       7 (optional; default the PNG's)
+                          disparity_range: [min, max] px (optional), or
+                          depth_range_mm:  [near, far] expected depth of the object
+                          uncertainty:     {baseline_mm, focal_length_mm, disparity_px}
+                                           (optional, eq. 9)
+                          robot, scene:    free-form notes (optional, not read)
+
+The baseline ``D`` and its direction ``alpha`` come from the two poses.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import tempfile
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any, Literal
+
+import cv2
+import numpy as np
+import yaml
+from numpy.typing import ArrayLike, NDArray
+
+from robostereo.camera import (
+    Camera,
+    EpipolarGeometry,
+    Pose,
+    camera_from_dict,
+    camera_to_dict,
+    pose_from_dict,
+    pose_to_dict,
+    rectified_valid_mask,
+)
+from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.pipeline import MatchParameters, MatchResult, match_stereo
+from robostereo.triangulation import StereoCamera, triangulate
+
+__all__ = [
+    "CAPTURE_YAML",
+    "DISPARITY_UNCERTAINTY_PX",
+    "Capture",
+    "LocateParameters",
+    "Located",
+    "RectifiedPair",
+    "capture_from_acquisition",
+    "disparity_range_from_depth",
+    "fill_invalid_rows",
+    "locate",
+    "locate_capture",
+    "read_capture",
+    "rectify_pair",
+    "write_capture",
+]
+
+CAPTURE_YAML = "capture.yaml"
+_IMAGES = ("left.png", "right.png")
+_KEYS = (
+    "camera", "pose_left", "pose_right", "bit_depth", "disparity_range", "depth_range_mm",
+    "uncertainty", "robot", "scene",
+)
+_UNCERTAINTY_KEYS = ("baseline_mm", "focal_length_mm", "disparity_px")
+
+DISPARITY_UNCERTAINTY_PX = 0.2
+"""``d(disp)`` of eq. (9) for sub-pixel edges, pixels.
+
+Measured on the simulated block (seed 5.2 set-up, 7-bit images with sensor noise,
+rectified with linear interpolation): the disparity error of every block edge point,
+over both heights, rolls of 0 and 10 degrees and baselines along and across world X,
+stayed below 0.13 px (see ``robostereo.experiments`` and the tests).  0.2 px is that
+maximum rounded up to a round figure; the seed used one whole pixel (0.00172 cm)."""
+
+
+# ----------------------------------------------------------------------------- capture
+
+
+@dataclass(frozen=True)
+class Capture:
+    """Two grabbed views with the camera and the poses the robot reported.
+
+    Attributes
+    ----------
+    left, right : ndarray, shape (H, W)
+        Grabbed, unrectified images (grey levels as grabbed).
+    camera : Camera
+    pose_left, pose_right : Pose
+        Reported camera poses; ``left`` is the viewpoint at ``-D/2`` on the baseline.
+    bit_depth : int
+        Significant bits of the grey levels (7 for the seed's camera).
+    disparity_range : tuple of float or None
+        ``(min, max)`` of ``x_left - x_right`` in rectified pixels.
+    depth_range_mm : tuple of float or None
+        ``(near, far)`` expected depth of the object below the cameras, used when
+        `disparity_range` is None.
+    baseline_uncertainty_mm, focal_length_uncertainty_mm, disparity_uncertainty_px : float
+        ``dD``, ``ds`` and ``d(disp)`` of eq. (9).
+    notes : mapping
+        Free-form ``robot`` and ``scene`` notes (written, never read).
+    """
+
+    left: NDArray[Any]
+    right: NDArray[Any]
+    camera: Camera
+    pose_left: Pose
+    pose_right: Pose
+    bit_depth: int = 7
+    disparity_range: tuple[float, float] | None = None
+    depth_range_mm: tuple[float, float] | None = None
+    baseline_uncertainty_mm: float = 0.01
+    focal_length_uncertainty_mm: float = 0.01
+    disparity_uncertainty_px: float = DISPARITY_UNCERTAINTY_PX
+    notes: Mapping[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        w, h = self.camera.image_size
+        for name in ("left", "right"):
+            img = np.asarray(getattr(self, name))
+            if img.ndim not in (2, 3) or img.shape[:2] != (h, w):
+                raise InputError(
+                    f"{name} image must be {w} x {h} pixels (the camera's image_size), "
+                    f"got shape {img.shape}"
+                )
+        b = self.bit_depth
+        if isinstance(b, bool) or not isinstance(b, int | np.integer) or not 1 <= b <= 16:
+            raise InputError(f"bit_depth must be an integer in 1..16, got {b!r}")
+        for name in ("left", "right"):
+            img = np.asarray(getattr(self, name))
+            if np.issubdtype(img.dtype, np.integer) and img.size and img.max() >= 2**b:
+                raise InputError(
+                    f"{name} image has grey level {int(img.max())} >= 2**bit_depth = {2**b}"
+                )
+        if self.disparity_range is None and self.depth_range_mm is None:
+            raise InputError("a capture needs disparity_range [min, max] or depth_range_mm "
+                             "[near, far]")
+        if self.disparity_range is not None:
+            lo, hi = _pair("disparity_range", self.disparity_range)
+            if not lo <= hi:
+                raise InputError(f"disparity_range must be [min, max] with min <= max, "
+                                 f"got {[lo, hi]}")
+            object.__setattr__(self, "disparity_range", (lo, hi))
+        if self.depth_range_mm is not None:
+            near, far = _pair("depth_range_mm", self.depth_range_mm)
+            if not 0 < near <= far:
+                raise InputError(f"depth_range_mm must be [near, far] with 0 < near <= far, "
+                                 f"got {[near, far]}")
+            object.__setattr__(self, "depth_range_mm", (near, far))
+        for name in ("baseline_uncertainty_mm", "focal_length_uncertainty_mm",
+                     "disparity_uncertainty_px"):
+            v = getattr(self, name)
+            require_finite(name, v)
+            if v < 0:
+                raise InputError(f"{name} must be >= 0, got {v}")
+        if abs(self.pose_left.z - self.pose_right.z) > 1e-3:
+            raise InputError(
+                "pose_left and pose_right must be at the same height (the camera moves "
+                f"horizontally), got z = {self.pose_left.z} and {self.pose_right.z} mm"
+            )
+        EpipolarGeometry.from_poses(self.camera, self.pose_left, self.pose_right)  # D > 0
+
+    @property
+    def epipolar(self) -> EpipolarGeometry:
+        """Epipolar frame of the two poses (``alpha``, ``theta_l``, ``theta_r``, ``D``)."""
+        return EpipolarGeometry.from_poses(self.camera, self.pose_left, self.pose_right)
+
+    def resolved_disparity_range(self) -> tuple[float, float]:
+        """`disparity_range`, or that of `depth_range_mm` (:func:`disparity_range_from_depth`)."""
+        if self.disparity_range is not None:
+            return self.disparity_range
+        assert self.depth_range_mm is not None
+        return disparity_range_from_depth(self.camera, self.epipolar.baseline_mm,
+                                          self.depth_range_mm)
+
+    def stereo_camera(self) -> StereoCamera:
+        """The rectified pair's geometry for eq. (6)-(9): intrinsics, ``D`` and bounds."""
+        cam = self.camera
+        cx, cy = cam.principal_point
+        return StereoCamera(
+            fx=cam.fx, fy=cam.fy, baseline_mm=self.epipolar.baseline_mm, cx=cx, cy=cy,
+            focal_uncertainty_px=self.focal_length_uncertainty_mm / cam.pixel_pitch_mm[0],
+            baseline_uncertainty_mm=self.baseline_uncertainty_mm,
+            disparity_uncertainty_px=self.disparity_uncertainty_px,
+        )
+
+
+def _pair(name: str, value: object) -> tuple[float, float]:
+    ok = isinstance(value, list | tuple) and len(value) == 2
+    if ok:
+        try:
+            a, b = float(value[0]), float(value[1])  # type: ignore[index, arg-type]
+        except (TypeError, ValueError):
+            ok = False
+    if not ok or isinstance(value[0], bool) or isinstance(value[1], bool):  # type: ignore[index]
+        raise InputError(f"{name} must be a pair [a, b] of numbers, got {value!r}")
+    require_finite(name, [a, b])
+    return a, b
+
+
+def disparity_range_from_depth(
+    camera: Camera, baseline_mm: float, depth_range_mm: tuple[float, float]
+) -> tuple[float, float]:
+    """Whole-pixel disparity range ``(floor(fx D / far), ceil(fx D / near))``.
+
+    Examples
+    --------
+    >>> from robostereo.camera import SEED_CAMERA
+    >>> disparity_range_from_depth(SEED_CAMERA, 20.0, (900.0, 1100.0))
+    (26.0, 33.0)
+    """
+    require_positive("baseline_mm", baseline_mm)
+    near, far = _pair("depth_range_mm", depth_range_mm)
+    require_positive("depth_range_mm near", near)
+    if far < near:
+        raise InputError(f"depth_range_mm must be [near, far] with near <= far, got "
+                         f"{[near, far]}")
+    f = camera.fx * baseline_mm
+    return float(math.floor(f / far)), float(math.ceil(f / near))
+
+
+def capture_from_acquisition(
+    acquisition: Any,
+    *,
+    bit_depth: int = 7,
+    disparity_range: tuple[float, float] | None = None,
+    depth_range_mm: tuple[float, float] | None = None,
+    notes: Mapping[str, Any] | None = None,
+) -> Capture:
+    """A :class:`Capture` of a :class:`robostereo.robot.StereoAcquisition`."""
+    return Capture(
+        left=np.asarray(acquisition.left_image), right=np.asarray(acquisition.right_image),
+        camera=acquisition.camera, pose_left=acquisition.pose_left,
+        pose_right=acquisition.pose_right, bit_depth=bit_depth,
+        disparity_range=disparity_range, depth_range_mm=depth_range_mm,
+        notes=dict(notes or {}),
+    )
+
+
+class _Dumper(yaml.SafeDumper):
+    """Block mappings, flow-style short lists."""
+
+
+_Dumper.add_representer(
+    list, lambda d, v: d.represent_sequence("tag:yaml.org,2002:seq", v, flow_style=True)
+)
+
+
+def _plain(v: Any) -> Any:
+    if isinstance(v, Mapping):
+        return {str(k): _plain(x) for k, x in v.items()}
+    if isinstance(v, list | tuple | np.ndarray):
+        return [_plain(x) for x in v]
+    if isinstance(v, np.integer):
+        return int(v)
+    if isinstance(v, np.floating):
+        return float(v)
+    return v
+
+
+def capture_to_dict(capture: Capture) -> dict[str, Any]:
+    """The ``capture.yaml`` mapping of a capture."""
+    out: dict[str, Any] = {
+        "camera": camera_to_dict(capture.camera),
+        "pose_left": pose_to_dict(capture.pose_left),
+        "pose_right": pose_to_dict(capture.pose_right),
+        "bit_depth": int(capture.bit_depth),
+    }
+    if capture.disparity_range is not None:
+        out["disparity_range"] = [float(v) for v in capture.disparity_range]
+    if capture.depth_range_mm is not None:
+        out["depth_range_mm"] = [float(v) for v in capture.depth_range_mm]
+    out["uncertainty"] = {
+        "baseline_mm": float(capture.baseline_uncertainty_mm),
+        "focal_length_mm": float(capture.focal_length_uncertainty_mm),
+        "disparity_px": float(capture.disparity_uncertainty_px),
+    }
+    for k in ("robot", "scene"):
+        if k in capture.notes:
+            out[k] = _plain(capture.notes[k])
+    return out
+
+
+def write_capture(directory: str | os.PathLike[str], capture: Capture) -> Path:
+    """Write a capture folder (``left.png``, ``right.png``, ``capture.yaml``).
+
+    The folder is assembled beside `directory` and renamed into place at the end, so a
+    failure leaves nothing behind.  `directory` must not exist or be an empty folder.
+
+    Returns
+    -------
+    Path
+        `directory`.
+
+    Raises
+    ------
+    InputError
+        The parent folder is missing, `directory` is a non-empty folder or a file, or
+        the images are not 8-bit representable.
+    """
+    target = Path(directory)
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{target}: parent folder {parent} does not exist")
+    if target.exists() and (not target.is_dir() or any(target.iterdir())):
+        raise InputError(f"{target}: exists and is not an empty folder")
+    images = []
+    for name in ("left", "right"):
+        img = np.asarray(getattr(capture, name))
+        if img.ndim != 2 or not np.issubdtype(img.dtype, np.integer) or img.min() < 0 \
+                or img.max() > 255:
+            raise InputError(f"{name} image must be a grey (H, W) image of integers 0..255 "
+                             "to be written as an 8-bit PNG")
+        images.append(img.astype(np.uint8))
+    text = yaml.dump(capture_to_dict(capture), Dumper=_Dumper, sort_keys=False,
+                     default_flow_style=False)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".part", dir=parent))
+    try:
+        for name, img in zip(_IMAGES, images, strict=True):
+            ok, buf = cv2.imencode(".png", img)
+            if not ok:  # pragma: no cover - OpenCV always encodes uint8 grey
+                raise InputError(f"{target / name}: cannot encode PNG")
+            (tmp / name).write_bytes(buf.tobytes())
+        (tmp / CAPTURE_YAML).write_text(text, encoding="utf-8")
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)
+        if target.is_dir():
+            target.rmdir()
+        os.replace(tmp, target)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
+    return target
+
+
+def read_capture(directory: str | os.PathLike[str]) -> Capture:
+    """Read a capture folder written by :func:`write_capture` (or by hand, or a robot).
+
+    Raises
+    ------
+    InputError
+        One line naming the file and the key: missing folder, image or ``capture.yaml``,
+        invalid YAML, unknown or bad keys, images that disagree with the camera,
+        coinciding or unequal-height poses.
+    """
+    from robostereo.datasets import load_image
+
+    d = Path(directory)
+    if not d.is_dir():
+        raise InputError(f"{d}: capture folder not found")
+    ypath = d / CAPTURE_YAML
+    if not ypath.is_file():
+        raise InputError(f"{ypath}: missing capture file (expected {CAPTURE_YAML} in {d})")
+    try:
+        data = yaml.safe_load(ypath.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise InputError(f"{ypath}: not a readable YAML file ({exc.__class__.__name__})") from None
+    src = str(ypath)
+    if not isinstance(data, Mapping):
+        raise InputError(f"{src}: expected a mapping with keys {list(_KEYS[:3])}")
+    unknown = [k for k in data if k not in _KEYS]
+    if unknown:
+        raise InputError(f"{src}: unknown key '{unknown[0]}' (allowed: {', '.join(_KEYS)})")
+    for k in ("camera", "pose_left", "pose_right"):
+        if k not in data:
+            raise InputError(f"{src}: missing key '{k}'")
+    camera = camera_from_dict(data["camera"], source=f"{src}: camera")
+    poses = [pose_from_dict(data[k], source=f"{src}: {k}") for k in ("pose_left", "pose_right")]
+    images = []
+    bits_file = []
+    for name in _IMAGES:
+        img, bits = load_image(d / name)
+        images.append(img)
+        bits_file.append(bits)
+    bit_depth = data.get("bit_depth", bits_file[0])
+    if isinstance(bit_depth, bool) or not isinstance(bit_depth, int):
+        raise InputError(f"{src}: key 'bit_depth' must be an integer, got {bit_depth!r}")
+    kw: dict[str, Any] = {}
+    for key in ("disparity_range", "depth_range_mm"):
+        if data.get(key) is not None:
+            try:
+                kw[key] = _pair(key, data[key])
+            except InputError as exc:
+                raise InputError(f"{src}: {exc}") from None
+    unc = data.get("uncertainty") or {}
+    if not isinstance(unc, Mapping) or any(k not in _UNCERTAINTY_KEYS for k in unc):
+        raise InputError(f"{src}: key 'uncertainty' must be a mapping of "
+                         f"{', '.join(_UNCERTAINTY_KEYS)}")
+    for key, attr in zip(_UNCERTAINTY_KEYS, ("baseline_uncertainty_mm",
+                                             "focal_length_uncertainty_mm",
+                                             "disparity_uncertainty_px"), strict=True):
+        if key in unc:
+            v = unc[key]
+            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) \
+                    or v < 0:
+                raise InputError(f"{src}: uncertainty '{key}' must be a finite number >= 0, "
+                                 f"got {v!r}")
+            kw[attr] = float(v)
+    notes = {k: data[k] for k in ("robot", "scene") if k in data}
+    try:
+        return Capture(left=images[0], right=images[1], camera=camera, pose_left=poses[0],
+                       pose_right=poses[1], bit_depth=bit_depth, notes=notes, **kw)
+    except InputError as exc:
+        raise InputError(f"{d}: {exc}") from None
+
+
+# ------------------------------------------------------------------------ rectification
+
+
+def fill_invalid_rows(image: ArrayLike, valid: ArrayLike) -> NDArray[np.float64]:
+    """Fill invalid pixels with the nearest valid pixel of the same row.
+
+    Along a row the fill is constant, so it adds no gradient along the epipolar line
+    (no edge points) beyond what the valid pixel already has.  Rows without any valid
+    pixel take the value 0.
+
+    Parameters
+    ----------
+    image : array_like, shape (H, W)
+    valid : array_like of bool, shape (H, W)
+        True where `image` holds data; the valid pixels of a row must be contiguous
+        (true of a rectified image, whose valid region is a parallelogram).
+
+    Returns
+    -------
+    ndarray of float64, shape (H, W)
+
+    Examples
+    --------
+    >>> img = np.array([[np.nan, 3.0, 5.0, np.nan], [np.nan] * 4])
+    >>> fill_invalid_rows(img, np.isfinite(img))
+    array([[3., 3., 5., 5.],
+           [0., 0., 0., 0.]])
+    """
+    img = np.array(image, dtype=np.float64)
+    ok = np.asarray(valid, dtype=bool)
+    if img.ndim != 2 or ok.shape != img.shape:
+        raise InputError(f"image and valid must be (H, W) of one shape, got {img.shape} "
+                         f"and {ok.shape}")
+    w = img.shape[1]
+    cols = np.arange(w)[None, :]
+    before = np.maximum.accumulate(np.where(ok, cols, -1), axis=1)
+    after = np.minimum.accumulate(np.where(ok, cols, w)[:, ::-1], axis=1)[:, ::-1]
+    src = np.where(before >= 0, before, after)
+    has = (src >= 0) & (src < w)
+    vals = np.take_along_axis(img, np.clip(src, 0, w - 1), axis=1)
+    out = np.where(ok, img, np.where(has, vals, 0.0))
+    return out
+
+
+@dataclass(frozen=True)
+class RectifiedPair:
+    """The two views rectified to the epipolar frame.
+
+    Attributes
+    ----------
+    left, right : ndarray of float64, shape (H, W)
+        Rectified images on the capture's grey scale, invalid pixels filled
+        (:func:`fill_invalid_rows`).
+    valid_left, valid_right : ndarray of bool, shape (H, W)
+        Pixels whose source lies inside the grabbed image.
+    usable_left, usable_right : ndarray of bool, shape (H, W)
+        Pixels at least ``margin`` pixels (along the row; 3 rows across) from any
+        invalid pixel: edge points there see only image data.
+    geometry : EpipolarGeometry
+    """
+
+    left: NDArray[np.float64]
+    right: NDArray[np.float64]
+    valid_left: NDArray[np.bool_]
+    valid_right: NDArray[np.bool_]
+    usable_left: NDArray[np.bool_]
+    usable_right: NDArray[np.bool_]
+    geometry: EpipolarGeometry
+
+
+def _usable(valid: NDArray[np.bool_], margin: int) -> NDArray[np.bool_]:
+    if margin <= 0 or valid.all():
+        return valid.copy()
+    k = np.ones((7, 2 * margin + 1), np.uint8)
+    grown = cv2.dilate((~valid).astype(np.uint8), k, borderType=cv2.BORDER_CONSTANT,
+                       borderValue=0)
+    return grown == 0
+
+
+def _grey(image: NDArray[Any]) -> NDArray[np.float64]:
+    img = np.asarray(image)
+    if img.ndim == 3:
+        from robostereo.edges import to_grey
+
+        # colour: luminance on the image's own scale (to_grey with bit depth 7 keeps it)
+        return to_grey(img.astype(np.float64), bit_depth=7).astype(np.float64)
+    return img.astype(np.float64)
+
+
+def rectify_pair(
+    left: ArrayLike,
+    right: ArrayLike,
+    geometry: EpipolarGeometry,
+    *,
+    interpolation: Literal["nearest", "linear", "cubic", "lanczos4"] = "linear",
+    margin: int = 6,
+) -> RectifiedPair:
+    """Rectify both views by their ``theta`` and fill what falls outside the images.
+
+    Parameters
+    ----------
+    left, right : array_like, shape (H, W) (or (H, W, 3) colour)
+        Grabbed images of the left and right viewpoints.
+    geometry : EpipolarGeometry
+    interpolation : str
+        Interpolator of :func:`robostereo.camera.rectify_image` (default linear: on the
+        simulated block its sub-pixel edges were nearer the truth than cubic's).
+    margin : int
+        Pixels along the row that an edge point must keep from an invalid pixel
+        (default 6: 2 of smoothing, 1 of gradient, 3 to the grey levels beside an edge).
+
+    Returns
+    -------
+    RectifiedPair
+
+    Notes
+    -----
+    1. ``geometry.rectify(image, side)`` for each side (NaN outside the source image).
+    2. Fill each row's NaN run with the row's nearest valid pixel, which puts no
+       gradient along the row: no fake edge points at the fill boundary.
+    3. ``usable``: the valid pixels ``margin`` columns and 3 rows away from any invalid
+       one (the 5 x 5 smoothing reaches 2 rows).
+
+    References
+    ----------
+    Seed 2.2 (each image turned by its theta), 4.2.1.
+    """
+    out: dict[str, Any] = {}
+    for side, img in (("left", left), ("right", right)):
+        r = geometry.rectify(_grey(np.asarray(img)), side, interpolation=interpolation)
+        valid = rectified_valid_mask(geometry.camera, geometry.theta(side))
+        out[side] = fill_invalid_rows(r, valid)
+        out[f"valid_{side}"] = valid
+        out[f"usable_{side}"] = _usable(valid, int(margin))
+    return RectifiedPair(geometry=geometry, **out)
+
+
+# ------------------------------------------------------------------------------ locate
+
+
+@dataclass(frozen=True)
+class LocateParameters:
+    """Tuning of :func:`locate`.
+
+    Attributes
+    ----------
+    match : MatchParameters
+        The matcher's parameters; its ``bit_depth`` is replaced by the capture's.
+        Default: robostereo's defaults (sub-pixel edges, threshold 8, every row).
+    interpolation : str
+        Rectification interpolator (:func:`rectify_pair`).
+    margin : int
+        Distance along the row of an accepted edge point from the fill (pixels).
+    """
+
+    match: MatchParameters = field(default_factory=MatchParameters)
+    interpolation: Literal["nearest", "linear", "cubic", "lanczos4"] = "linear"
+    margin: int = 6
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.match, MatchParameters):
+            raise InputError("match must be a MatchParameters")
+        if isinstance(self.margin, bool) or int(self.margin) != self.margin or self.margin < 0:
+            raise InputError(f"margin must be a whole number >= 0, got {self.margin}")
+
+
+@dataclass(frozen=True)
+class Located:
+    """Object points found in a capture.
+
+    Attributes
+    ----------
+    capture : Capture
+    rectified : RectifiedPair
+    result : MatchResult
+        The matcher's full result on the rectified pair (all stages).
+    usable : ndarray of bool, shape (N_left,)
+        Left edge points away from the fill (the ones :func:`locate` reports).
+    keep : ndarray of bool, shape (K,)
+        Which of ``result``'s matched points are reported (both ends usable).
+    row, x_left, x_right, disparity, probability : ndarray, shape (M,)
+        Reported matches: rectified row and columns (pixels), disparity, probability.
+    epipolar_xyz : ndarray, shape (M, 3)
+        Eq. (6)-(8) in the epipolar frame, millimetres.
+    z_bound : ndarray, shape (M,)
+        Eq. (9) depth bound, millimetres.
+    world : ndarray, shape (M, 3)
+        The points in the world frame, millimetres.
+    left_pixel : ndarray, shape (M, 2)
+        ``(x, y)`` of each left point in the grabbed (unrectified) left image.
+    disparity_range : tuple of float
+    """
+
+    capture: Capture
+    rectified: RectifiedPair
+    result: MatchResult
+    usable: NDArray[np.bool_]
+    keep: NDArray[np.bool_]
+    row: NDArray[np.intp]
+    x_left: NDArray[np.float64]
+    x_right: NDArray[np.float64]
+    disparity: NDArray[np.float64]
+    probability: NDArray[np.float64]
+    epipolar_xyz: NDArray[np.float64]
+    z_bound: NDArray[np.float64]
+    world: NDArray[np.float64]
+    left_pixel: NDArray[np.float64]
+    disparity_range: tuple[float, float]
+
+    def __len__(self) -> int:
+        return int(self.row.shape[0])
+
+    @property
+    def geometry(self) -> EpipolarGeometry:
+        return self.rectified.geometry
+
+    def matches_after(self, iteration: int) -> NDArray[np.intp]:
+        """Accepted matches after `iteration` relaxation iterations, -1 for none and for
+        left edge points near the fill (:meth:`MatchResult.matches_after`)."""
+        m = self.result.matches_after(iteration).copy()
+        m[~self.usable] = -1
+        if m.size:
+            cands = self.result.candidates
+            xr = self.result.right_edges.x[cands.right[np.maximum(m, 0)]]
+            rows = self.result.left_edges.row
+            ok = _at(self.rectified.usable_right, rows, xr)
+            m[(m >= 0) & ~ok] = -1
+        return m
+
+    def table(self) -> dict[str, NDArray[Any]]:
+        """The columns ``robostereo locate`` writes.
+
+        ``X_w, Y_w, Z_w`` (world, mm), ``X, Y, Z`` (epipolar frame, mm), ``z_bound``
+        (eq. 9, mm), ``row, x_left, x_right`` (rectified pixels), ``u_left, v_left``
+        (pixel position in the grabbed left image), ``disparity`` (px), ``probability``.
+        """
+        return {
+            "X_w": self.world[:, 0], "Y_w": self.world[:, 1], "Z_w": self.world[:, 2],
+            "X": self.epipolar_xyz[:, 0], "Y": self.epipolar_xyz[:, 1],
+            "Z": self.epipolar_xyz[:, 2], "z_bound": self.z_bound,
+            "row": self.row, "x_left": self.x_left, "x_right": self.x_right,
+            "u_left": self.left_pixel[:, 0], "v_left": self.left_pixel[:, 1],
+            "disparity": self.disparity, "probability": self.probability,
+        }
+
+
+def _at(mask: NDArray[np.bool_], rows: NDArray[Any], x: NDArray[Any]) -> NDArray[np.bool_]:
+    h, w = mask.shape
+    c = np.clip(np.rint(np.asarray(x, float)).astype(np.intp), 0, w - 1)
+    r = np.clip(np.asarray(rows, np.intp), 0, h - 1)
+    return mask[r, c]
+
+
+def locate(capture: Capture, *, params: LocateParameters | None = None) -> Located:
+    """Match a capture's two views and give the object points in the world frame.
+
+    Parameters
+    ----------
+    capture : Capture
+    params : LocateParameters, optional
+
+    Returns
+    -------
+    Located
+
+    Notes
+    -----
+    1. Epipolar frame of the two reported poses (seed 2.2).
+    2. Rectify and fill (:func:`rectify_pair`).
+    3. :func:`robostereo.pipeline.match_stereo` with the capture's bit depth and
+       disparity range (chapter 3).
+    4. Keep the matches whose two edge points are usable (away from the fill).
+    5. Eq. (6)-(9) with :func:`robostereo.triangulation.triangulate` (rectified
+       intrinsics are the camera's; ``D`` from the poses), then to the world frame.
+    6. Each left point mapped back to the grabbed image (exact point map).
+
+    References
+    ----------
+    Seed 2.2, chapter 3, 3.6 (eq. 6-8), 3.7 (eq. 9), 4.2.
+    """
+    p = params or LocateParameters()
+    geometry = capture.epipolar
+    rect = rectify_pair(capture.left, capture.right, geometry,
+                        interpolation=p.interpolation, margin=p.margin)
+    mp = replace(p.match, bit_depth=int(capture.bit_depth))
+    drange = capture.resolved_disparity_range()
+    sc = capture.stereo_camera()
+    result = match_stereo(rect.left, rect.right, drange, params=mp, camera=sc)
+    el = result.left_edges
+    usable = _at(rect.usable_left, el.row, el.x) if len(el) else np.zeros(0, bool)
+    rows, xl, xr = result.rows, result.x_left, result.x_right
+    keep = _at(rect.usable_left, rows, xl) & _at(rect.usable_right, rows, xr)
+    rows, xl, xr = rows[keep], xl[keep], xr[keep]
+    xyz, zb = triangulate(sc, xl, xr, rows, result.image_shape)
+    world = geometry.to_world(xyz) if len(rows) else np.zeros((0, 3))
+    pix = geometry.from_rectified(np.column_stack([xl, rows.astype(float)]), "left") \
+        if len(rows) else np.zeros((0, 2))
+    return Located(
+        capture=capture, rectified=rect, result=result, usable=usable, keep=keep,
+        row=rows, x_left=xl, x_right=xr, disparity=result.disparity[keep],
+        probability=result.probability[keep], epipolar_xyz=xyz, z_bound=zb, world=world,
+        left_pixel=pix, disparity_range=drange,
+    )
+
+
+def locate_capture(
+    directory: str | os.PathLike[str], *, params: LocateParameters | None = None
+) -> Located:
+    """:func:`read_capture` then :func:`locate`; writes nothing.
+
+    Parameters
+    ----------
+    directory : path
+        A capture folder (see the module docstring for the format).
+    params : LocateParameters, optional
+
+    Returns
+    -------
+    Located
+        ``.world`` (M, 3) world millimetres, ``.z_bound`` (M,) eq. (9) bounds,
+        ``.table()`` the columns of ``robostereo locate``.
+    """
+    return locate(read_capture(directory), params=params)
