@@ -231,3 +231,24 @@ def test_bad_calibration_matrix(tmp_path: Path, rig, bad: str, msg: str) -> None
     cv2.imwrite(str(img), np.zeros((H, W), np.uint8))
     with pytest.raises(InputError, match=rf"bad\.yml: {msg}"):
         load_rig_pair(img, img, p)
+
+
+def test_middlebury_rig_is_used_as_it_is(tmp_path: Path) -> None:
+    """An already rectified rig (calib.txt): no resampling, disparities keep doffs."""
+    from robostereo.calibration import read_middlebury_calib
+
+    p = tmp_path / "calib.txt"
+    p.write_text("cam0=[700 0 320; 0 700 240; 0 0 1]\ncam1=[700 0 335; 0 700 240; 0 0 1]\n"
+                 "doffs=15\nbaseline=100\nwidth=640\nheight=480\nndisp=64\n")
+    calib = read_middlebury_calib(p).calibration
+    rng = np.random.default_rng(5)
+    row = np.repeat(rng.integers(30, 220, 80), 8)[:W].astype(np.uint8)
+    left = np.tile(row, (H, 1))
+    right = np.roll(left, -20, axis=1)  # d = 20 px: Z = 700 * 100 / (20 + 15) = 2000 mm
+    res = match_rig(left, right, calib, (10.0, 30.0))
+    assert np.array_equal(res.left_rectified, left) and res.rectification.doffs == 15.0
+    tab = res.table()
+    inner = (tab["x_left"] > 40) & (tab["x_left"] < W - 40)
+    assert inner.sum() > 1000
+    np.testing.assert_allclose(tab["Z"][inner], 2000.0, rtol=2e-3)
+    np.testing.assert_allclose(tab["x_original"], tab["x_left"], atol=1e-9)

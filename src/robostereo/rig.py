@@ -186,6 +186,7 @@ def match_rig(
     params: MatchParameters | None = None,
     disparity_uncertainty_px: float = 0.5,
     interpolation: Literal["linear", "cubic"] = "linear",
+    zero_disparity: bool | None = None,
     names: tuple[str, str] = ("left image", "right image"),
     progress: Callable[[str], None] | None = None,
 ) -> RigResult:
@@ -209,6 +210,11 @@ def match_rig(
         once by the rectification; the calibration itself is taken as exact).
     interpolation : {"linear", "cubic"}
         Resampling of the rectification.
+    zero_disparity : bool or None
+        OpenCV's ``CALIB_ZERO_DISPARITY`` (equal rectified principal points, so
+        ``doffs = 0``).  None: True, except for a rig that is already rectified (a
+        Middlebury ``calib.txt``: no distortion, ``R = I``), whose images are then used
+        as they are and whose disparities keep the file's ``doffs``.
     names : tuple of str
         Names of the two images (files) in error messages.
     progress : callable, optional
@@ -248,7 +254,10 @@ def match_rig(
     say = progress or (lambda _s: None)
     say("rectification")
     if rect is None:
-        rect = rectify_stereo(calib)
+        if zero_disparity is None:
+            zero_disparity = bool(np.any(calib.D1) or np.any(calib.D2)
+                                  or not np.array_equal(calib.R, np.eye(3)))
+        rect = rectify_stereo(calib, zero_disparity=zero_disparity)
     if (disparity_range is None) == (depth_range_mm is None):
         raise InputError("give either a disparity range or a depth range (not both)")
     if depth_range_mm is not None:
