@@ -91,11 +91,12 @@ _UNCERTAINTY_KEYS = ("baseline_mm", "focal_length_mm", "disparity_px")
 DISPARITY_UNCERTAINTY_PX = 0.2
 """``d(disp)`` of eq. (9) for sub-pixel edges, pixels.
 
-Measured on the simulated block (seed 5.2 set-up, 7-bit images with sensor noise,
-rectified with linear interpolation): the disparity error of every block edge point,
-over both heights, rolls of 0 and 10 degrees and baselines along and across world X,
-stayed below 0.13 px (see ``robostereo.experiments`` and the tests).  0.2 px is that
-maximum rounded up to a round figure; the seed used one whole pixel (0.00172 cm)."""
+Measured on the simulated block (seed 5.2 set-up, 7-bit images with 0.5 grey-level
+sensor noise, rectified with linear interpolation): the disparity error of the block
+edge points, 10,512 of them over both heights, 3 noise seeds, rolls of 0 and +-10
+degrees and baseline directions of 0, 35 and -120 degrees, had an RMS of 0.03-0.04 px
+and a maximum of 0.135 px (99th percentile 0.094 px).  0.2 px is that maximum rounded
+up to the next tenth; the seed used one whole pixel (0.00172 cm)."""
 
 
 # ----------------------------------------------------------------------------- capture
