@@ -8,7 +8,6 @@ output file.  Images are read by :func:`robostereo.datasets.load_image`.
 from __future__ import annotations
 
 import contextlib
-import csv
 import math
 import os
 import tempfile
@@ -61,10 +60,11 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
             tmp_path.unlink()
 
 
-def _fmt(v: Any) -> str:
-    if isinstance(v, float | np.floating):
-        return "" if not math.isfinite(float(v)) else f"{float(v):.6g}"
-    return str(v)
+def _column_text(values: NDArray[Any]) -> list[str]:
+    """Format a column: floats with 6 significant digits, NaN and inf as empty cells."""
+    if values.dtype.kind == "f":
+        return ["" if not math.isfinite(v) else f"{v:.6g}" for v in values.tolist()]
+    return [str(v) for v in values.tolist()]
 
 
 def write_csv(path: PathLike, columns: Mapping[str, NDArray[Any]]) -> Path:
@@ -77,15 +77,16 @@ def write_csv(path: PathLike, columns: Mapping[str, NDArray[Any]]) -> Path:
     ['row,x,d', '3,1.25,']
     """
     names = list(columns)
-    arrays = [np.asarray(columns[n]) for n in names]
-    n = {a.shape[0] for a in arrays}
-    if len(n) > 1:
-        raise ValueError(f"columns differ in length: {dict(zip(names, n, strict=False))}")
-    with atomic_path(path) as tmp, open(tmp, "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(names)
-        for row in zip(*(a.tolist() for a in arrays), strict=True):
-            w.writerow([_fmt(v) for v in row])
+    arrays = [np.asarray(columns[n]).reshape(-1) for n in names]
+    lengths = {a.shape[0] for a in arrays}
+    if len(lengths) > 1:
+        raise ValueError(f"columns differ in length: {[a.shape[0] for a in arrays]}")
+    for n in names:
+        if "," in n or "\n" in n:
+            raise ValueError(f"column name {n!r} cannot be written as CSV")
+    lines = [",".join(names), *map(",".join, zip(*map(_column_text, arrays), strict=True))]
+    with atomic_path(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n")
     return Path(path)
 
 
