@@ -412,6 +412,8 @@ def run_locate_command(args: argparse.Namespace) -> int:
     from robostereo.capture import locate_capture
     from robostereo.io import write_csv, write_ply
 
+    if not args.capture.is_dir():
+        raise InputError(f"{args.capture}: capture folder not found")
     output = args.output if args.output is not None else args.capture / "located.csv"
     _check_outputs(output, args.ply)
     located = locate_capture(args.capture)

@@ -639,9 +639,11 @@ def save_demo_figures(result: DemoResult, out_dir: str | Path) -> list[Path]:
             ok = m >= 0
             d = res.disparity_of(m)[ok]
             plot_matches(ax, loc.rectified.left, res.left_edges.x[ok], res.left_edges.row[ok],
-                         d, vmin=lo, vmax=hi, size=2.0, colorbar=i == len(its) - 1)
-            ax.set_title(f"{name}: {int(ok.sum())} matched after {k} iteration"
-                         f"{'' if k == 1 else 's'}", fontsize=9)
+                         d, vmin=lo, vmax=hi, size=2.0, colorbar=False)
+            ax.set_title(f"{name}, {k} iter.: {int(ok.sum())} matched", fontsize=9)
+        if fig.axes and fig.axes[-1].collections:
+            fig.colorbar(fig.axes[-1].collections[-1], ax=fig.axes, shrink=0.8,
+                         label="disparity (px)")
         path = out / f"{name}_iterations.png"
         save_figure(fig, path)
         paths.append(path)
