@@ -199,7 +199,7 @@ def add_evaluate_parser(sub: Any) -> None:
     p = sub.add_parser(
         "evaluate", help="score the matcher and StereoSGBM on scenes with ground truth",
         description="For each scene folder (left/right/gt_disp_left as in the developer "
-                    "set, or a Middlebury layout): edge points, %% matched, %% false by the "
+                    "set, or a Middlebury layout): edge points, % matched, % false by the "
                     "project's rule, disparity RMS, and the same for StereoSGBM at the same "
                     "pixels, with times; 3-D errors in mm with a Middlebury calib.txt.",
     )
@@ -318,7 +318,7 @@ def add_demo_parser(sub: Any) -> None:
         description="Render the precision block at two heights 79.65 mm apart and the "
                     "hub-pulley as the simulated AdeptOne's forearm camera sees them from "
                     "two viewpoints 20 mm apart, locate the edge points, and print table 5-1 "
-                    "and the hub-pulley's %% matched and %% false per iteration; write the "
+                    "and the hub-pulley's % matched and % false per iteration; write the "
                     "figures to the output folder.",
     )
     p.add_argument("--out", type=Path, default=Path("robostereo-out"),
