@@ -149,3 +149,19 @@ def test_bad_parameters():
         detect_edges(img, threshold=float("nan"))
     with pytest.raises(InputError, match="row_step"):
         detect_edges(img, row_step=0)
+
+
+def test_valid_mask_suppresses_edges_of_the_fill():
+    # a rectified image whose right part has no source, filled with black: the fill's
+    # border is an edge in the image but not in the scene
+    img = np.full((12, 60), 100, np.uint8)
+    img[:, 20:] = 180            # a real edge at 19.5
+    img[:, 45:] = 0              # the fill starts at column 45
+    valid = np.ones(img.shape, bool)
+    valid[:, 45:] = False
+    plain = detect_edges(img)
+    masked = detect_edges(img, valid=valid)
+    assert sorted(set(np.round(plain.x, 3).tolist())) == [19.5, 44.5]
+    assert np.allclose(masked.x, 19.5) and len(masked) == 12
+    with pytest.raises(InputError, match="valid mask"):
+        detect_edges(img, valid=valid[:, :10])

@@ -178,7 +178,7 @@ def test_valid_mask_and_fill_border(rig) -> None:
     # a uniform grey pair: the only edges are the fill's borders; none may be matched
     grey = np.full((H, W), 150, np.uint8)
     res = match_rig(grey, grey, rect, (0.0, 60.0))
-    assert len(res) == 0
+    assert len(res) == 0 and len(res.match.left_edges) == 0
 
 
 def test_size_mismatch_names_the_file(rig, rendered) -> None:

@@ -10,10 +10,9 @@ points in the robot's world frame with a per-point depth bound:
    whose source lies outside the grabbed image filled by replicating the nearest valid
    pixel of the same row (:func:`rectify_pair`);
 3. the matcher of chapter 3 (:func:`robostereo.pipeline.match_stereo`) on the two
-   rectified images, within the capture's disparity range;
-4. matches whose left or right edge point lies within ``invalid_margin_px`` of a filled
-   pixel are dropped (their features would see the fill, not the scene);
-5. eq. (6)-(9) (:func:`robostereo.triangulation.triangulate`) in the epipolar frame,
+   rectified images, within the capture's disparity range, told which pixels are
+   filled so that no edge point whose features would see the fill is used;
+4. eq. (6)-(9) (:func:`robostereo.triangulation.triangulate`) in the epipolar frame,
    then :meth:`~robostereo.camera.EpipolarGeometry.to_world`.
 
 Capture folder format (``DIR/``)::
@@ -61,7 +60,7 @@ from robostereo.camera import (
 )
 from robostereo.errors import InputError, require_finite, require_positive
 from robostereo.pipeline import MatchParameters, MatchResult, match_stereo
-from robostereo.triangulation import StereoCamera, triangulate
+from robostereo.triangulation import StereoCamera
 
 __all__ = [
     "CAPTURE_YAML",
@@ -485,9 +484,6 @@ class RectifiedPair:
         (:func:`fill_invalid_rows`).
     valid_left, valid_right : ndarray of bool, shape (H, W)
         Pixels whose source lies inside the grabbed image.
-    usable_left, usable_right : ndarray of bool, shape (H, W)
-        Pixels at least ``margin`` pixels (along the row; 3 rows across) from any
-        invalid pixel: edge points there see only image data.
     geometry : EpipolarGeometry
     """
 
@@ -495,18 +491,7 @@ class RectifiedPair:
     right: NDArray[np.float64]
     valid_left: NDArray[np.bool_]
     valid_right: NDArray[np.bool_]
-    usable_left: NDArray[np.bool_]
-    usable_right: NDArray[np.bool_]
     geometry: EpipolarGeometry
-
-
-def _usable(valid: NDArray[np.bool_], margin: int) -> NDArray[np.bool_]:
-    if margin <= 0 or valid.all():
-        return valid.copy()
-    k = np.ones((7, 2 * margin + 1), np.uint8)
-    grown = cv2.dilate((~valid).astype(np.uint8), k, borderType=cv2.BORDER_CONSTANT,
-                       borderValue=0)
-    return grown == 0
 
 
 def _grey(image: NDArray[Any]) -> NDArray[np.float64]:
@@ -525,7 +510,6 @@ def rectify_pair(
     geometry: EpipolarGeometry,
     *,
     interpolation: Literal["nearest", "linear", "cubic", "lanczos4"] = "linear",
-    margin: int = 6,
 ) -> RectifiedPair:
     """Rectify both views by their ``theta`` and fill what falls outside the images.
 
@@ -537,9 +521,6 @@ def rectify_pair(
     interpolation : str
         Interpolator of :func:`robostereo.camera.rectify_image` (default linear: on the
         simulated block its sub-pixel edges were nearer the truth than cubic's).
-    margin : int
-        Pixels along the row that an edge point must keep from an invalid pixel
-        (default 6: 2 of smoothing, 1 of gradient, 3 to the grey levels beside an edge).
 
     Returns
     -------
@@ -550,8 +531,6 @@ def rectify_pair(
     1. ``geometry.rectify(image, side)`` for each side (NaN outside the source image).
     2. Fill each row's NaN run with the row's nearest valid pixel, which puts no
        gradient along the row: no fake edge points at the fill boundary.
-    3. ``usable``: the valid pixels ``margin`` columns and 3 rows away from any invalid
-       one (the 5 x 5 smoothing reaches 2 rows).
 
     References
     ----------
@@ -563,7 +542,6 @@ def rectify_pair(
         valid = rectified_valid_mask(geometry.camera, geometry.theta(side))
         out[side] = fill_invalid_rows(r, valid)
         out[f"valid_{side}"] = valid
-        out[f"usable_{side}"] = _usable(valid, int(margin))
     return RectifiedPair(geometry=geometry, **out)
 
 
@@ -581,19 +559,14 @@ class LocateParameters:
         Default: robostereo's defaults (sub-pixel edges, threshold 8, every row).
     interpolation : str
         Rectification interpolator (:func:`rectify_pair`).
-    margin : int
-        Distance along the row of an accepted edge point from the fill (pixels).
     """
 
     match: MatchParameters = field(default_factory=MatchParameters)
     interpolation: Literal["nearest", "linear", "cubic", "lanczos4"] = "linear"
-    margin: int = 6
 
     def __post_init__(self) -> None:
         if not isinstance(self.match, MatchParameters):
             raise InputError("match must be a MatchParameters")
-        if isinstance(self.margin, bool) or int(self.margin) != self.margin or self.margin < 0:
-            raise InputError(f"margin must be a whole number >= 0, got {self.margin}")
 
 
 @dataclass(frozen=True)
@@ -606,10 +579,6 @@ class Located:
     rectified : RectifiedPair
     result : MatchResult
         The matcher's full result on the rectified pair (all stages).
-    usable : ndarray of bool, shape (N_left,)
-        Left edge points away from the fill (the ones :func:`locate` reports).
-    keep : ndarray of bool, shape (K,)
-        Which of ``result``'s matched points are reported (both ends usable).
     row, x_left, x_right, disparity, probability : ndarray, shape (M,)
         Reported matches: rectified row and columns (pixels), disparity, probability.
     epipolar_xyz : ndarray, shape (M, 3)
@@ -626,8 +595,6 @@ class Located:
     capture: Capture
     rectified: RectifiedPair
     result: MatchResult
-    usable: NDArray[np.bool_]
-    keep: NDArray[np.bool_]
     row: NDArray[np.intp]
     x_left: NDArray[np.float64]
     x_right: NDArray[np.float64]
@@ -647,17 +614,9 @@ class Located:
         return self.rectified.geometry
 
     def matches_after(self, iteration: int) -> NDArray[np.intp]:
-        """Accepted matches after `iteration` relaxation iterations, -1 for none and for
-        left edge points near the fill (:meth:`MatchResult.matches_after`)."""
-        m = self.result.matches_after(iteration).copy()
-        m[~self.usable] = -1
-        if m.size:
-            cands = self.result.candidates
-            xr = self.result.right_edges.x[cands.right[np.maximum(m, 0)]]
-            rows = self.result.left_edges.row
-            ok = _at(self.rectified.usable_right, rows, xr)
-            m[(m >= 0) & ~ok] = -1
-        return m
+        """Accepted matches after `iteration` relaxation iterations, -1 for none
+        (:meth:`MatchResult.matches_after`)."""
+        return self.result.matches_after(iteration)
 
     def table(self) -> dict[str, NDArray[Any]]:
         """The columns ``robostereo locate`` writes.
@@ -674,13 +633,6 @@ class Located:
             "u_left": self.left_pixel[:, 0], "v_left": self.left_pixel[:, 1],
             "disparity": self.disparity, "probability": self.probability,
         }
-
-
-def _at(mask: NDArray[np.bool_], rows: NDArray[Any], x: NDArray[Any]) -> NDArray[np.bool_]:
-    h, w = mask.shape
-    c = np.clip(np.rint(np.asarray(x, float)).astype(np.intp), 0, w - 1)
-    r = np.clip(np.asarray(rows, np.intp), 0, h - 1)
-    return mask[r, c]
 
 
 def locate(capture: Capture, *, params: LocateParameters | None = None) -> Located:
@@ -701,7 +653,6 @@ def locate(capture: Capture, *, params: LocateParameters | None = None) -> Locat
     2. Rectify and fill (:func:`rectify_pair`).
     3. :func:`robostereo.pipeline.match_stereo` with the capture's bit depth and
        disparity range (chapter 3).
-    4. Keep the matches whose two edge points are usable (away from the fill).
     5. Eq. (6)-(9) with :func:`robostereo.triangulation.triangulate` (rectified
        intrinsics are the camera's; ``D`` from the poses), then to the world frame.
     6. Each left point mapped back to the grabbed image (exact point map).
@@ -713,24 +664,21 @@ def locate(capture: Capture, *, params: LocateParameters | None = None) -> Locat
     p = params or LocateParameters()
     geometry = capture.epipolar
     rect = rectify_pair(capture.left, capture.right, geometry,
-                        interpolation=p.interpolation, margin=p.margin)
+                        interpolation=p.interpolation)
     mp = replace(p.match, bit_depth=int(capture.bit_depth))
     drange = capture.resolved_disparity_range()
     sc = capture.stereo_camera()
-    result = match_stereo(rect.left, rect.right, drange, params=mp, camera=sc)
-    el = result.left_edges
-    usable = _at(rect.usable_left, el.row, el.x) if len(el) else np.zeros(0, bool)
+    result = match_stereo(rect.left, rect.right, drange, params=mp, camera=sc,
+                          valid_left=rect.valid_left, valid_right=rect.valid_right)
     rows, xl, xr = result.rows, result.x_left, result.x_right
-    keep = _at(rect.usable_left, rows, xl) & _at(rect.usable_right, rows, xr)
-    rows, xl, xr = rows[keep], xl[keep], xr[keep]
-    xyz, zb = triangulate(sc, xl, xr, rows, result.image_shape)
+    xyz, zb = result.triangulated()
     world = geometry.to_world(xyz) if len(rows) else np.zeros((0, 3))
     pix = geometry.from_rectified(np.column_stack([xl, rows.astype(float)]), "left") \
         if len(rows) else np.zeros((0, 2))
     return Located(
-        capture=capture, rectified=rect, result=result, usable=usable, keep=keep,
-        row=rows, x_left=xl, x_right=xr, disparity=result.disparity[keep],
-        probability=result.probability[keep], epipolar_xyz=xyz, z_bound=zb, world=world,
+        capture=capture, rectified=rect, result=result,
+        row=rows, x_left=xl, x_right=xr, disparity=result.disparity,
+        probability=result.probability, epipolar_xyz=xyz, z_bound=zb, world=world,
         left_pixel=pix, disparity_range=drange,
     )
 

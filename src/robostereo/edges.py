@@ -32,6 +32,7 @@ __all__ = [
     "pattern_type",
     "smooth",
     "to_grey",
+    "usable_pixels",
 ]
 
 _SEED_WEIGHTS = np.array(
@@ -60,6 +61,36 @@ SIDE_OFFSET = 3
 #: edge points lie at least this many pixels inside the left and right borders, so that
 #: their features (5 x 5 window, side grey levels) are not cut by the border
 BORDER = SIDE_OFFSET + 1
+
+#: how far along the row an edge point's features reach into the image: the side grey
+#: levels (SIDE_OFFSET) of the 5 x 5 smoothed image (2 more)
+REACH = SIDE_OFFSET + 2
+
+
+def usable_pixels(valid: ArrayLike) -> NDArray[np.bool_]:
+    """Pixels whose edge features see only valid image data.
+
+    Parameters
+    ----------
+    valid : array_like of bool, shape (H, W)
+        True where the image holds data (e.g. inside the source of a rectified image).
+
+    Returns
+    -------
+    ndarray of bool, shape (H, W)
+        ``valid`` eroded by ``REACH`` columns and 2 rows (the 5 x 5 filter), so that
+        an edge point there is the scene's, not the border of the invalid region.
+
+    Examples
+    --------
+    >>> v = np.ones((7, 20), bool); v[:, 15:] = False
+    >>> usable_pixels(v)[3].nonzero()[0].tolist()
+    [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]
+    """
+    v = np.asarray(valid, dtype=bool)
+    kernel = np.ones((5, 2 * REACH + 1), np.uint8)
+    return cv2.erode(v.astype(np.uint8), kernel, borderType=cv2.BORDER_CONSTANT,
+                     borderValue=1).astype(bool)
 
 
 def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "image") -> NDArray[
@@ -313,6 +344,7 @@ def detect_edges(
     bit_depth: int | None = None,
     subpixel: bool = True,
     grey: NDArray[np.float32] | None = None,
+    valid: ArrayLike | None = None,
 ) -> EdgeSet:
     """Find edge points along the rows (epipolar lines) of an image (seed 3.1-3.2).
 
@@ -333,6 +365,10 @@ def detect_edges(
         Locate edges to sub-pixel precision (default) or at whole pixels, as the seed.
     grey : ndarray, optional
         The image already converted by :func:`to_grey` (saves the conversion).
+    valid : array_like of bool, shape (H, W), optional
+        Pixels that hold image data (e.g. the part of a rectified image that has a
+        source).  Invalid pixels may hold anything; edge points whose features would
+        see them are not reported (:func:`usable_pixels`).
 
     Returns
     -------
@@ -386,6 +422,12 @@ def detect_edges(
     peak = (c > a[:, m - 1:-m - 1]) & (c >= a[:, m + 1:w - m + 1]) & (c >= threshold)
     k, j = np.nonzero(peak)
     j = j + m
+    if valid is not None:
+        vm = np.asarray(valid, dtype=bool)
+        if vm.shape != (h, w):
+            raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
+        keep = usable_pixels(vm)[rows[k], j]
+        k, j = k[keep], j[keep]
     am, a0, ap = a[k, j - 1], a[k, j], a[k, j + 1]
     if subpixel:
         den = am - 2.0 * a0 + ap

@@ -510,8 +510,8 @@ def run_pulley_experiment(
        (nearest neighbour; a rotation about the optical axis keeps depth), as
        disparity ``fx D / depth``.
     3. For ``k = 0 .. iterations``: the matches accepted after ``k`` iterations, scored
-       with :func:`robostereo.evaluation.score_matches` over the left edge points away
-       from the fill.
+       with :func:`robostereo.evaluation.score_matches` over the left edge points (none
+       near the rectification's fill: the matcher is told which pixels are filled).
 
     References
     ----------
@@ -527,17 +527,13 @@ def run_pulley_experiment(
         gt = np.where(rd > 0, g.camera.fx * g.baseline_mm / rd, np.nan)
     res = loc.result
     el = res.left_edges
-    u = loc.usable
-    right_ok = loc.rectified.usable_right
-    er = res.right_edges
-    n_right = int(np.count_nonzero(right_ok[er.row, np.clip(np.rint(er.x).astype(int), 0,
-                                                                  right_ok.shape[1] - 1)]))
     scores = []
     for k in range(len(res.relaxation.history)):
         d = res.disparity_of(loc.matches_after(k))
-        scores.append(score_matches(el.row[u], el.x[u], d[u], gt))
-    return PulleyExperiment(located=loc, gt_disparity=gt, n_left_edges=int(u.sum()),
-                            n_right_edges=n_right, scores=tuple(scores), setup=sim.setup)
+        scores.append(score_matches(el.row, el.x, d, gt))
+    return PulleyExperiment(located=loc, gt_disparity=gt, n_left_edges=len(el),
+                            n_right_edges=len(res.right_edges), scores=tuple(scores),
+                            setup=sim.setup)
 
 
 # -------------------------------------------------------------------------------- demo

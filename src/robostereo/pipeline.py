@@ -232,6 +232,8 @@ def match_stereo(
     *,
     params: MatchParameters | None = None,
     camera: StereoCamera | None = None,
+    valid_left: ArrayLike | None = None,
+    valid_right: ArrayLike | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> MatchResult:
     """Match the edge points of a rectified stereo pair (seed chapter 3).
@@ -245,6 +247,11 @@ def match_stereo(
     params : MatchParameters, optional
     camera : StereoCamera, optional
         With a camera the result also holds 3-D points and depth bounds.
+    valid_left, valid_right : array_like of bool, shape (H, W), optional
+        Pixels that hold image data, e.g. the part of a rectified image that has a
+        source; edge points whose features would see other pixels are not used
+        (:func:`~robostereo.edges.usable_pixels`), so the fill of a rectification
+        makes no false edges.
     progress : callable, optional
         Called with the name of each stage as it starts.
 
@@ -285,9 +292,9 @@ def match_stereo(
     ga = to_grey(a, bit_depth=p.bit_depth, name="left image")
     gb = to_grey(b, bit_depth=p.bit_depth, name="right image")
     el = detect_edges(a, threshold=p.threshold, row_step=p.row_step, subpixel=p.subpixel,
-                      grey=ga)
+                      grey=ga, valid=valid_left)
     er = detect_edges(b, threshold=p.threshold * p.right_threshold_ratio, row_step=p.row_step,
-                      subpixel=p.subpixel, grey=gb)
+                      subpixel=p.subpixel, grey=gb, valid=valid_right)
     t1 = time.perf_counter()
     t["edges"] = t1 - t0
     say("candidates")

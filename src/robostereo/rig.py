@@ -18,7 +18,7 @@ reported three ways (:meth:`RigResult.table`):
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
@@ -122,15 +122,12 @@ class RigResult:
     rectification : Rectification
     left_rectified, right_rectified : ndarray, shape (H', W'[, C])
         The rectified images the matcher saw.
-    dropped : int
-        Matches removed because an end lay in the black fill outside an original image.
     """
 
     match: MatchResult
     rectification: Rectification
     left_rectified: NDArray[Any]
     right_rectified: NDArray[Any]
-    dropped: int
 
     def __len__(self) -> int:
         return len(self.match)
@@ -236,9 +233,9 @@ def match_rig(
        :func:`~robostereo.calibration.rectify_images`: distortion removed, rows epipolar.
     3. :func:`~robostereo.pipeline.match_stereo` on the rectified pair, with
        :meth:`Rectification.stereo_camera` as its camera.
-    4. Drop matches whose left or right point lies within 3 px of the black fill
-       outside an original image (:func:`valid_mask`): an edge there is the fill's
-       border, not the scene's.
+    4. The part of each rectified image with no source (black fill) is passed to the
+       matcher as invalid (:func:`valid_mask`): no edge point is taken whose features
+       see the fill, so its border makes no false edges.
     5. Points and 3-D through :meth:`RigResult.table` (one triangulation path).
 
     References
@@ -265,21 +262,10 @@ def match_rig(
     assert disparity_range is not None
     lr, rr = rectify_images(rect, a, b, interpolation=interpolation)
     camera = rect.stereo_camera(disparity_uncertainty_px=disparity_uncertainty_px)
-    res = match_stereo(lr, rr, disparity_range, params=params, camera=camera, progress=progress)
-    ok_l, ok_r = valid_mask(rect, "left"), valid_mask(rect, "right")
-    idx = res.matched
-    w = ok_l.shape[1]
-    rows = res.left_edges.row[idx]
-    cl = np.clip(np.rint(res.x_left).astype(np.intp), 0, w - 1)
-    cr = np.clip(np.rint(res.x_right).astype(np.intp), 0, w - 1)
-    bad = ~(ok_l[rows, cl] & ok_r[rows, cr])
-    match = res.match
-    if bad.any():
-        match = match.copy()
-        match[idx[bad]] = -1
-        res = replace(res, match=match)
-    return RigResult(match=res, rectification=rect, left_rectified=lr, right_rectified=rr,
-                     dropped=int(bad.sum()))
+    res = match_stereo(lr, rr, disparity_range, params=params, camera=camera,
+                       valid_left=valid_mask(rect, "left", margin=0),
+                       valid_right=valid_mask(rect, "right", margin=0), progress=progress)
+    return RigResult(match=res, rectification=rect, left_rectified=lr, right_rectified=rr)
 
 
 def load_rig_pair(
