@@ -407,11 +407,11 @@ def run_batch(
     t0 = time.perf_counter()
     opts = options or BatchOptions()
     out = Path(out_dir)
+    inputs = find_inputs(input_dir, exclude=out)  # no output folder unless there is input
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise InputError(f"{out}: cannot create output folder ({e.__class__.__name__})") from None
-    inputs = find_inputs(input_dir, exclude=out)
     names = [p.name for p in inputs]
     if len(set(names)) != len(names):
         raise InputError(f"{input_dir}: input folder names must be unique")
