@@ -1,4 +1,4 @@
-"""Tests for robostereo.evaluate and ``robostereo evaluate``."""
+"""Tests for the scene evaluation (robostereo.evaluation) and ``robostereo evaluate``."""
 
 from __future__ import annotations
 
@@ -13,13 +13,15 @@ from synthetic import synthetic_pair
 
 from robostereo.cli import main
 from robostereo.datasets import load_scene, write_pfm
-from robostereo.evaluate import (
+from robostereo.evaluation import (
     errors_3d,
     evaluate_scene,
     format_evaluation,
     nearest_ground_truth,
+    sample_dense,
+    score_matches,
+    sgbm_disparity,
 )
-from robostereo.evaluation import sample_dense, score_matches, sgbm_disparity
 from robostereo.pipeline import match_stereo
 from robostereo.triangulation import StereoCamera
 

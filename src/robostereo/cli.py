@@ -219,7 +219,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
     import json
 
     from robostereo.datasets import load_scene
-    from robostereo.evaluate import evaluate_scene, format_evaluation
+    from robostereo.evaluation import evaluate_scene, format_evaluation
 
     drange = _range_args(args)
     dirs = [s for s in args.scenes if s.is_dir()]
