@@ -56,7 +56,7 @@ image constant."""
 SEED_GREY_LEVELS = 128
 
 #: how far (pixels) the grey levels beside an edge are sampled, either side
-SIDE_OFFSET = 3
+SIDE_OFFSET = 4
 
 #: edge points lie at least this many pixels inside the left and right borders, so that
 #: their features (5 x 5 window, side grey levels) are not cut by the border
@@ -85,7 +85,7 @@ def usable_pixels(valid: ArrayLike) -> NDArray[np.bool_]:
     --------
     >>> v = np.ones((7, 20), bool); v[:, 15:] = False
     >>> usable_pixels(v)[3].nonzero()[0].tolist()
-    [0, 1, 2, 3, 4, 5, 6, 7, 8, 9]
+    [0, 1, 2, 3, 4, 5, 6, 7, 8]
     """
     v = np.asarray(valid, dtype=bool)
     kernel = np.ones((5, 2 * REACH + 1), np.uint8)
@@ -382,12 +382,12 @@ def detect_edges(
        ``g(x) = (S(x + 1) - S(x - 1)) / 2``.
     3. An edge point is a local maximum of ``|g|`` along the row (strictly above the
        left neighbour, at least the right one) with ``|g| >= threshold``, at least
-       ``BORDER`` (4) pixels inside the left and right borders.
+       ``BORDER`` (5) pixels inside the left and right borders.
     4. Sub-pixel position: the vertex of the parabola through ``|g|`` at the peak and
        its two neighbours; the magnitude is the parabola's peak value.
     5. Features: contrast sign ``sign(g)``, connectivity to the lines above and below
        (:func:`connectivity`) and pattern type (:func:`pattern_type`), the 5 x 5 mean
-       grey level of the unsmoothed image, and the smoothed grey levels three pixels
+       grey level of the unsmoothed image, and the smoothed grey levels four pixels
        before and after the edge.
 
     References

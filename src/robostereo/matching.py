@@ -142,7 +142,7 @@ def find_candidates(
     disparity_range: tuple[float, float],
     *,
     weights: SimilarityWeights | None = None,
-    profile_scale: float | None = 8.0,
+    profile_scale: float | None = 10.0,
 ) -> Candidates:
     """Candidate pairs and their similarity indices (seed 3.2, 3.3, 3.5).
 
@@ -173,7 +173,7 @@ def find_candidates(
     3. ``w = sum(lambda_k * index_k)`` with the normalised weights (3.3).
     4. Beyond the seed: ``w`` is multiplied by ``exp(-e / profile_scale)``, with
        ``e = (|B_l - B_r| + |F_l - F_r|) / 2`` the difference of the smoothed grey
-       levels three pixels before (B) and after (F) the two edges.  One 5 x 5 mean
+       levels four pixels before (B) and after (F) the two edges.  One 5 x 5 mean
        cannot tell a dark-to-bright edge from another with other grey levels on
        its two sides; on the Middlebury pairs this halves the false matches.
     """

@@ -66,7 +66,7 @@ class MatchParameters:
     row_step: int = 1
     subpixel: bool = True
     weights: SimilarityWeights = field(default_factory=SimilarityWeights)
-    profile_scale: float | None = 8.0
+    profile_scale: float | None = 10.0
     relaxation: RelaxationParameters = field(
         default_factory=lambda: RelaxationParameters(no_match_support=0.6)
     )
