@@ -41,7 +41,7 @@ import yaml
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.camera import Camera, Pose
-from robostereo.errors import InputError
+from robostereo.errors import InputError, require_file
 from robostereo.triangulation import StereoCamera, triangulate
 
 __all__ = [
@@ -273,12 +273,7 @@ class StereoCalibration:
 
 
 def _require_file(path: PathLike) -> Path:
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: calibration file not found (or not a regular file)")
-    if p.stat().st_size == 0:
-        raise InputError(f"{p}: calibration file is empty")
-    return p
+    return require_file(path, "calibration file")
 
 
 def _node_value(node: Any) -> Any:

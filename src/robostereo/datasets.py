@@ -37,7 +37,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.calibration import StereoCalibration, check_image_size, read_middlebury_calib
-from robostereo.errors import InputError
+from robostereo.errors import InputError, require_file
 
 __all__ = [
     "KNOWN_SCALES",
@@ -73,15 +73,6 @@ _IMAGE_EXTS = (".png", ".ppm", ".pgm", ".pnm", ".tif", ".tiff", ".bmp", ".jpg", 
 # ---------------------------------------------------------------------------- images
 
 
-def _require_file(path: PathLike, what: str) -> Path:
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: {what} not found (or not a regular file)")
-    if p.stat().st_size == 0:
-        raise InputError(f"{p}: {what} is empty")
-    return p
-
-
 def _pnm_maxval(data: bytes) -> int | None:
     """``maxval`` from a binary/ASCII PNM header (P2, P3, P5, P6), or None."""
     sep = rb"(?:\s+|#[^\n]*\n)+"
@@ -114,7 +105,7 @@ def load_image(path: PathLike) -> tuple[NDArray[Any], int]:
     Decoded with OpenCV (``cv2.imdecode``, ``IMREAD_UNCHANGED``, BGR -> RGB), falling
     back to imageio for formats OpenCV does not read.
     """
-    p = _require_file(path, "image file")
+    p = require_file(path, "image file")
     try:
         raw = p.read_bytes()
     except OSError as e:
@@ -172,7 +163,7 @@ def read_pfm(path: PathLike) -> NDArray[np.float32]:
     >>> read_pfm(p).tolist()
     [[1.5, inf], [3.0, 4.0]]
     """
-    p = _require_file(path, "PFM file")
+    p = require_file(path, "PFM file")
     try:
         data = p.read_bytes()
     except OSError as e:

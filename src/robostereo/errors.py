@@ -8,9 +8,17 @@ prints that line and exits with code 2.
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Iterable
+from pathlib import Path
 
-__all__ = ["InputError", "UnreachablePoseError", "require_finite", "require_positive"]
+__all__ = [
+    "InputError",
+    "UnreachablePoseError",
+    "require_file",
+    "require_finite",
+    "require_positive",
+]
 
 
 class InputError(ValueError):
@@ -51,3 +59,19 @@ def require_positive(name: str, value: float) -> None:
     """
     if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
         raise InputError(f"{name} must be a finite number > 0, got {value}")
+
+
+def require_file(path: str | os.PathLike[str], what: str = "file") -> Path:
+    """The path of an existing, non-empty regular file, or :class:`InputError`.
+
+    >>> require_file("/no/cam.yaml", "camera file")
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: /no/cam.yaml: camera file not found (or not a regular file)
+    """
+    p = Path(path)
+    if not p.is_file():
+        raise InputError(f"{p}: {what} not found (or not a regular file)")
+    if p.stat().st_size == 0:
+        raise InputError(f"{p}: {what} is empty")
+    return p

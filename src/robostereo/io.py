@@ -20,7 +20,7 @@ import yaml
 from numpy.typing import NDArray
 
 from robostereo.datasets import load_image
-from robostereo.errors import InputError
+from robostereo.errors import InputError, require_file
 from robostereo.triangulation import StereoCamera
 
 __all__ = [
@@ -211,9 +211,7 @@ def stereo_camera_to_dict(camera: StereoCamera) -> dict[str, float]:
 
 def load_stereo_camera(path: PathLike) -> StereoCamera:
     """Read a camera YAML file (see :func:`stereo_camera_from_dict`)."""
-    p = Path(path)
-    if not p.is_file():
-        raise InputError(f"{p}: camera file not found")
+    p = require_file(path, "camera file")
     try:
         data = yaml.safe_load(p.read_text())
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
