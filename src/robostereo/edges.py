@@ -15,7 +15,7 @@ grey levels on either side of the edge, which tell edges apart better than one m
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import cv2
 import numpy as np
@@ -230,7 +230,6 @@ class EdgeSet:
     row_step: int = 1
     row_offset: int = 0
     n_lines: int = 0
-    line_start: NDArray[np.intp] = field(default_factory=lambda: np.zeros(1, np.intp))
 
     def __len__(self) -> int:
         return int(self.x.shape[0])
@@ -448,12 +447,11 @@ def detect_edges(
     r = rows[k]
     before = sr[k, np.clip(j - SIDE_OFFSET, 0, w - 1)]
     after = sr[k, np.clip(j + SIDE_OFFSET, 0, w - 1)]
-    line_start = np.searchsorted(k, np.arange(n_lines + 1))
     return EdgeSet(
         line=k.astype(np.intp), row=r.astype(np.intp), x=x.astype(float),
         column=j.astype(np.intp), sign=sign, magnitude=mag.astype(float), pattern=pattern,
         up=up, down=down, up_offset=up_off, down_offset=down_off,
         mean_grey=mean5[r, j].astype(float), grey_before=before.astype(float),
         grey_after=after.astype(float), row_step=int(row_step), row_offset=int(row_offset),
-        n_lines=int(n_lines), line_start=line_start.astype(np.intp),
+        n_lines=int(n_lines),
     )

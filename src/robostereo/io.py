@@ -11,7 +11,7 @@ import contextlib
 import math
 import os
 import tempfile
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -217,10 +217,3 @@ def load_stereo_camera(path: PathLike) -> StereoCamera:
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
         raise InputError(f"{p}: cannot read camera YAML ({e.__class__.__name__})") from None
     return stereo_camera_from_dict(data, source=str(p))
-
-
-def write_atomic(path: PathLike, writer: Callable[[Path], None]) -> Path:
-    """Call ``writer(tmp_path)`` and move the result to ``path`` only if it succeeds."""
-    with atomic_path(path) as tmp:
-        writer(tmp)
-    return Path(path)
