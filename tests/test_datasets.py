@@ -230,7 +230,7 @@ def test_tsukuba_matches_readme() -> None:
     assert s.unknown_fraction == pytest.approx(0.207, abs=0.0005)
     assert np.isnan(s.gt_disparity[:18]).all() and np.isnan(s.gt_disparity[:, -18:]).all()
     assert s.gt_disparity_right is None and s.calib is None
-    assert available_scenes(REAL) == ["tsukuba", "venus"]
+    assert {"tsukuba", "venus"} <= set(available_scenes(REAL))
     assert load_scene("tsukuba").disparity_range == (5.0, 14.0)  # by name
 
 
