@@ -10,7 +10,10 @@ import pytest
 
 sys.path.insert(0, str(Path(__file__).parent))
 
-from robostereo.datasets import StereoScene, find_data_dir, load_scene
+from robostereo.datasets import StereoScene, available_scenes, find_data_dir, load_scene
+
+#: the developer scenes every real-scene test runs on (all of ../shared/data/stereo)
+SCENES = ("tsukuba", "venus", "motorcycle", "cloth3", "reindeer", "wood2")
 
 
 @pytest.fixture(scope="session")
@@ -23,7 +26,7 @@ def data_dir() -> Path:
 
 @pytest.fixture(scope="session")
 def real_scenes(data_dir: Path) -> dict[str, StereoScene]:
-    return {name: load_scene(data_dir / name) for name in ("tsukuba", "venus")}
+    return {name: load_scene(data_dir / name) for name in available_scenes(data_dir)}
 
 
 @pytest.fixture

@@ -44,7 +44,8 @@ def test_match_writes_all_outputs(pair, tmp_path, capsys):
     summary = capsys.readouterr().out.strip().splitlines()
     assert len(summary) == 1 and "matched" in summary[0] and "ms" in summary[0]
     rows = _rows(out)
-    assert list(rows[0])[:5] == ["row", "x_left", "x_right", "disparity", "probability"]
+    assert list(rows[0])[:5] == ["row", "x_left", "x_right", "disparity", "confidence"]
+    assert all(float(r["confidence"]) >= 0.95 for r in rows)
     assert {"X", "Y", "Z", "z_bound"} <= set(rows[0])
     d = np.array([float(r["disparity"]) for r in rows])
     assert np.allclose(d, 8.0, atol=0.15)
@@ -53,8 +54,10 @@ def test_match_writes_all_outputs(pair, tmp_path, capsys):
     edges = _rows(tmp_path / "e.csv")
     assert len(edges) >= len(rows)
     assert {"row", "x", "sign", "magnitude", "pattern", "mean_grey", "x_right", "disparity",
-            "probability"} == set(edges[0])
-    assert sum(1 for e in edges if e["x_right"] == "") == len(edges) - len(rows)
+            "confidence", "accepted"} == set(edges[0])
+    assert sum(1 for e in edges if e["accepted"] == "1") == len(rows)
+    # every edge point with a best candidate has its confidence, accepted or not
+    assert sum(1 for e in edges if e["confidence"] != "") >= len(rows)
     ply = (tmp_path / "m.ply").read_bytes()
     assert ply.startswith(b"ply") and f"element vertex {len(rows)}".encode() in ply
     assert (tmp_path / "o.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -65,7 +68,7 @@ def test_match_without_camera_has_disparities_only(pair, tmp_path):
     out = tmp_path / "m.csv"
     assert main(["match", str(lp), str(rp), "--min-disparity", "4", "--max-disparity", "16",
                  "-o", str(out)]) == 0
-    assert list(_rows(out)[0]) == ["row", "x_left", "x_right", "disparity", "probability"]
+    assert list(_rows(out)[0]) == ["row", "x_left", "x_right", "disparity", "confidence"]
 
 
 def _bad(tmp_path, args, capsys, word):
@@ -116,7 +119,7 @@ def test_constant_images_give_an_empty_result_and_a_warning(tmp_path, capsys):
     assert main(["match", str(flat), str(flat), "--min-disparity", "0", "--max-disparity", "9",
                  "-o", str(out)]) == 0
     assert "no edge points" in capsys.readouterr().err
-    assert out.read_text().strip() == "row,x_left,x_right,disparity,probability"
+    assert out.read_text().strip() == "row,x_left,x_right,disparity,confidence"
 
 
 def test_sixteen_bit_input(tmp_path, rng):
@@ -136,3 +139,29 @@ def test_console_script_runs():
     r = subprocess.run([sys.executable, "-m", "robostereo.cli", "--version"],
                        capture_output=True, text=True, check=False)
     assert r.returncode == 0 and r.stdout.startswith("robostereo ")
+
+
+def test_min_confidence_and_method_options(pair, tmp_path, capsys):
+    lp, rp, _ = pair
+    base = ["match", str(lp), str(rp), "--min-disparity", "4", "--max-disparity", "16"]
+    counts = {}
+    for t in ("0", "0.97", "0.999"):
+        out = tmp_path / f"m{t}.csv"
+        assert main([*base, "-o", str(out), "--min-confidence", t]) == 0
+        counts[t] = len(_rows(out))
+    assert counts["0"] >= counts["0.97"] >= counts["0.999"] and counts["0"] > counts["0.999"]
+    edges = tmp_path / "e.csv"
+    assert main([*base, "-o", str(tmp_path / "all.csv"), "--min-confidence", "0",
+                 "--edges", str(edges)]) == 0
+    assert sum(1 for e in _rows(edges) if e["confidence"] != "") == counts["0"]
+    out = tmp_path / "r.csv"
+    assert main([*base, "-o", str(out), "--method", "relaxation"]) == 0
+    assert len(_rows(out)) > 0
+    capsys.readouterr()
+    for bad in (["--min-confidence", "1.5"], ["--min-confidence", "nan"], ["--method", "sgm"]):
+        with pytest.raises(SystemExit) as exc:  # argparse: usage line and one error line
+            main([*base, "-o", str(tmp_path / "bad.csv"), *bad])
+        assert exc.value.code == 2
+        err = capsys.readouterr().err.strip().splitlines()[-1]
+        assert "min-confidence" in err or "method" in err
+        assert not (tmp_path / "bad.csv").exists()

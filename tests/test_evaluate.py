@@ -36,7 +36,7 @@ def test_real_scene_figures_match_the_core_tests(real_scenes, name) -> None:
     ours, sgbm = ev.methods
     res = match_stereo(scene.left, scene.right, scene.disparity_range)
     e = res.left_edges
-    ref = score_matches(e.row, e.x, res.disparity_of(res.match), scene.gt_disparity)
+    ref = score_matches(e.row, e.x, res.accepted_disparity(), scene.gt_disparity)
     dense = sgbm_disparity(scene.left, scene.right, scene.disparity_range)
     ref_sg = score_matches(e.row, e.x, sample_dense(dense, e.row, e.x), scene.gt_disparity)
     assert (ours.counted, ours.matched, ours.false) == (ref.counted, ref.matched, ref.false)
@@ -48,13 +48,25 @@ def test_real_scene_figures_match_the_core_tests(real_scenes, name) -> None:
     assert ours.seconds > 0 and sgbm.seconds > 0 and ours.rms_3d_mm is None
     text = format_evaluation(ev)
     assert f"{ours.matched_percent:6.1f} %" in text and "SGBM" in text
+    # the curves: robostereo's from the best match of every edge point, SGBM's sweep
+    curve = ev.curves["robostereo"]
+    assert np.all(np.diff(curve.coverage) > 0) and np.all(np.diff(curve.threshold) <= 0)
+    assert curve.coverage[-1] == pytest.approx(
+        np.isfinite(res.edge_disparity[np.isfinite(scene.gt_disparity[
+            e.row, np.clip(np.rint(e.x).astype(int), 0, scene.shape[1] - 1)])]).sum()
+        / ours.counted)
+    assert len(ev.curves["sgbm"].coverage) == 26
+    # the default operating point lies on robostereo's curve
+    at = curve.coverage[curve.threshold >= res.parameters.acceptance]
+    assert at.max() == pytest.approx(ours.matched / ours.counted)
+    assert "coverage at" in text and "(confidence swept)" in text
 
 
 def test_nearest_ground_truth_is_the_rule_s_reference(real_scenes) -> None:
     scene = real_scenes["venus"]
     res = match_stereo(scene.left, scene.right, scene.disparity_range)
     e = res.left_edges
-    d = res.disparity_of(res.match)
+    d = res.accepted_disparity()
     gt = nearest_ground_truth(e.row, e.x, d, scene.gt_disparity)
     s = score_matches(e.row, e.x, d, scene.gt_disparity)
     good = np.isfinite(gt) & (np.abs(d - gt) <= 1.0)
@@ -93,7 +105,7 @@ def test_middlebury_calib_gives_3d_errors(tmp_path: Path, rng) -> None:
     assert scene.calib is not None
     ev = evaluate_scene(scene)
     ours, sgbm = ev.methods
-    assert ours.matched_percent > 95.0 and ours.false == 0
+    assert ours.matched_percent > 80.0 and ours.false == 0
     assert ours.rms_3d_mm is not None and 0 < ours.median_3d_mm <= ours.rms_3d_mm < 45.0
     assert sgbm.rms_3d_mm is not None
     z_max = F * B / (7.3 + DOFFS)
@@ -103,7 +115,7 @@ def test_middlebury_calib_gives_3d_errors(tmp_path: Path, rng) -> None:
 
 def test_cli_evaluate_glob_as_a_newcomer_runs_it(data_dir: Path, capsys) -> None:
     args = sorted(str(p) for p in data_dir.iterdir())  # README.md, scenes.json, scenes
-    assert main(["evaluate", *args]) == 0
+    assert main(["evaluate", *args, "--no-curves"]) == 0
     cap = capsys.readouterr()
     assert "skipping" in cap.err and "README.md" in cap.err
     assert "tsukuba: 384 x 288 px" in cap.out and "venus: 434 x 383 px" in cap.out
@@ -111,6 +123,25 @@ def test_cli_evaluate_glob_as_a_newcomer_runs_it(data_dir: Path, capsys) -> None
     doc = json.loads(capsys.readouterr().out)
     assert doc[0]["scene"] == "tsukuba" and list(doc[0]["methods"]) == ["robostereo"]
     assert doc[0]["methods"]["robostereo"]["matched_percent"] >= 80.0
+    assert set(doc[0]["coverage_at_false"]["robostereo"]) == {"2%", "3%", "5%"}
+
+
+def test_cli_evaluate_plots_curves_and_checks_options(data_dir: Path, tmp_path: Path,
+                                                     capsys) -> None:
+    assert main(["evaluate", str(data_dir / "venus"), "--plot", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "SGBM" in out and "left-right check" in out
+    png = tmp_path / "venus_curves.png"
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # a lower acceptance matches more, on the same curve
+    assert main(["evaluate", str(data_dir / "venus"), "--no-sgbm", "--json",
+                 "--min-confidence", "0.5"]) == 0
+    lo = json.loads(capsys.readouterr().out)[0]["methods"]["robostereo"]["matched"]
+    assert main(["evaluate", str(data_dir / "venus"), "--no-sgbm", "--json"]) == 0
+    hi = json.loads(capsys.readouterr().out)[0]["methods"]["robostereo"]["matched"]
+    assert lo > hi
+    assert main(["evaluate", str(data_dir / "venus"), "--plot", str(tmp_path / "no")]) == 2
+    assert "--plot" in capsys.readouterr().err
 
 
 def test_cli_evaluate_bad_scene_reports_and_goes_on(tmp_path: Path, data_dir: Path,

@@ -12,34 +12,71 @@ from robostereo.pipeline import MatchParameters, match_stereo
 from robostereo.triangulation import StereoCamera
 
 
+def _rms_against_truth(res, gt, d):
+    e = res.left_edges
+    cols = np.clip(np.rint(e.x).astype(int), 0, gt.shape[1] - 1)
+    truth = gt[e.row, cols]
+    ok = np.isfinite(truth) & np.isfinite(d)
+    return float(np.sqrt(np.mean((d[ok] - truth[ok]) ** 2)))
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2, 3, 4])
-def test_synthetic_pairs_all_matched_none_false_subpixel_accurate(seed):
+def test_synthetic_pairs_window_method(seed):
+    """Default matcher: the best disparity of nearly every edge point is right; the
+    default acceptance keeps most of them with no false one; sub-pixel accurate."""
     rng = np.random.default_rng(seed)
     left, right, gt = synthetic_pair(rng, disparities=(7.3, 11.65, 9.05), noise=1.0)
     res = match_stereo(left, right, (4, 16))
+    e = res.left_edges
+    best = score_matches(e.row, e.x, res.accepted_disparity(0.0), gt)
+    assert best.counted > 1500
+    assert best.matched_fraction >= 0.99 and best.false_fraction <= 0.03
+    score = score_matches(e.row, e.x, res.accepted_disparity(), gt)
+    assert score.matched_fraction >= 0.8
+    assert score.false_fraction <= 0.002
+    assert _rms_against_truth(res, gt, res.accepted_disparity()) <= 0.1
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_synthetic_pairs_relaxation_method(seed):
+    rng = np.random.default_rng(seed)
+    left, right, gt = synthetic_pair(rng, disparities=(7.3, 11.65, 9.05), noise=1.0)
+    res = match_stereo(left, right, (4, 16), params=MatchParameters(method="relaxation"))
     e = res.left_edges
     score = score_matches(e.row, e.x, res.disparity_of(res.match), gt)
     assert score.counted > 1500
     assert score.matched_fraction >= 0.99
     assert score.false == 0
-    # against the exact fractional disparity (not the nearest-pixel rule)
-    cols = np.clip(np.rint(e.x).astype(int), 0, gt.shape[1] - 1)
-    truth = gt[e.row, cols]
-    d = res.disparity_of(res.match)
-    ok = np.isfinite(truth) & np.isfinite(d)
-    rms = float(np.sqrt(np.mean((d[ok] - truth[ok]) ** 2)))
-    assert rms <= 0.1
+    assert _rms_against_truth(res, gt, res.disparity_of(res.match)) <= 0.1
+    assert np.array_equal(res.accepted_disparity(), res.disparity_of(res.match),
+                          equal_nan=True)
 
 
 def test_seed_mode_whole_pixels_is_coarser_than_subpixel(rng):
     left, right, gt = synthetic_pair(rng, disparities=(7.3, 11.65), noise=1.0)
-    sub = match_stereo(left, right, (4, 16))
+    sub = match_stereo(left, right, (4, 16), params=MatchParameters(method="relaxation"))
     pix = match_stereo(left, right, (4, 16), params=MatchParameters.seed())
     assert np.all(pix.left_edges.x == np.round(pix.left_edges.x))
     s_sub = score_matches(sub.left_edges.row, sub.left_edges.x, sub.disparity_of(sub.match), gt)
     s_pix = score_matches(pix.left_edges.row, pix.left_edges.x, pix.disparity_of(pix.match), gt)
     assert s_pix.rms > 3 * s_sub.rms
     assert s_pix.false == 0
+
+
+def test_min_confidence_trades_coverage_for_accuracy(rng):
+    left, right, _ = synthetic_pair(rng, height=60, width=200)
+    counts = [len(match_stereo(left, right, (4, 16), params=MatchParameters(min_confidence=t)))
+              for t in (0.0, 0.5, 0.9, 0.99, 1.0)]
+    assert counts == sorted(counts, reverse=True) and counts[0] > counts[-1]
+    res = match_stereo(left, right, (4, 16))
+    assert len(res) == np.count_nonzero(res.edge_confidence >= res.parameters.acceptance)
+    assert np.all(res.confidence >= res.parameters.acceptance) and np.all(res.probability == res.confidence)
+    with pytest.raises(InputError, match="min_confidence"):
+        MatchParameters(min_confidence=1.5)
+    with pytest.raises(InputError, match="method"):
+        MatchParameters(method="sgm")
+    with pytest.raises(InputError, match="relaxation"):
+        res.matches_after(1)
 
 
 def test_bit_depth_and_colour_give_the_same_matches(rng):
@@ -55,21 +92,28 @@ def test_bit_depth_and_colour_give_the_same_matches(rng):
 def test_stages_stay_reachable_and_3d_with_camera(rng):
     left, right, _gt = synthetic_pair(rng, height=60, width=200, disparities=(8.0,))
     cam = StereoCamera(fx=1000.0, fy=1000.0, baseline_mm=50.0)
-    res = match_stereo(left, right, (4, 16), camera=cam)
-    assert len(res.left_edges) > 0 and len(res.right_edges) >= len(res.left_edges)
-    assert len(res.candidates) >= len(res)
+    for method in ("window", "relaxation"):
+        res = match_stereo(left, right, (4, 16), camera=cam,
+                           params=MatchParameters(method=method))
+        assert len(res.left_edges) > 0 and len(res.right_edges) >= len(res.left_edges)
+        table = res.table()
+        assert {"row", "x_left", "x_right", "disparity", "confidence", "X", "Y",
+                "Z", "z_bound"} <= set(table)
+        assert np.allclose(table["Z"], 1000.0 * 50.0 / table["disparity"])
+        assert np.allclose(table["disparity"], 8.0, atol=0.1)
+        edges = res.edge_table()
+        assert len(edges["row"]) == len(res.left_edges)
+        assert edges["accepted"].sum() == len(res)
+        # the best match is kept for every edge point that has one, accepted or not
+        assert np.isfinite(edges["confidence"]).sum() >= len(res)
+    assert res.window is None and len(res.candidates) >= len(res)
     assert len(res.relaxation.history) == res.relaxation.iterations + 1
     assert set(res.timings) >= {"edges", "candidates", "relaxation", "total"}
-    table = res.table()
-    assert {"row", "x_left", "x_right", "disparity", "probability", "X", "Y", "Z",
-            "z_bound"} <= set(table)
-    assert np.allclose(table["Z"], 1000.0 * 50.0 / table["disparity"])
-    assert np.allclose(table["disparity"], 8.0, atol=0.1)
-    edges = res.edge_table()
-    assert len(edges["row"]) == len(res.left_edges)
-    assert np.isnan(edges["x_right"]).sum() == len(res.left_edges) - len(res)
     before = res.matches_after(0)
     assert (before >= 0).sum() <= len(res)
+    win = match_stereo(left, right, (4, 16))
+    assert win.candidates is None and win.window.features.shape[0] == len(win.left_edges)
+    assert set(win.timings) >= {"edges", "window", "total"}
     with pytest.raises(InputError, match="camera"):
         match_stereo(left, right, (4, 16)).triangulated()
 

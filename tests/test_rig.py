@@ -19,6 +19,7 @@ from scipy.special import ndtr
 from robostereo.calibration import StereoCalibration, rectify_stereo, write_opencv_calibration
 from robostereo.cli import main
 from robostereo.errors import InputError
+from robostereo.pipeline import MatchParameters
 from robostereo.rig import disparity_range_for_depth, load_rig_pair, match_rig, valid_mask
 
 W, H = 640, 480
@@ -109,8 +110,12 @@ def rendered() -> tuple[Scene, np.ndarray, np.ndarray]:
 
 @pytest.fixture(scope="module")
 def result(rig, rendered):
+    """The rig path with the seed's relaxation: these tests check the geometry, and this
+    scene's slanted stripes of a few grey levels are periodic for census windows (the
+    window method matches half as many points here, some a period off; see README)."""
     _, left, right = rendered
-    return match_rig(left, right, rig, depth_range_mm=DEPTH)
+    return match_rig(left, right, rig, depth_range_mm=DEPTH,
+                     params=MatchParameters(method="relaxation"))
 
 
 def test_round_trip_recovers_the_scene(result, rendered) -> None:
@@ -162,7 +167,8 @@ def test_rectified_columns_and_depth_range(result, rig) -> None:
     tab = result.table()
     rect = result.rectification
     lo, hi = disparity_range_for_depth(rect, *DEPTH)
-    assert np.all((tab["disparity"] >= lo) & (tab["disparity"] <= hi))
+    # the range's rule: whole-pixel bounds, half a pixel outside kept
+    assert np.all((tab["disparity"] >= lo - 0.5) & (tab["disparity"] <= hi + 0.5))
     np.testing.assert_allclose(tab["x_left"] - tab["x_right"], tab["disparity"], atol=1e-9)
     # hand check of eq. (8) through the one path: Z_rect = fx B / (d + doffs)
     xyz_rect = np.column_stack([tab["X"], tab["Y"], tab["Z"]]) @ rect.R1.T
@@ -200,7 +206,7 @@ def test_cli_rig(tmp_path: Path, rig, rendered, capsys) -> None:
                "--ply", str(tmp_path / "pts.ply")])
     assert rc == 0
     head = out.read_text().splitlines()[0].split(",")
-    assert head == ["row", "x_left", "x_right", "disparity", "probability", "x_original",
+    assert head == ["row", "x_left", "x_right", "disparity", "confidence", "x_original",
                     "y_original", "X", "Y", "Z", "z_bound"]
     assert len(out.read_text().splitlines()) > 3000
     assert (tmp_path / "pts.ply").stat().st_size > 1000

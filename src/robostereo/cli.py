@@ -79,10 +79,48 @@ def add_match_parser(sub: Any) -> None:
     p.add_argument("--threshold", type=_finite("--threshold"), default=8.0,
                    help="edge threshold, grey levels per pixel on the 0..127 scale (8.0)")
     p.add_argument("--row-step", type=int, default=1, help="use every N-th row (1)")
+    _add_matcher_args(p)
     p.add_argument("--iterations", type=int, default=5, help="relaxation iterations (5)")
     p.add_argument("--seed-mode", action="store_true",
-                   help="the seed's matcher: whole-pixel edges, plain w, one threshold")
+                   help="the seed's matcher: relaxation, whole-pixel edges, plain w, one "
+                        "threshold")
     p.set_defaults(handler=run_match)
+
+
+def _unit_interval(name: str) -> Callable[[str], float]:
+    finite = _finite(name)
+
+    def parse(text: str) -> float:
+        v = finite(text)
+        if not 0.0 <= v <= 1.0:
+            raise argparse.ArgumentTypeError(f"{name} must be in 0..1, got {text!r}")
+        return v
+
+    return parse
+
+
+def _add_matcher_args(p: Any) -> None:
+    """``--method`` and ``--min-confidence``, shared by the commands that match."""
+    from robostereo.pipeline import DEFAULT_MIN_CONFIDENCE, METHODS
+
+    p.add_argument("--method", choices=METHODS, default=None,
+                   help="matcher: window (default; every disparity scored by side-aware "
+                        "census windows, calibrated confidence) or relaxation (the seed's)")
+    p.add_argument("--min-confidence", type=_unit_interval("--min-confidence"), default=None,
+                   help="least confidence P(correct) of an accepted match; lower: more "
+                        "matches, higher: fewer false (default "
+                        + ", ".join(f"{k} {v:g}" for k, v in DEFAULT_MIN_CONFIDENCE.items())
+                        + ")")
+
+
+def matcher_params(args: argparse.Namespace, base: Any) -> Any:
+    """``base`` (MatchParameters) with the ``--method`` and ``--min-confidence`` given."""
+    changes: dict[str, Any] = {}
+    if getattr(args, "method", None) is not None:
+        changes["method"] = args.method
+    if getattr(args, "min_confidence", None) is not None:
+        changes["min_confidence"] = args.min_confidence
+    return replace(base, **changes)
 
 
 def run_match(args: argparse.Namespace) -> int:
@@ -98,10 +136,10 @@ def run_match(args: argparse.Namespace) -> int:
         raise InputError(f"{args.right}: bit depth {bits_r} differs from the left image's {bits_l}")
     camera = load_stereo_camera(args.camera) if args.camera is not None else None
     base = MatchParameters.seed() if args.seed_mode else MatchParameters()
-    params = replace(
+    params = matcher_params(args, replace(
         base, threshold=args.threshold, row_step=args.row_step, bit_depth=bits_l,
         relaxation=replace(base.relaxation, iterations=args.iterations),
-    )
+    ))
     status, say = _stage_reporter(sys.stderr.isatty())
     with status:
         result = match_stereo(left, right, (args.min_disparity, args.max_disparity),
@@ -159,6 +197,7 @@ def add_rig_parser(sub: Any) -> None:
     p.add_argument("--max-depth", type=_finite("--max-depth"), help="farthest depth, mm")
     p.add_argument("-o", "--output", type=Path, required=True, help="matched points CSV")
     p.add_argument("--ply", type=Path, help="write the 3-D points as PLY")
+    _add_matcher_args(p)
     p.set_defaults(handler=run_rig)
 
 
@@ -180,7 +219,7 @@ def run_rig(args: argparse.Namespace) -> int:
     status, say = _stage_reporter(sys.stderr.isatty())
     with status:
         res = match_rig(left, right, calib, drange, depth_range_mm=depth,
-                        params=MatchParameters(bit_depth=bits),
+                        params=matcher_params(args, MatchParameters(bit_depth=bits)),
                         names=(str(args.left), str(args.right)), progress=say)
     table = res.table()
     write_csv(args.output, table)
@@ -212,6 +251,11 @@ def add_evaluate_parser(sub: Any) -> None:
     p.add_argument("--scale", type=_finite("--scale"),
                    help="ground-truth scale d = raw / scale (default: scenes.json or known)")
     p.add_argument("--no-sgbm", action="store_true", help="leave out StereoSGBM")
+    p.add_argument("--no-curves", action="store_true",
+                   help="only the default operating points (no SGBM settings sweep)")
+    p.add_argument("--plot", type=Path, metavar="DIR",
+                   help="write each scene's two curves as DIR/SCENE_curves.png")
+    _add_matcher_args(p)
     p.set_defaults(handler=run_evaluate)
 
 
@@ -220,8 +264,13 @@ def run_evaluate(args: argparse.Namespace) -> int:
 
     from robostereo.datasets import load_scene
     from robostereo.evaluation import evaluate_scene, format_evaluation
+    from robostereo.pipeline import MatchParameters
+    from robostereo.plots import save_curves
 
     drange = _range_args(args)
+    if args.plot is not None and not args.plot.is_dir():
+        raise InputError(f"--plot {args.plot}: output folder does not exist")
+    params = matcher_params(args, MatchParameters())
     dirs = [s for s in args.scenes if s.is_dir()]
     for s in args.scenes:
         if not s.is_dir():
@@ -234,8 +283,10 @@ def run_evaluate(args: argparse.Namespace) -> int:
         for d in dirs:
             say(f"evaluating {d}")
             try:
-                ev = evaluate_scene(load_scene(d, scale=args.scale), disparity_range=drange,
-                                    sgbm=not args.no_sgbm)
+                scene = load_scene(d, scale=args.scale)
+                ev = evaluate_scene(scene, disparity_range=drange, sgbm=not args.no_sgbm,
+                                    curve=not args.no_curves,
+                                    params=replace(params, bit_depth=scene.bit_depth))
             except InputError as e:
                 print(f"robostereo: error: {e}", file=sys.stderr)
                 failed += 1
@@ -243,6 +294,8 @@ def run_evaluate(args: argparse.Namespace) -> int:
             results.append(ev)
             if not args.json:
                 print(format_evaluation(ev) + "\n", flush=True)
+            if args.plot is not None:
+                save_curves(ev, args.plot / f"{ev.name}_curves.png")
     if args.json:
         print(json.dumps([ev.as_dict() for ev in results], indent=2))
     return 2 if failed else 0

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import asdict, dataclass, replace
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -42,7 +42,17 @@ from robostereo.errors import InputError, require_finite
 from robostereo.pipeline import MatchParameters, match_stereo
 from robostereo.triangulation import StereoCamera, triangulate
 
-__all__ = ["MatchScore", "sample_dense", "score_matches"]
+__all__ = [
+    "CURVE_LEVELS",
+    "SGBM_SWEEP",
+    "CoverageCurve",
+    "MatchScore",
+    "coverage_curve",
+    "match_errors",
+    "sample_dense",
+    "score_matches",
+    "sgbm_curve",
+]
 
 
 @dataclass(frozen=True)
@@ -114,6 +124,43 @@ def score_matches(
     >>> score_matches([0, 0, 0, 0], [0.4, 1.6, 2.2, 3.0], [5.5, 7.0, np.nan, 5.0], gt)
     MatchScore(counted=3, matched=2, false=1, rms=0.5)
     """
+    known, err = match_errors(rows, x, disparity, gt_disparity)
+    matched = known & np.isfinite(err)
+    false = matched & (err > tolerance)
+    good = matched & ~false
+    rms = float(np.sqrt(np.mean(err[good] ** 2))) if good.any() else float("nan")
+    return MatchScore(
+        counted=int(known.sum()), matched=int(matched.sum()), false=int(false.sum()), rms=rms
+    )
+
+
+def match_errors(
+    rows: ArrayLike, x: ArrayLike, disparity: ArrayLike, gt_disparity: NDArray[np.floating]
+) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
+    """Per edge point: is its ground truth known, and its error by the evaluation rule.
+
+    Parameters
+    ----------
+    rows, x, disparity : array_like, shape (N,)
+        Rows, sub-pixel columns and found disparities (NaN where unmatched).
+    gt_disparity : ndarray, shape (H, W)
+        Ground truth, NaN where unknown.
+
+    Returns
+    -------
+    known : ndarray of bool, shape (N,)
+        The ground truth at the nearest pixel is known.
+    error : ndarray, shape (N,)
+        Smallest ``|d - gt|`` over the nearest pixel and its left and right neighbours
+        (known values only); NaN where unmatched or unknown.
+
+    Examples
+    --------
+    >>> gt = np.array([[4.0, 5.0, 6.0, np.nan]])
+    >>> k, e = match_errors([0, 0, 0], [1.2, 2.0, 3.0], [6.5, np.nan, 6.0], gt)
+    >>> k.tolist(), e.tolist()
+    ([True, True, False], [0.5, nan, nan])
+    """
     r = np.asarray(rows, dtype=np.intp)
     xs = np.asarray(x, dtype=float)
     d = np.asarray(disparity, dtype=float)
@@ -126,14 +173,67 @@ def score_matches(
     known = np.isfinite(gt[r, c])
     nb = np.stack([gt[r, np.clip(c + o, 0, w - 1)] for o in (-1, 0, 1)], axis=1)
     err = np.abs(nb - d[:, None])
-    best = np.nanmin(np.where(np.isfinite(err), err, np.inf), axis=1)
-    matched = known & np.isfinite(d)
-    false = matched & (best > tolerance)
-    good = matched & ~false
-    rms = float(np.sqrt(np.mean(best[good] ** 2))) if good.any() else float("nan")
-    return MatchScore(
-        counted=int(known.sum()), matched=int(matched.sum()), false=int(false.sum()), rms=rms
-    )
+    best = np.min(np.where(np.isfinite(err), err, np.inf), axis=1, initial=np.inf)
+    ok = known & np.isfinite(d) & np.isfinite(best)
+    return known, np.where(ok, best, np.nan)
+
+
+@dataclass(frozen=True)
+class CoverageCurve:
+    """Coverage against false rate as a confidence threshold is lowered.
+
+    Attributes
+    ----------
+    coverage : ndarray, shape (K,)
+        Matched counted points over counted points, non-decreasing.
+    false_rate : ndarray, shape (K,)
+        False matches over matched counted points at the same threshold.
+    threshold : ndarray, shape (K,)
+        The confidence (or the dense matcher's setting) of each point of the curve.
+    """
+
+    coverage: NDArray[np.float64]
+    false_rate: NDArray[np.float64]
+    threshold: NDArray[np.float64]
+
+    def coverage_at(self, max_false: float) -> float:
+        """Largest coverage whose false rate is at most ``max_false`` (0 if none).
+
+        >>> CoverageCurve(np.array([0.2, 0.5, 0.9]), np.array([0.0, 0.01, 0.04]),
+        ...               np.array([0.9, 0.5, 0.1])).coverage_at(0.02)
+        0.5
+        """
+        ok = self.false_rate <= max_false
+        return float(self.coverage[ok].max()) if ok.any() else 0.0
+
+
+def coverage_curve(
+    rows: ArrayLike, x: ArrayLike, disparity: ArrayLike, confidence: ArrayLike,
+    gt_disparity: NDArray[np.floating], *, tolerance: float = 1.0,
+) -> CoverageCurve:
+    """The curve of a sparse matcher with a per-point confidence, by the evaluation rule.
+
+    Points are taken in order of decreasing confidence; after each, coverage and false
+    rate are those of all points taken so far.
+
+    Examples
+    --------
+    >>> gt = np.full((1, 6), 5.0)
+    >>> c = coverage_curve([0] * 4, [1.0, 2.0, 3.0, 4.0], [5.0, 9.0, 5.2, np.nan],
+    ...                    [0.9, 0.2, 0.8, 0.99], gt)
+    >>> c.coverage.round(2).tolist(), c.false_rate.round(2).tolist()
+    ([0.25, 0.5, 0.75], [0.0, 0.0, 0.33])
+    """
+    known, err = match_errors(rows, x, disparity, gt_disparity)
+    conf = np.asarray(confidence, dtype=float)
+    take = known & np.isfinite(err) & np.isfinite(conf)
+    order = np.nonzero(take)[0]
+    order = order[np.argsort(-conf[order], kind="stable")]
+    bad = np.cumsum(err[order] > tolerance)
+    k = np.arange(1, order.shape[0] + 1)
+    n = max(int(known.sum()), 1)
+    return CoverageCurve(coverage=k / n, false_rate=bad / np.maximum(k, 1),
+                         threshold=conf[order])
 
 
 def sample_dense(dense: NDArray[np.floating], rows: ArrayLike, x: ArrayLike) -> NDArray[np.float64]:
@@ -157,6 +257,11 @@ def sample_dense(dense: NDArray[np.floating], rows: ArrayLike, x: ArrayLike) -> 
     return d[r, c]
 
 
+def sgbm_input(image: ArrayLike, *, bit_depth: int | None = None) -> NDArray[np.uint8]:
+    """The grey image SGBM is given: robostereo's grey levels (0..127) times two, 8 bit."""
+    return np.clip(np.rint(to_grey(image, bit_depth=bit_depth) * 2.0), 0, 255).astype(np.uint8)
+
+
 def sgbm_disparity(
     left: ArrayLike,
     right: ArrayLike,
@@ -164,6 +269,7 @@ def sgbm_disparity(
     *,
     block_size: int = 5,
     uniqueness_ratio: int = 10,
+    left_right_check: bool = False,
     bit_depth: int | None = None,
 ) -> NDArray[np.float64]:
     """OpenCV StereoSGBM on the same pair and range: the project's dense reference.
@@ -177,6 +283,8 @@ def sgbm_disparity(
     block_size, uniqueness_ratio : int
         SGBM's ``blockSize`` (5) and ``uniquenessRatio`` (10); ``P1 = 8 * block_size**2``
         and ``P2 = 32 * block_size**2`` as OpenCV's documentation recommends for grey input.
+    left_right_check : bool
+        SGBM's own left-right check, ``disp12MaxDiff = 1`` (off: -1).
 
     Returns
     -------
@@ -186,16 +294,48 @@ def sgbm_disparity(
     import cv2
 
     lo, hi = disparity_range
-    g = [np.clip(np.rint(to_grey(im, bit_depth=bit_depth) * 2.0), 0, 255).astype(np.uint8)
-         for im in (left, right)]
+    g = [sgbm_input(im, bit_depth=bit_depth) for im in (left, right)]
     n = int(np.ceil((np.floor(hi) - np.floor(lo) + 1) / 16.0) * 16)
     sgbm = cv2.StereoSGBM_create(
         minDisparity=int(np.floor(lo)), numDisparities=n, blockSize=block_size,
         uniquenessRatio=uniqueness_ratio, P1=8 * block_size**2, P2=32 * block_size**2,
+        disp12MaxDiff=1 if left_right_check else -1,
     )
     d = sgbm.compute(g[0], g[1]).astype(float) / 16.0
     d[(d < np.floor(lo)) | (d > hi + 0.5)] = np.nan
     return d
+
+
+#: SGBM's settings swept for its curve: uniquenessRatio 0, 5, ..., 60, each with its
+#: left-right check off and on
+SGBM_SWEEP: tuple[tuple[int, bool], ...] = tuple(
+    (u, lr) for lr in (False, True) for u in range(0, 61, 5))
+
+#: the false rates at which curves are compared
+CURVE_LEVELS: tuple[float, ...] = (0.02, 0.03, 0.05)
+
+
+def sgbm_curve(
+    left: ArrayLike, right: ArrayLike, disparity_range: tuple[float, float], rows: ArrayLike,
+    x: ArrayLike, gt_disparity: NDArray[np.floating], *, bit_depth: int | None = None,
+    tolerance: float = 1.0,
+) -> CoverageCurve:
+    """StereoSGBM's coverage against false rate at the given pixels, over its settings.
+
+    Each setting of :data:`SGBM_SWEEP` gives one point (coverage, false rate); the
+    points are sorted by coverage.  ``threshold`` holds ``uniquenessRatio`` (negative
+    where the left-right check was on).
+    """
+    pts = []
+    for u, lr in SGBM_SWEEP:
+        dense = sgbm_disparity(left, right, disparity_range, uniqueness_ratio=u,
+                               left_right_check=lr, bit_depth=bit_depth)
+        sc = score_matches(rows, x, sample_dense(dense, rows, x), gt_disparity,
+                           tolerance=tolerance)
+        pts.append((sc.matched_fraction, sc.false_fraction, -u if lr else u))
+    pts.sort()
+    a = np.array(pts, dtype=float).reshape(-1, 3)
+    return CoverageCurve(coverage=a[:, 0], false_rate=a[:, 1], threshold=a[:, 2])
 
 
 @dataclass(frozen=True)
@@ -258,7 +398,10 @@ class SceneEvaluation:
     edges_left, edges_right : int
         Edge points found in each image.
     methods : tuple of MethodFigures
-        ``robostereo`` first, then ``sgbm`` (unless left out).
+        ``robostereo`` first, then ``sgbm`` (unless left out): the default operating
+        points (SGBM: uniquenessRatio 10, no left-right check).
+    curves : dict of str to CoverageCurve
+        ``robostereo`` (its confidence swept) and ``sgbm`` (:data:`SGBM_SWEEP`).
     """
 
     name: str
@@ -268,6 +411,11 @@ class SceneEvaluation:
     edges_left: int
     edges_right: int
     methods: tuple[MethodFigures, ...]
+    curves: dict[str, CoverageCurve] = field(default_factory=dict)
+
+    def coverage_at(self, method: str, max_false: float) -> float:
+        """Coverage of ``method``'s curve at at most ``max_false`` false."""
+        return self.curves[method].coverage_at(max_false)
 
     def as_dict(self) -> dict[str, Any]:
         return {
@@ -276,6 +424,9 @@ class SceneEvaluation:
             "max_disparity": self.disparity_range[1], "edges_left": self.edges_left,
             "edges_right": self.edges_right,
             "methods": {m.method: m.as_dict() for m in self.methods},
+            "coverage_at_false": {
+                name: {f"{100 * f:g}%": c.coverage_at(f) for f in CURVE_LEVELS}
+                for name, c in self.curves.items()},
         }  # fmt: skip
 
 
@@ -365,6 +516,7 @@ def evaluate_scene(
     disparity_range: tuple[float, float] | None = None,
     params: MatchParameters | None = None,
     sgbm: bool = True,
+    curve: bool = True,
     tolerance: float = 1.0,
 ) -> SceneEvaluation:
     """Score the matcher and StereoSGBM on one scene with ground truth.
@@ -380,6 +532,8 @@ def evaluate_scene(
         Matcher tuning; default ``MatchParameters()`` with the scene's bit depth.
     sgbm : bool
         Also run StereoSGBM (blockSize 5, uniquenessRatio 10, same range).
+    curve : bool
+        Also sweep SGBM's settings for its curve (:func:`sgbm_curve`; 26 runs).
     tolerance : float
         Largest disparity error of a correct match (the rule's 1 px).
 
@@ -393,7 +547,9 @@ def evaluate_scene(
     2. :func:`~robostereo.evaluation.sgbm_disparity`, timed, read at the matcher's left
        edge points (:func:`~robostereo.evaluation.sample_dense`).
     3. Both scored by :func:`~robostereo.evaluation.score_matches`.
-    4. With ``scene.calib``: its rectification's
+    4. Curves: robostereo's best match of every edge point by decreasing confidence
+       (:func:`coverage_curve`), SGBM over its settings (:func:`sgbm_curve`).
+    5. With ``scene.calib``: its rectification's
        :class:`~robostereo.triangulation.StereoCamera` triangulates each correct match
        and its ground truth (:func:`errors_3d`).
     """
@@ -411,19 +567,26 @@ def evaluate_scene(
     res = match_stereo(scene.left, scene.right, (lo, hi), params=p)
     t_match = time.perf_counter() - t0
     e = res.left_edges
-    d = res.disparity_of(res.match)
+    d = res.accepted_disparity()
     methods = [_figures("robostereo", e.row, e.x, d, scene, t_match, camera, tolerance)]
+    curves = {"robostereo": coverage_curve(e.row, e.x, res.edge_disparity, res.edge_confidence,
+                                           scene.gt_disparity, tolerance=tolerance)}
     if sgbm:
         t0 = time.perf_counter()
         dense = sgbm_disparity(scene.left, scene.right, (lo, hi), bit_depth=p.bit_depth)
         t_sgbm = time.perf_counter() - t0
         ds = sample_dense(dense, e.row, e.x)
         methods.append(_figures("sgbm", e.row, e.x, ds, scene, t_sgbm, camera, tolerance))
+        if curve:
+            curves["sgbm"] = sgbm_curve(scene.left, scene.right, (lo, hi), e.row, e.x,
+                                        scene.gt_disparity, bit_depth=p.bit_depth,
+                                        tolerance=tolerance)
     h, w = scene.shape
     return SceneEvaluation(
         name=scene.name, path=str(scene.path) if scene.path is not None else "",
         image_size=(w, h), disparity_range=(float(lo), float(hi)),
         edges_left=len(e), edges_right=len(res.right_edges), methods=tuple(methods),
+        curves=curves,
     )  # fmt: skip
 
 
@@ -458,4 +621,15 @@ def format_evaluation(ev: SceneEvaluation) -> str:
         if three_d:
             line += f"  {_num(m.rms_3d_mm, '10.2f')}  {_num(m.median_3d_mm, '13.2f')}"
         lines.append(line)
+    if ev.curves:
+        lines.append("  coverage at" + "".join(f"{'<=' + format(100 * f, 'g') + '% false':>14s}"
+                                               for f in CURVE_LEVELS))
+        notes = {"robostereo": "confidence swept",
+                 "sgbm": "uniquenessRatio 0..60, left-right check off/on"}
+        for name, c in ev.curves.items():
+            label = "SGBM" if name == "sgbm" else name
+            lines.append(f"  {label:<10} " + "".join(
+                f"{100 * c.coverage_at(f):12.1f} %" for f in CURVE_LEVELS)
+                + f"   ({notes.get(name, '')})")
     return "\n".join(lines)
+

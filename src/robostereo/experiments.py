@@ -38,6 +38,7 @@ from robostereo.camera import SEED_CAMERA, Camera, EpipolarGeometry
 from robostereo.capture import Capture, Located, LocateParameters, capture_from_acquisition, locate
 from robostereo.errors import InputError, require_finite, require_positive
 from robostereo.evaluation import MatchScore, score_matches
+from robostereo.pipeline import MatchParameters
 from robostereo.robot import AdeptOne, CameraMount, SimulatedCamera, acquire_stereo_pair
 from robostereo.simulation import (
     Box,
@@ -138,6 +139,11 @@ class RigSetup:
         """Expected depth range of an object on the table."""
         return (self.camera_height_mm - self.object_height_mm,
                 self.camera_height_mm + self.table_depth_margin_mm)
+
+
+#: the experiments' matcher: the seed's, relaxation on connectivity (with robostereo's
+#: sub-pixel edges), so that the figures follow the seed's iterations (fig. 4-4)
+SEED_EXPERIMENT = LocateParameters(match=MatchParameters(method="relaxation"))
 
 
 def _robot(setup: RigSetup) -> AdeptOne:
@@ -462,7 +468,8 @@ def run_block_experiment(
     out = []
     for lift in lifts:
         sim = simulate_capture("block", setup=setup, lift_mm=lift, seed=seed)
-        out.append(_block_height(sim, locate(sim.capture, params=params), lift, table_lines))
+        out.append(_block_height(sim, locate(sim.capture, params=params or SEED_EXPERIMENT),
+                                 lift, table_lines))
     return BlockExperiment(heights=(out[0], out[1]), setup=sim.setup)
 
 
@@ -484,6 +491,8 @@ class PulleyExperiment:
     scores : tuple of MatchScore
         Against the ground truth after 0, 1, ... iterations (evaluation rule of
         :func:`robostereo.evaluation.score_matches`).
+    default_score : MatchScore or None
+        robostereo's default matcher (the window method) on the same capture.
     """
 
     located: Located
@@ -492,6 +501,7 @@ class PulleyExperiment:
     n_right_edges: int
     scores: tuple[MatchScore, ...]
     setup: RigSetup
+    default_score: MatchScore | None = None
 
     @property
     def final(self) -> MatchScore:
@@ -518,7 +528,7 @@ def run_pulley_experiment(
     Seed 5.1 (818 / 815 edges, 86% matched, 1.65% false after five iterations).
     """
     sim = simulate_capture("pulley", setup=setup, seed=seed)
-    loc = locate(sim.capture, params=params)
+    loc = locate(sim.capture, params=params or SEED_EXPERIMENT)
     g = loc.geometry
     depth = sim.renderings[0].depth.copy()
     depth[~np.isfinite(depth)] = 0.0
@@ -527,13 +537,19 @@ def run_pulley_experiment(
         gt = np.where(rd > 0, g.camera.fx * g.baseline_mm / rd, np.nan)
     res = loc.result
     el = res.left_edges
-    scores = []
-    for k in range(len(res.relaxation.history)):
-        d = res.disparity_of(loc.matches_after(k))
-        scores.append(score_matches(el.row, el.x, d, gt))
+    if res.relaxation is not None:
+        scores = [score_matches(el.row, el.x, res.disparity_of(loc.matches_after(k)), gt)
+                  for k in range(len(res.relaxation.history))]
+    else:  # the window matcher has no iterations: its accepted matches
+        scores = [score_matches(el.row, el.x, res.accepted_disparity(), gt)]
+    default = locate(sim.capture, params=replace(params or SEED_EXPERIMENT,
+                                                 match=MatchParameters()))
+    dr = default.result
+    default_score = score_matches(dr.left_edges.row, dr.left_edges.x, dr.accepted_disparity(),
+                                  gt)
     return PulleyExperiment(located=loc, gt_disparity=gt, n_left_edges=len(el),
                             n_right_edges=len(res.right_edges), scores=tuple(scores),
-                            setup=sim.setup)
+                            setup=sim.setup, default_score=default_score)
 
 
 # -------------------------------------------------------------------------------- demo
@@ -599,7 +615,12 @@ def print_demo_report(result: DemoResult, console: Any = None) -> None:
     for k, sc in enumerate(p.scores):
         t.add_row(str(k), str(sc.counted), str(sc.matched), f"{100 * sc.matched_fraction:.1f}",
                   str(sc.false), f"{100 * sc.false_fraction:.2f}")
+    if p.default_score is not None:
+        sc = p.default_score
+        t.add_row("window", str(sc.counted), str(sc.matched), f"{100 * sc.matched_fraction:.1f}",
+                  str(sc.false), f"{100 * sc.false_fraction:.2f}")
     con.print(t)
+    con.print("  iterations 0..: the seed's relaxation; window: robostereo's default matcher")
     tm = result.timings
     if tm:
         con.print(f"time: block {tm.get('block', 0):.1f} s, pulley {tm.get('pulley', 0):.1f} s, "

@@ -27,9 +27,11 @@ __all__ = [
     "SimilarityWeights",
     "assign_matches",
     "find_candidates",
+    "group_argmax",
     "group_max",
     "group_sum",
     "initial_probabilities",
+    "pair_similarity",
 ]
 
 
@@ -136,6 +138,27 @@ def group_max(
     return out
 
 
+def group_argmax(values: NDArray[np.floating], starts: NDArray[np.intp]) -> NDArray[np.intp]:
+    """Index of the (first) largest value of each group, -1 for empty groups.
+
+    >>> group_argmax(np.array([1.0, 2.0, 2.0, 4.0]), np.array([0, 3, 3, 4])).tolist()
+    [1, -1, 3]
+    """
+    n = starts.shape[0] - 1
+    out = np.full(n, -1, dtype=np.intp)
+    if values.shape[0] == 0:
+        return out
+    top = group_max(values, starts, empty=-np.inf)
+    counts = np.diff(starts)
+    group = np.repeat(np.arange(n), counts)
+    idx = np.nonzero(values >= top[group])[0]
+    g = group[idx]
+    first = np.ones(idx.shape[0], bool)
+    first[1:] = g[1:] != g[:-1]
+    out[g[first]] = idx[first]
+    return out
+
+
 def find_candidates(
     left: EdgeSet,
     right: EdgeSet,
@@ -183,11 +206,7 @@ def find_candidates(
         raise InputError(f"disparity_range must have min <= max, got ({lo_d}, {hi_d})")
     if left.row_step != right.row_step or left.row_offset != right.row_offset:
         raise InputError("left and right edges must be found on the same rows (row_step)")
-    wg, wp, wa = (weights or SimilarityWeights()).normalised()
-    if profile_scale is not None:
-        require_finite("profile_scale", float(profile_scale))
-        if profile_scale <= 0:
-            raise InputError(f"profile_scale must be > 0 or None, got {profile_scale}")
+    _check_profile_scale(profile_scale)
     span = float(max(np.max(left.x, initial=0.0), np.max(right.x, initial=0.0)))
     big = span + abs(lo_d) + abs(hi_d) + 10.0
     key_r = right.line * big + right.x
@@ -202,12 +221,57 @@ def find_candidates(
     keep = left.sign[li] == right.sign[ri]
     li, ri = li[keep], ri[keep]
     starts = np.searchsorted(li, np.arange(len(left) + 1)).astype(np.intp)
+    gi, pi, ai, profile, w = pair_similarity(left, right, li, ri, weights=weights,
+                                             profile_scale=profile_scale)
+    return Candidates(
+        left=li.astype(np.intp), right=ri.astype(np.intp),
+        disparity=left.x[li] - right.x[ri], gi=gi, pi=pi, ai=ai, profile=profile, w=w,
+        starts=starts,
+    )
+
+
+def _check_profile_scale(profile_scale: float | None) -> None:
+    if profile_scale is not None:
+        require_finite("profile_scale", float(profile_scale))
+        if profile_scale <= 0:
+            raise InputError(f"profile_scale must be > 0 or None, got {profile_scale}")
+
+
+def pair_similarity(
+    left: EdgeSet,
+    right: EdgeSet,
+    li: NDArray[np.intp],
+    ri: NDArray[np.intp],
+    *,
+    weights: SimilarityWeights | None = None,
+    profile_scale: float | None = 10.0,
+) -> tuple[NDArray[np.float64], ...]:
+    """Similarity indices of edge pairs ``(li[k], ri[k])`` (seed 3.2-3.3).
+
+    Returns
+    -------
+    gi, pi, ai, profile, w : ndarray, shape (K,)
+        The indices GI, PI, AI, the edge-profile factor and the combined ``w``
+        (see :func:`find_candidates`, Notes 2-4).
+
+    Examples
+    --------
+    An edge point compared with itself is similar in every respect:
+
+    >>> from robostereo.edges import detect_edges
+    >>> img = np.zeros((9, 20), np.uint8); img[:, 10:] = 200
+    >>> e = detect_edges(img)
+    >>> [round(float(v[0]), 3) for v in pair_similarity(e, e, np.array([4]), np.array([4]))]
+    [1.0, 1.0, 1.0, 1.0, 1.0]
+    """
+    wg, wp, wa = (weights or SimilarityWeights()).normalised()
+    _check_profile_scale(profile_scale)
     gi = 1.0 / (1.0 + np.abs(left.magnitude[li] - right.magnitude[ri]))
     pdiff = pattern_difference(
         left.up_offset[li], left.down_offset[li], left.up[li] >= 0, left.down[li] >= 0,
         right.up_offset[ri], right.down_offset[ri], right.up[ri] >= 0, right.down[ri] >= 0,
     )
-    pi = 1.0 / (1.0 + pdiff)
+    pi = 1.0 / (1.0 + pdiff.astype(float))
     ai = 1.0 / (1.0 + np.abs(left.mean_grey[li] - right.mean_grey[ri]))
     side = 0.5 * (
         np.abs(left.grey_before[li] - right.grey_before[ri])
@@ -215,11 +279,7 @@ def find_candidates(
     )
     profile = np.exp(-side / profile_scale) if profile_scale is not None else np.ones_like(side)
     w = (wg * gi + wp * pi + wa * ai) * profile
-    return Candidates(
-        left=li.astype(np.intp), right=ri.astype(np.intp),
-        disparity=left.x[li] - right.x[ri], gi=gi, pi=pi.astype(float), ai=ai, profile=profile, w=w,
-        starts=starts,
-    )
+    return gi, pi, ai, profile, w
 
 
 def initial_probabilities(

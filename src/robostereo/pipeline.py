@@ -23,12 +23,25 @@ from robostereo.matching import (
     SimilarityWeights,
     assign_matches,
     find_candidates,
+    group_argmax,
     initial_probabilities,
 )
 from robostereo.relaxation import RelaxationParameters, RelaxationResult, relax
 from robostereo.triangulation import StereoCamera, triangulate
+from robostereo.window import WindowMatch, window_match
 
-__all__ = ["MatchParameters", "MatchResult", "match_stereo"]
+__all__ = ["DEFAULT_MIN_CONFIDENCE", "METHODS", "MatchParameters", "MatchResult", "match_stereo"]
+
+
+#: the matchers of :func:`match_stereo`
+METHODS = ("window", "relaxation")
+
+#: least confidence of an accepted match, per method (see :class:`MatchParameters`)
+DEFAULT_MIN_CONFIDENCE = {"window": 0.95, "relaxation": 0.7}
+"""Window method: a match is accepted when it is at least 95 % likely right, the
+decision that weighs one false match as 20 missed ones (20 / 21 = 0.952, chosen
+leave-one-scene-out by ``benchmarks/fit_confidence.py``).  Relaxation: the probability
+above which robostereo's relaxation accepts (the seed's mode: 0.5)."""
 
 
 @dataclass(frozen=True)
@@ -37,6 +50,12 @@ class MatchParameters:
 
     Attributes
     ----------
+    method : str
+        ``"window"`` (default): every disparity of the range scored at each left edge
+        point by side-aware census windows, with a left-right check and a calibrated
+        confidence (:func:`robostereo.window.window_match`).  ``"relaxation"``: the
+        seed's matcher, right edge points as candidates, relaxation on edge
+        connectivity (3.2-3.5).
     threshold : float
         Least gradient magnitude of a left edge point (0..127 grey scale; seed 8.0).
     right_threshold_ratio : float
@@ -54,13 +73,19 @@ class MatchParameters:
         None for the seed's ``w``.
     relaxation : RelaxationParameters
         Iterations (5) and coefficients of the relaxation; the no-match label's
-        support is 0.6 (1.0 in the seed's mode).
-    min_probability : float
-        Least probability of an accepted match (0.7; the seed's mode 0.5).
+        support is 0.6 (1.0 in the seed's mode).  Used by the relaxation method.
+    min_confidence : float or None
+        Least confidence (window method: calibrated ``P(correct)``; relaxation: the
+        match probability) of an accepted match; None: the method's default,
+        :data:`DEFAULT_MIN_CONFIDENCE` (the seed's mode 0.5).  Lower it for more
+        matches, raise it for fewer false ones.
+    gradient_truncation : int
+        Window method: largest gradient difference per pixel pair (0..300).
     bit_depth : int or None
         Bit depth of the input grey levels; None: from the dtype.
     """
 
+    method: str = "window"
     threshold: float = 8.0
     right_threshold_ratio: float = 0.75
     row_step: int = 1
@@ -70,29 +95,46 @@ class MatchParameters:
     relaxation: RelaxationParameters = field(
         default_factory=lambda: RelaxationParameters(no_match_support=0.6)
     )
-    min_probability: float = 0.7
+    min_confidence: float | None = None
+    gradient_truncation: int = 64
     bit_depth: int | None = None
 
     def __post_init__(self) -> None:
+        if self.method not in METHODS:
+            raise InputError(f"method must be one of {', '.join(METHODS)}, got {self.method!r}")
         require_positive("threshold", self.threshold)
         require_positive("right_threshold_ratio", self.right_threshold_ratio)
-        require_finite("min_probability", self.min_probability)
-        if not 0.0 <= self.min_probability <= 1.0:
-            raise InputError(f"min_probability must be in 0..1, got {self.min_probability}")
-        if int(self.row_step) != self.row_step or self.row_step < 1:
+        if self.min_confidence is not None:
+            require_finite("min_confidence", self.min_confidence)
+            if not 0.0 <= self.min_confidence <= 1.0:
+                raise InputError(f"min_confidence must be in 0..1, got {self.min_confidence}")
+        if isinstance(self.row_step, bool) or int(self.row_step) != self.row_step \
+                or self.row_step < 1:
             raise InputError(f"row_step must be a whole number >= 1, got {self.row_step}")
+        if isinstance(self.gradient_truncation, bool) \
+                or int(self.gradient_truncation) != self.gradient_truncation \
+                or not 0 <= self.gradient_truncation <= 300:
+            raise InputError(f"gradient_truncation must be a whole number in 0..300, got "
+                             f"{self.gradient_truncation}")
+
+    @property
+    def acceptance(self) -> float:
+        """The least confidence of an accepted match in force (see ``min_confidence``)."""
+        if self.min_confidence is not None:
+            return float(self.min_confidence)
+        return DEFAULT_MIN_CONFIDENCE[self.method]
 
     @classmethod
     def seed(cls, **changes: object) -> MatchParameters:
-        """The seed's matcher: whole-pixel edges, its ``w``, one threshold.
+        """The seed's matcher: relaxation, whole-pixel edges, its ``w``, one threshold.
 
         >>> p = MatchParameters.seed()
-        >>> p.subpixel, p.profile_scale, p.right_threshold_ratio
-        (False, None, 1.0)
+        >>> p.method, p.subpixel, p.profile_scale, p.right_threshold_ratio, p.acceptance
+        ('relaxation', False, None, 1.0, 0.5)
         """
         base = cls(
-            right_threshold_ratio=1.0, subpixel=False, profile_scale=None,
-            relaxation=RelaxationParameters(no_match_support=1.0), min_probability=0.5,
+            method="relaxation", right_threshold_ratio=1.0, subpixel=False, profile_scale=None,
+            relaxation=RelaxationParameters(no_match_support=1.0), min_confidence=0.5,
         )
         return replace(base, **changes)  # type: ignore[arg-type]
 
@@ -101,16 +143,34 @@ class MatchParameters:
 class MatchResult:
     """Everything :func:`match_stereo` found, stage by stage.
 
+    Per left edge point (arrays of shape ``(N_left,)``) it holds the best match the
+    method found, its confidence and whether it was accepted; the rest is what each
+    stage left for inspection.
+
     Attributes
     ----------
     left_edges, right_edges : EdgeSet
         Edge points and features of the two images (seed 3.1-3.2).
-    candidates : Candidates
-        Candidate pairs with GI, PI, AI and ``w`` (3.2-3.3).
-    relaxation : RelaxationResult
-        Probabilities after each iteration (3.4).
-    match : ndarray of int, shape (N_left,)
-        Index into ``candidates`` of each left edge's accepted match, -1 if none.
+    edge_disparity : ndarray of float
+        Disparity of each left edge point's best match, NaN where it has none.
+    edge_confidence : ndarray of float
+        Its confidence: the calibrated ``P(correct)`` (window method) or the
+        relaxation's probability; NaN where there is no best match.  The no-match
+        label has ``1 - confidence``.
+    edge_right : ndarray of int
+        Right edge point of the best match, -1 where it lands on none.
+    accepted : ndarray of bool
+        The best match is accepted (confidence at least ``parameters.acceptance``;
+        the relaxation also gives each right edge point to one left edge point).
+    window : WindowMatch or None
+        Window method: costs, features and confidences.
+    candidates : Candidates or None
+        Relaxation method: candidate pairs with GI, PI, AI and ``w`` (3.2-3.3).
+    relaxation : RelaxationResult or None
+        Relaxation method: probabilities after each iteration (3.4).
+    match : ndarray of int or None
+        Relaxation method: index into ``candidates`` of each left edge's accepted
+        match, -1 if none.
     camera : StereoCamera or None
         Geometry used for 3-D points.
     image_shape : tuple of int
@@ -123,9 +183,14 @@ class MatchResult:
 
     left_edges: EdgeSet
     right_edges: EdgeSet
-    candidates: Candidates
-    relaxation: RelaxationResult
-    match: NDArray[np.intp]
+    edge_disparity: NDArray[np.float64]
+    edge_confidence: NDArray[np.float64]
+    edge_right: NDArray[np.intp]
+    accepted: NDArray[np.bool_]
+    window: WindowMatch | None
+    candidates: Candidates | None
+    relaxation: RelaxationResult | None
+    match: NDArray[np.intp] | None
     camera: StereoCamera | None
     image_shape: tuple[int, int]
     disparity_range: tuple[float, float]
@@ -136,10 +201,10 @@ class MatchResult:
     @property
     def matched(self) -> NDArray[np.intp]:
         """Indices of the matched left edge points, shape ``(K,)``."""
-        return np.nonzero(self.match >= 0)[0]
+        return np.nonzero(self.accepted)[0]
 
     def __len__(self) -> int:
-        return int(np.count_nonzero(self.match >= 0))
+        return int(np.count_nonzero(self.accepted))
 
     @property
     def rows(self) -> NDArray[np.intp]:
@@ -151,15 +216,40 @@ class MatchResult:
 
     @property
     def x_right(self) -> NDArray[np.float64]:
-        return self.right_edges.x[self.candidates.right[self.match[self.matched]]]
+        return self.x_left - self.disparity
 
     @property
     def disparity(self) -> NDArray[np.float64]:
-        return self.candidates.disparity[self.match[self.matched]]
+        return self.edge_disparity[self.matched]
+
+    @property
+    def confidence(self) -> NDArray[np.float64]:
+        """Confidence of each matched point, shape ``(K,)``."""
+        return self.edge_confidence[self.matched]
 
     @property
     def probability(self) -> NDArray[np.float64]:
-        return self.relaxation.probability[self.match[self.matched]]
+        """The match probability of each matched point: its confidence."""
+        return self.confidence
+
+    def accepted_disparity(self, min_confidence: float | None = None) -> NDArray[np.float64]:
+        """Disparity per left edge point, NaN where not accepted.
+
+        With ``min_confidence``, the acceptance is redone at that level from the best
+        matches (window method; for the relaxation, from its final probabilities).
+        """
+        if min_confidence is None:
+            return np.where(self.accepted, self.edge_disparity, np.nan)
+        require_finite("min_confidence", min_confidence)
+        if not 0.0 <= min_confidence <= 1.0:
+            raise InputError(f"min_confidence must be in 0..1, got {min_confidence}")
+        if self.relaxation is not None and self.candidates is not None:
+            m = assign_matches(self.candidates, self.relaxation.probability,
+                               self.relaxation.no_match, len(self.left_edges),
+                               min_probability=min_confidence)
+            return self.disparity_of(m)
+        ok = np.nan_to_num(self.edge_confidence, nan=-1.0) >= min_confidence
+        return np.where(ok, self.edge_disparity, np.nan)
 
     def triangulated(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """3-D points ``(K, 3)`` in the epipolar frame (mm) and depth bounds ``(K,)``.
@@ -171,11 +261,11 @@ class MatchResult:
         return triangulate(self.camera, self.x_left, self.x_right, self.rows, self.image_shape)
 
     def table(self) -> dict[str, NDArray]:
-        """Matched points as columns: row, x_left, x_right, disparity, probability and,
+        """Matched points as columns: row, x_left, x_right, disparity, confidence and,
         with a camera, X, Y, Z, z_bound."""
         cols: dict[str, NDArray] = {
             "row": self.rows, "x_left": self.x_left, "x_right": self.x_right,
-            "disparity": self.disparity, "probability": self.probability,
+            "disparity": self.disparity, "confidence": self.confidence,
         }
         if self.camera is not None:
             xyz, zb = self.triangulated()
@@ -183,34 +273,46 @@ class MatchResult:
         return cols
 
     def edge_table(self) -> dict[str, NDArray]:
-        """Every left edge point with its features and its match (NaN where none)."""
+        """Every left edge point with its features, its best match and its confidence.
+
+        ``x_right, disparity, confidence`` hold the best match wherever there is one
+        (so that all of them, thresholded anywhere, give the whole coverage curve);
+        ``accepted`` is 1 where it was accepted.
+        """
         e = self.left_edges
-        has = self.match >= 0
-        m = np.where(has, self.match, 0)
+        has = np.isfinite(self.edge_disparity)
         nan = np.full(len(e), np.nan)
-        x_right = np.where(has, self.right_edges.x[self.candidates.right[m]], nan)
         return {
             "row": e.row, "x": e.x, "sign": e.sign, "magnitude": e.magnitude,
-            "pattern": e.pattern, "mean_grey": e.mean_grey, "x_right": x_right,
-            "disparity": np.where(has, self.candidates.disparity[m], nan),
-            "probability": np.where(has, self.relaxation.probability[m], nan),
+            "pattern": e.pattern, "mean_grey": e.mean_grey,
+            "x_right": np.where(has, e.x - self.edge_disparity, nan),
+            "disparity": self.edge_disparity,
+            "confidence": self.edge_confidence,
+            "accepted": self.accepted.astype(np.int8),
         }
+
+    def _relaxation_only(self, what: str) -> tuple[Candidates, RelaxationResult]:
+        if self.candidates is None or self.relaxation is None:
+            raise InputError(f"{what} needs the relaxation method (method='relaxation')")
+        return self.candidates, self.relaxation
 
     def matches_after(self, iteration: int) -> NDArray[np.intp]:
         """The matches accepted from the probabilities after ``iteration`` iterations.
 
-        Returns an array like :attr:`match` (the seed's figure 4-4 shows these after
-        0, 1, 3 and 5 iterations).
+        Relaxation method only.  Returns an array like :attr:`match` (the seed's
+        figure 4-4 shows these after 0, 1, 3 and 5 iterations).
         """
-        k = min(int(iteration), len(self.relaxation.history) - 1)
+        cands, rel = self._relaxation_only("matches_after")
+        k = min(int(iteration), len(rel.history) - 1)
         return assign_matches(
-            self.candidates, self.relaxation.history[k], self.relaxation.none_history[k],
-            len(self.left_edges), min_probability=self.parameters.min_probability,
+            cands, rel.history[k], rel.none_history[k],
+            len(self.left_edges), min_probability=self.parameters.acceptance,
         )
 
     def disparity_of(self, match: NDArray[np.intp]) -> NDArray[np.float64]:
-        """Disparity per left edge point for a match array, NaN where unmatched."""
-        return np.where(match >= 0, self.candidates.disparity[np.maximum(match, 0)], np.nan)
+        """Disparity per left edge point for a relaxation match array, NaN where unmatched."""
+        cands, _ = self._relaxation_only("disparity_of")
+        return np.where(match >= 0, cands.disparity[np.maximum(match, 0)], np.nan)
 
 
 def _check_pair(left: ArrayLike, right: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
@@ -262,6 +364,18 @@ def match_stereo(
     Notes
     -----
     1. Edge points and features in both images (:func:`~robostereo.edges.detect_edges`).
+
+    Window method (default):
+
+    2. Every whole-pixel disparity of the range scored at each left edge point with
+       side-aware census + gradient windows, the left-right check, sub-pixel
+       disparity from the right edge point there (:func:`~robostereo.window.window_match`).
+    3. Confidence ``P(correct)`` from the evidence by the calibrated model
+       (:mod:`~robostereo.confidence`); the no-match label wins below
+       ``params.acceptance``.
+
+    Relaxation method (the seed's, ``MatchParameters.seed()``):
+
     2. Candidates, similarity indices and ``w`` (:func:`~robostereo.matching.find_candidates`).
     3. Initial probabilities, eq. (1)-(3).
     4. Relaxation, eq. (4)-(5) (:func:`~robostereo.relaxation.relax`).
@@ -297,20 +411,47 @@ def match_stereo(
                       subpixel=p.subpixel, grey=gb, valid=valid_right)
     t1 = time.perf_counter()
     t["edges"] = t1 - t0
-    say("candidates")
-    cands = find_candidates(el, er, (float(lo), float(hi)), weights=p.weights,
-                            profile_scale=p.profile_scale)
-    p0, p0_none = initial_probabilities(cands)
-    t2 = time.perf_counter()
-    t["candidates"] = t2 - t1
-    say("relaxation")
-    rel = relax(el, er, cands, p0, p0_none, params=p.relaxation)
-    match = assign_matches(cands, rel.probability, rel.no_match, len(el),
-                           min_probability=p.min_probability)
-    t["relaxation"] = time.perf_counter() - t2
+    n = len(el)
+    if p.method == "window":
+        say("window costs")
+        wm = window_match(el, er, ga, gb, (float(lo), float(hi)),
+                          gradient_truncation=p.gradient_truncation, weights=p.weights,
+                          profile_scale=p.profile_scale,
+                          valid_left=None if valid_left is None else np.asarray(valid_left, bool),
+                          valid_right=None if valid_right is None
+                          else np.asarray(valid_right, bool))
+        conf = wm.confidence
+        accepted = np.nan_to_num(conf, nan=-1.0) >= p.acceptance
+        fields = dict(edge_disparity=wm.disparity, edge_confidence=conf,
+                      edge_right=wm.right_edge, accepted=accepted, window=wm,
+                      candidates=None, relaxation=None, match=None)
+        t["window"] = time.perf_counter() - t1
+    else:
+        say("candidates")
+        cands = find_candidates(el, er, (float(lo), float(hi)), weights=p.weights,
+                                profile_scale=p.profile_scale)
+        p0, p0_none = initial_probabilities(cands)
+        t2 = time.perf_counter()
+        t["candidates"] = t2 - t1
+        say("relaxation")
+        rel = relax(el, er, cands, p0, p0_none, params=p.relaxation)
+        match = assign_matches(cands, rel.probability, rel.no_match, n,
+                               min_probability=p.acceptance)
+        prob = rel.probability
+        best = np.where(match >= 0, match, group_argmax(prob, cands.starts))
+        has = best >= 0
+        bi = np.maximum(best, 0)
+        nan = np.full(n, np.nan)
+        fields = dict(
+            edge_disparity=np.where(has, cands.disparity[bi], nan) if len(cands) else nan,
+            edge_confidence=np.where(has, prob[bi], nan) if len(cands) else nan,
+            edge_right=np.where(has, cands.right[bi], -1).astype(np.intp) if len(cands)
+            else np.full(n, -1, dtype=np.intp),
+            accepted=match >= 0, window=None, candidates=cands, relaxation=rel, match=match)
+        t["relaxation"] = time.perf_counter() - t2
     t["total"] = time.perf_counter() - t0
     return MatchResult(
-        left_edges=el, right_edges=er, candidates=cands, relaxation=rel, match=match,
+        left_edges=el, right_edges=er, **fields,  # type: ignore[arg-type]
         camera=camera, image_shape=(int(a.shape[0]), int(a.shape[1])),
         disparity_range=(float(lo), float(hi)), parameters=p, timings=t,
     )

@@ -12,7 +12,14 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["plot_matches", "plot_points_3d", "save_figure", "save_overlay"]
+__all__ = [
+    "plot_curves",
+    "plot_matches",
+    "plot_points_3d",
+    "save_curves",
+    "save_figure",
+    "save_overlay",
+]
 
 
 def plot_matches(
@@ -92,4 +99,41 @@ def save_overlay(path: str | os.PathLike[str], image: ArrayLike, x: ArrayLike, y
     plot_matches(ax, img, x, y, values, **kwargs)
     if title:
         ax.set_title(title)
+    save_figure(fig, path)
+
+
+def plot_curves(ax: Any, ev: Any) -> Any:
+    """Draw a scene's curves, coverage against false rate, on a Matplotlib ``ax``.
+
+    ``ev`` is a :class:`robostereo.evaluation.SceneEvaluation`: robostereo's curve (its
+    confidence swept) as a line, SGBM's settings as squares, each default operating
+    point as a cross; grey lines at the false rates compared.
+    """
+    from robostereo.evaluation import CURVE_LEVELS
+
+    for name, c in ev.curves.items():
+        if name == "sgbm":
+            ax.plot(100 * c.false_rate, 100 * c.coverage, "s", ms=4, label="SGBM (settings)")
+        else:
+            ax.plot(100 * c.false_rate, 100 * c.coverage, "-", lw=1.5,
+                    label=f"{name} (confidence swept)")
+    for m in ev.methods:
+        ax.plot(m.false_percent, m.matched_percent, "k+" if m.method == "sgbm" else "kx",
+                ms=9, label=f"{'SGBM' if m.method == 'sgbm' else m.method} default")
+    for f in CURVE_LEVELS:
+        ax.axvline(100 * f, color="0.8", lw=0.8, zorder=0)
+    ax.set_xlim(0, 10)
+    ax.set_xlabel("false matches (% of matched)")
+    ax.set_ylabel("coverage (% of edge points with ground truth)")
+    ax.set_title(f"{ev.name}: {ev.edges_left} left edge points", fontsize=10)
+    ax.legend(fontsize=8, loc="lower right")
+    return ax
+
+
+def save_curves(ev: Any, path: str | os.PathLike[str]) -> None:
+    """Write :func:`plot_curves` of a scene evaluation as a PNG (off-screen)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(6.0, 4.5))
+    plot_curves(fig.add_subplot(1, 1, 1), ev)
     save_figure(fig, path)

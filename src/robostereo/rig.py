@@ -161,11 +161,11 @@ class RigResult:
         return xyz @ np.asarray(self.rectification.R1), bound
 
     def table(self) -> dict[str, NDArray[Any]]:
-        """Columns per match: ``row, x_left, x_right, disparity, probability`` (rectified
+        """Columns per match: ``row, x_left, x_right, disparity, confidence`` (rectified
         pixels), ``x_original, y_original`` (original left image), ``X, Y, Z`` (original
         left camera frame, mm) and ``z_bound`` (mm)."""
         cols = {k: v for k, v in self.match.table().items()
-                if k in ("row", "x_left", "x_right", "disparity", "probability")}
+                if k in ("row", "x_left", "x_right", "disparity", "confidence")}
         orig = self.points_original
         xyz, bound = self.points_3d()
         cols.update(x_original=orig[:, 0], y_original=orig[:, 1],

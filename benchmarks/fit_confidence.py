@@ -1,0 +1,147 @@
+"""Choose the window matcher's confidence model and its defaults, leave-one-scene-out.
+
+Run:  python benchmarks/fit_confidence.py [--synthetic N]
+
+Every developer scene of ../shared/data/stereo (or $ROBOSTEREO_DATA) and N synthetic
+layered pairs (tests/synthetic.py: a slanted plane and boxes, occlusions, noise) give
+one sample per left edge point with ground truth and a best disparity: the evidence of
+:data:`robostereo.confidence.FEATURES` and whether the match is right by the project's
+evaluation rule.  Then
+
+1. for each real scene held out, the score weights are chosen on the *other* scenes
+   (largest mean coverage at <= 2, 3 and 5 % false over a small grid) and the
+   calibration curve is fitted on them (isotonic; pooled over the real scenes' matches,
+   the synthetic pairs together weighing as one average scene); the held-out
+   scene's figures are printed: its calibration error (ECE over ten bins), its
+   coverage at <= 2, 3 and 5 % false, and its operating point at each candidate
+   ``min_confidence``;
+2. the weights chosen and the curve fitted on all scenes are printed as the literal
+   for ``robostereo.confidence.DEFAULT_MODEL``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import itertools
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+
+from robostereo.confidence import ConfidenceModel, calibration_table, fit_confidence
+from robostereo.datasets import available_scenes, find_data_dir, load_scene
+from robostereo.evaluation import coverage_curve, match_errors
+from robostereo.pipeline import MatchParameters, match_stereo
+
+GRID = list(itertools.product((0.0, 0.1, 0.2), (0.0, 0.1, 0.2), (0.0, 0.1, 0.2)))
+LEVELS = (0.02, 0.03, 0.05)
+
+
+def samples(left, right, gt, disparity_range, bit_depth=None) -> dict:
+    """Evidence, correctness and per-point data of one pair."""
+    res = match_stereo(left, right, disparity_range, params=MatchParameters(bit_depth=bit_depth))
+    e = res.left_edges
+    known, err = match_errors(e.row, e.x, res.edge_disparity, gt)
+    take = known & np.isfinite(err)
+    return dict(features=res.window.features[take], correct=err[take] <= 1.0,
+                counted=int(known.sum()), rows=e.row, x=e.x, d=res.edge_disparity, gt=gt,
+                take=take, synthetic=False)
+
+
+def dataset(n_synthetic: int) -> dict[str, dict]:
+    from synthetic import layered_pair
+
+    out = {}
+    data = find_data_dir()
+    for name in available_scenes(data) if data else []:
+        s = load_scene(data / name)
+        out[name] = samples(s.left, s.right, s.gt_disparity, s.disparity_range, s.bit_depth)
+    rng = np.random.default_rng(2024)
+    for k in range(n_synthetic):
+        left, right, gt = layered_pair(rng, height=200, width=360)
+        out[f"synthetic-{k}"] = samples(left, right, gt, (4.0, 27.0)) | {"synthetic": True}
+    return out
+
+
+def confidence_of(model: ConfidenceModel, s: dict) -> np.ndarray:
+    conf = np.full(len(s["d"]), np.nan)
+    conf[s["take"]] = model(s["features"])
+    return conf
+
+
+def coverages(model: ConfidenceModel, s: dict, *, by_score: bool = False) -> list[float]:
+    conf = np.full(len(s["d"]), np.nan)
+    conf[s["take"]] = model.score(s["features"]) if by_score else model(s["features"])
+    c = coverage_curve(s["rows"], s["x"], s["d"], conf, s["gt"])
+    return [c.coverage_at(f) for f in LEVELS]
+
+
+def fit(sets: list[dict], weights: tuple[float, float, float]) -> ConfidenceModel:
+    """The calibration curve over ``sets``, pooled: every real match weighs the same
+    (calibrated over the developer scenes' matches), and the synthetic pairs together
+    weigh as much as the average real scene."""
+    real = [s for s in sets if not s["synthetic"]]
+    n_syn = sum(len(s["correct"]) for s in sets if s["synthetic"])
+    per_real = np.mean([len(s["correct"]) for s in real]) if real else 1.0
+    x = np.concatenate([s["features"] for s in sets])
+    y = np.concatenate([s["correct"] for s in sets])
+    w = np.concatenate([np.full(len(s["correct"]), per_real / n_syn if s["synthetic"] else 1.0)
+                        for s in sets])
+    return fit_confidence(x, y, weights=weights, sample_weight=w)
+
+
+def choose(sets: list[dict]) -> ConfidenceModel:
+    """The grid's weights with the largest mean coverage over ``sets``, then the curve."""
+    def merit(wts: tuple[float, float, float]) -> float:
+        m = ConfidenceModel((0.0,), (0.5,), *wts)  # the ranking is the score's
+        return float(np.mean([np.mean(coverages(m, s, by_score=True)) for s in sets]))
+
+    return fit(sets, max(GRID, key=merit))
+
+
+def ece(conf: np.ndarray, correct: np.ndarray) -> float:
+    c, f, n = calibration_table(conf, correct)
+    ok = n > 0
+    return float(np.sum(n[ok] * np.abs(c[ok] - f[ok])) / max(n.sum(), 1))
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    ap.add_argument("--synthetic", type=int, default=6, help="synthetic layered pairs (6)")
+    ap.add_argument("--thresholds", type=float, nargs="+",
+                    default=[0.5, 0.8, 0.9, 0.95, 20 / 21, 0.97, 0.98])
+    args = ap.parse_args(argv)
+    data = dataset(args.synthetic)
+    real = [k for k in data if not k.startswith("synthetic")]
+    print(f"{len(data)} scenes: {', '.join(data)}\n")
+    print(f"{'held out':11s} {'weights':15s} {'ECE':>5s} {'@2%':>5s} {'@3%':>5s} {'@5%':>5s}  "
+          + " ".join(f"{'t=' + format(t, '.3f'):>11s}" for t in args.thresholds))
+    for name in real:
+        model = choose([v for k, v in data.items() if k != name])
+        s = data[name]
+        conf = confidence_of(model, s)
+        ops = []
+        for t in args.thresholds:
+            acc = conf[s["take"]] >= t
+            matched = int(acc.sum())
+            false = int((acc & ~s["correct"]).sum())
+            ops.append(f"{100 * matched / s['counted']:4.1f}/{100 * false / max(matched, 1):4.2f}")
+        wts = ",".join(f"{v:.1f}" for v in (model.right_edge_weight, model.similarity_weight,
+                                            model.row_agree_weight))
+        print(f"{name:11s} {wts:15s} {ece(model(s['features']), s['correct']):5.3f} "
+              + " ".join(f"{100 * v:5.1f}" for v in coverages(model, s)) + "  "
+              + " ".join(f"{o:>11s}" for o in ops))
+    model = choose(list(data.values()))
+    print("\nall scenes: ConfidenceModel(")
+    print(f"    knots_score=({', '.join(f'{v:.4f}' for v in model.knots_score)}),")
+    print(f"    knots_probability=({', '.join(f'{v:.4f}' for v in model.knots_probability)}),")
+    print(f"    right_edge_weight={model.right_edge_weight}, "
+          f"similarity_weight={model.similarity_weight}, "
+          f"row_agree_weight={model.row_agree_weight})")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,248 @@
+"""Calibrated match confidence: the probability that a match is right (seed 3.3, eq. 2).
+
+The seed turns similarity into an initial match probability and keeps a no-match
+label beside it (eq. 1-3).  robostereo's window matcher does the same with the
+evidence it has about each left edge point's best disparity:
+
+* how unique the best window cost is, with the five windows and with the three
+  along the row alone (and whether the two agree on the disparity);
+* whether the right pixel agrees (left-right check);
+* whether a right edge point of the same contrast sign lies there, and how similar
+  it is by the seed's indices GI, PI, AI and the edge profile (3.2-3.3).
+
+These make one evidence score (:meth:`ConfidenceModel.score`), and a non-decreasing
+curve maps the score to ``P(correct)`` (isotonic regression [1]_); ``1 - P`` is the
+no-match label's probability.  The model is *calibrated*: among matches given confidence
+``p``, about a fraction ``p`` is right.  The weights of the score and the curve were
+chosen and fitted leave-one-scene-out on the six developer scenes and synthetic
+layered pairs by ``benchmarks/fit_confidence.py``.
+
+References
+----------
+.. [1] B. Zadrozny and C. Elkan, "Transforming classifier scores into accurate
+   multiclass probability estimates", KDD 2002.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robostereo.errors import InputError, require_finite
+
+__all__ = [
+    "DEFAULT_MODEL",
+    "FEATURES",
+    "ConfidenceModel",
+    "calibration_table",
+    "fit_confidence",
+    "isotonic",
+]
+
+#: names of the evidence, the columns of :attr:`robostereo.window.WindowMatch.features`
+FEATURES: tuple[str, ...] = (
+    "uniqueness",      # (c2 - c1) / c2: best cost c1, best c2 more than 1 px away
+    "uniqueness_row",  # the same with the three windows along the row, where they agree
+    "row_agree",       # those windows give the same disparity (or one pixel off)
+    "left_right",      # the right pixel's best disparity is the same (or one off)
+    "right_edge",      # a right edge point of the same sign lies there
+    "similarity",      # the seed's w (3.3) of that edge pair, 0 without one
+    "out_of_view",     # fraction of the search range whose right pixel is outside
+)
+_F = {name: k for k, name in enumerate(FEATURES)}
+
+
+def isotonic(x: ArrayLike, y: ArrayLike, w: ArrayLike | None = None
+             ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Least-squares non-decreasing fit of ``y`` on ``x`` (pool adjacent violators).
+
+    Returns
+    -------
+    knots_x, knots_y : ndarray, shape (K,)
+        The weighted mean ``x`` and fitted ``y`` of each pooled block, increasing.
+
+    Examples
+    --------
+    >>> kx, ky = isotonic([1, 2, 3, 4], [0, 1, 0, 1])
+    >>> kx.tolist(), ky.tolist()
+    ([1.0, 2.5, 4.0], [0.0, 0.5, 1.0])
+    """
+    xs = np.asarray(x, dtype=float)
+    order = np.argsort(xs, kind="stable")
+    xs = xs[order]
+    ys = np.asarray(y, dtype=float)[order]
+    ws = np.ones_like(xs) if w is None else np.asarray(w, dtype=float)[order]
+    # blocks as stacks of (sum w, sum w y, sum w x)
+    sw: list[float] = []
+    swy: list[float] = []
+    swx: list[float] = []
+    for xi, yi, wi in zip(xs.tolist(), ys.tolist(), ws.tolist(), strict=True):
+        sw.append(wi)
+        swy.append(wi * yi)
+        swx.append(wi * xi)
+        while len(sw) > 1 and swy[-2] * sw[-1] >= swy[-1] * sw[-2]:
+            w2, y2, x2 = sw.pop(), swy.pop(), swx.pop()
+            sw[-1] += w2
+            swy[-1] += y2
+            swx[-1] += x2
+    wsum = np.array(sw)
+    return np.array(swx) / wsum, np.array(swy) / wsum
+
+
+@dataclass(frozen=True)
+class ConfidenceModel:
+    """Evidence score and its calibration curve.
+
+    ``score = min(uniqueness, uniqueness_row) - (1 - left_right)
+    + right_edge_weight * right_edge + similarity_weight * similarity
+    + row_agree_weight * row_agree``; ``P(correct)`` is the calibration curve at the
+    score: piecewise linear through ``(knots_score, knots_probability)``, constant
+    beyond the ends.
+
+    Attributes
+    ----------
+    knots_score, knots_probability : tuple of float
+        The curve, both non-decreasing (an isotonic fit, :func:`fit_confidence`).
+    right_edge_weight, similarity_weight, row_agree_weight : float
+        Weights of the evidence beyond uniqueness and the left-right check.
+
+    Examples
+    --------
+    >>> m = ConfidenceModel((-1.0, 0.0, 1.0), (0.1, 0.5, 0.9))
+    >>> f = np.array([[0.5, 0.5, 1, 1, 1, 0.8, 0.0], [0.5, 0.0, 0, 0, 0, 0.0, 0.0]])
+    >>> m.score(f).round(2).tolist(), m(f).round(3).tolist()
+    ([0.86, -1.0], [0.844, 0.1])
+    """
+
+    knots_score: tuple[float, ...]
+    knots_probability: tuple[float, ...]
+    right_edge_weight: float = 0.1
+    similarity_weight: float = 0.2
+    row_agree_weight: float = 0.1
+
+    def __post_init__(self) -> None:
+        ks = np.asarray(self.knots_score, dtype=float)
+        kp = np.asarray(self.knots_probability, dtype=float)
+        require_finite("confidence model", [*ks, *kp, self.right_edge_weight,
+                                            self.similarity_weight, self.row_agree_weight])
+        if ks.ndim != 1 or ks.shape != kp.shape or ks.size < 1:
+            raise InputError("confidence model knots must be two sequences of one length")
+        if np.any(np.diff(ks) < 0) or np.any(np.diff(kp) < 0) or kp.min() < 0 or kp.max() > 1:
+            raise InputError("confidence model knots must be non-decreasing, probabilities "
+                             "in 0..1")
+
+    def score(self, features: ArrayLike) -> NDArray[np.float64]:
+        """Evidence score per row of ``features`` ``(N, F)``."""
+        f = np.asarray(features, dtype=float)
+        if f.ndim != 2 or f.shape[1] != len(FEATURES):
+            raise InputError(f"features must have shape (N, {len(FEATURES)}), got {f.shape}")
+        return (np.minimum(f[:, _F["uniqueness"]], f[:, _F["uniqueness_row"]])
+                - (1.0 - f[:, _F["left_right"]])
+                + self.right_edge_weight * f[:, _F["right_edge"]]
+                + self.similarity_weight * f[:, _F["similarity"]]
+                + self.row_agree_weight * f[:, _F["row_agree"]])
+
+    def __call__(self, features: ArrayLike) -> NDArray[np.float64]:
+        """``P(correct)`` per row of ``features`` ``(N, F)``."""
+        return np.interp(self.score(features), self.knots_score, self.knots_probability)
+
+
+def fit_confidence(features: ArrayLike, correct: ArrayLike, *,
+                   weights: tuple[float, float, float] = (0.1, 0.2, 0.1),
+                   sample_weight: ArrayLike | None = None,
+                   knots: int = 40) -> ConfidenceModel:
+    """Fit the calibration curve of the evidence score: isotonic regression.
+
+    Parameters
+    ----------
+    features : array_like, shape (N, F)
+    correct : array_like of bool, shape (N,)
+        Whether each match is right (the project's evaluation rule).
+    weights : tuple of float
+        ``(right_edge_weight, similarity_weight, row_agree_weight)`` of the score.
+    sample_weight : array_like, shape (N,), optional
+        E.g. ``1 / points of the scene``, so that every scene counts the same.
+    knots : int
+        Largest number of knots kept: the isotonic fit's blocks are merged in score
+        order into about this many of equal weight (the curve stays non-decreasing).
+
+    Returns
+    -------
+    ConfidenceModel
+
+    Examples
+    --------
+    >>> rng = np.random.default_rng(0)
+    >>> f = np.zeros((4000, len(FEATURES))); f[:, 3] = 1.0
+    >>> f[:, 0] = f[:, 1] = rng.uniform(0, 1, 4000)
+    >>> ok = rng.uniform(0, 1, 4000) < f[:, 0]
+    >>> m = fit_confidence(f, ok, weights=(0.0, 0.0, 0.0))
+    >>> bool(np.all(np.abs(m(f[:5]) - f[:5, 0]) < 0.1))
+    True
+    """
+    x = np.asarray(features, dtype=float)
+    y = np.asarray(correct, dtype=float)
+    if x.ndim != 2 or x.shape[1] != len(FEATURES) or y.shape != (x.shape[0],):
+        raise InputError(f"features must be (N, {len(FEATURES)}) and correct (N,), got "
+                         f"{x.shape} and {y.shape}")
+    if x.shape[0] == 0 or y.min() == y.max():
+        raise InputError("fitting a confidence model needs both right and wrong matches")
+    sw = np.ones(x.shape[0]) if sample_weight is None else np.asarray(sample_weight, float)
+    base = ConfidenceModel((0.0,), (0.5,), *weights)
+    s = base.score(x)
+    # pool into equal-weight groups first (a coarse curve generalises better), then PAV
+    order = np.argsort(s, kind="stable")
+    cw = np.cumsum(sw[order])
+    group = np.minimum((cw / cw[-1] * knots).astype(int), knots - 1)
+    gw = np.bincount(group, weights=sw[order], minlength=knots)
+    use = gw > 0
+    gx = np.bincount(group, weights=(sw * s)[order], minlength=knots)[use] / gw[use]
+    gy = np.bincount(group, weights=(sw * y)[order], minlength=knots)[use] / gw[use]
+    kx, ky = isotonic(gx, gy, gw[use])
+    return ConfidenceModel(tuple(float(v) for v in kx), tuple(float(v) for v in ky), *weights)
+
+
+def calibration_table(confidence: ArrayLike, correct: ArrayLike, *, bins: int = 10
+                      ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
+    """Reliability table: per confidence bin, mean confidence, fraction right, count.
+
+    Parameters
+    ----------
+    confidence : array_like, shape (N,)
+    correct : array_like of bool, shape (N,)
+    bins : int
+        Equal-width bins over ``[0, 1]``.
+
+    Returns
+    -------
+    mean_confidence, fraction_correct, count : ndarray, shape (bins,)
+        NaN for empty bins.
+
+    Examples
+    --------
+    >>> c, f, n = calibration_table([0.05, 0.15, 0.95, 0.97], [False, False, True, True], bins=2)
+    >>> c.round(2).tolist(), f.tolist(), n.tolist()
+    ([0.1, 0.96], [0.0, 1.0], [2, 2])
+    """
+    c = np.asarray(confidence, dtype=float)
+    ok = np.asarray(correct, dtype=bool)
+    k = np.clip((c * bins).astype(int), 0, bins - 1)
+    n = np.bincount(k, minlength=bins)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = np.bincount(k, weights=c, minlength=bins) / n
+        frac = np.bincount(k, weights=ok.astype(float), minlength=bins) / n
+    return mean, frac, n
+
+
+#: fitted by ``python benchmarks/fit_confidence.py``: the six developer scenes' matches
+#: pooled, with six synthetic layered pairs weighing as one average scene
+DEFAULT_MODEL = ConfidenceModel(
+    knots_score=(-0.9502, -0.8512, -0.7498, -0.4632, 0.1696, 0.3001, 0.3721, 0.4313, 0.4795,
+                 0.5195, 0.5560, 0.5895, 0.6345, 0.6906, 0.7322, 0.7555, 0.7782, 0.8104,
+                 0.8410, 0.8896, 0.9543, 1.0917),
+    knots_probability=(0.1901, 0.2918, 0.4539, 0.6490, 0.7246, 0.8223, 0.8967, 0.9176,
+                       0.9305, 0.9503, 0.9543, 0.9663, 0.9771, 0.9811, 0.9861, 0.9921,
+                       0.9960, 0.9970, 0.9980, 0.9985, 0.9993, 1.0),
+    right_edge_weight=0.1, similarity_weight=0.2, row_agree_weight=0.1)
