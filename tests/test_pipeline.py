@@ -70,7 +70,8 @@ def test_min_confidence_trades_coverage_for_accuracy(rng):
     assert counts == sorted(counts, reverse=True) and counts[0] > counts[-1]
     res = match_stereo(left, right, (4, 16))
     assert len(res) == np.count_nonzero(res.edge_confidence >= res.parameters.acceptance)
-    assert np.all(res.confidence >= res.parameters.acceptance) and np.all(res.probability == res.confidence)
+    assert np.all(res.confidence >= res.parameters.acceptance)
+    assert np.all(res.probability == res.confidence)
     with pytest.raises(InputError, match="min_confidence"):
         MatchParameters(min_confidence=1.5)
     with pytest.raises(InputError, match="method"):
