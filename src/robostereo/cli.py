@@ -373,8 +373,8 @@ def add_capture_parser(sub: Any) -> None:
 
 
 def run_capture_command(args: argparse.Namespace) -> int:
-    from robostereo.capture import write_capture
     from robostereo.experiments import RigSetup, simulate_capture
+    from robostereo.robot.capture import write_capture
 
     if args.seed < 0:
         raise InputError(f"--seed must be >= 0, got {args.seed}")
@@ -409,8 +409,8 @@ def add_locate_parser(sub: Any) -> None:
 
 
 def run_locate_command(args: argparse.Namespace) -> int:
-    from robostereo.capture import locate_capture
     from robostereo.io import write_csv, write_ply
+    from robostereo.robot.capture import locate_capture
 
     if not args.capture.is_dir():
         raise InputError(f"{args.capture}: capture folder not found")

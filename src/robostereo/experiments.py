@@ -3,7 +3,7 @@
 * :func:`simulate_capture`: the seed's set-up: the camera on the AdeptOne's forearm,
   moved by the acquisition program to ``-D/2`` and ``+D/2`` about a point above the
   object, one image grabbed (rendered) at each; returns a
-  :class:`~robostereo.capture.Capture` like the ones ``robostereo capture`` writes.
+  :class:`~robostereo.robot.capture.Capture` like the ones ``robostereo capture`` writes.
 * :func:`run_block_experiment`: the accuracy test of 5.2 (table 5-1): the precision
   block at two heights 79.65 mm apart; per epipolar line the block's left and right
   edge points, the width, the mean depth per height, the measured lift and every
@@ -35,10 +35,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.camera import SEED_CAMERA, Camera, EpipolarGeometry
-from robostereo.capture import Capture, Located, LocateParameters, capture_from_acquisition, locate
 from robostereo.errors import InputError, require_finite, require_positive
 from robostereo.evaluation import MatchScore, score_matches
 from robostereo.robot import AdeptOne, CameraMount, SimulatedCamera, acquire_stereo_pair
+from robostereo.robot.capture import (
+    Capture,
+    Located,
+    LocateParameters,
+    capture_from_acquisition,
+    locate,
+)
 from robostereo.simulation import (
     Box,
     Rendering,
@@ -228,7 +234,7 @@ def simulate_capture(
 
     Notes
     -----
-    The seed's acquisition (4.1, 4.2.1): :func:`robostereo.robot.acquire_stereo_pair`
+    The seed's acquisition (4.1, 4.2.1): :func:`robostereo.robot.scara.acquire_stereo_pair`
     moves the camera to ``centre -+ (D/2) u``, grabbing at each; the poses the robot
     reports go into the capture.
     """
@@ -284,7 +290,7 @@ class BlockHeight:
     ----------
     lift_mm : float
     located : Located
-        Everything :func:`robostereo.capture.locate` found.
+        Everything :func:`robostereo.robot.capture.locate` found.
     true_depth_mm : float
         Depth of the block's top below the mid-baseline point (the true Z).
     true_x_mm : tuple of float
@@ -447,7 +453,7 @@ def run_block_experiment(
 
     Notes
     -----
-    For each height: :func:`simulate_capture`, :func:`robostereo.capture.locate`, then
+    For each height: :func:`simulate_capture`, :func:`robostereo.robot.capture.locate`, then
     the block's left and right top edges are found among the located points by their
     rectified column (within 2 px of the projected true edge, 3 rows inside the ends),
     and compared with the true top-face geometry.
@@ -505,7 +511,7 @@ def run_pulley_experiment(
 
     Notes
     -----
-    1. :func:`simulate_capture` of the pulley and :func:`robostereo.capture.locate`.
+    1. :func:`simulate_capture` of the pulley and :func:`robostereo.robot.capture.locate`.
     2. Ground truth: the left rendering's depth rectified with the left view's theta
        (nearest neighbour; a rotation about the optical axis keeps depth), as
        disparity ``fx D / depth``.
