@@ -18,6 +18,7 @@ the scenes built here.  The camera conventions are those of
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -29,6 +30,7 @@ from scipy.ndimage import gaussian_filter
 
 from robostereo.camera import Camera, Pose
 from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.robot.poses import SE3
 
 __all__ = [
     "BlockScene",
@@ -856,6 +858,22 @@ def _window(prim: Primitive, camera: Camera, pose: Pose) -> tuple[slice, slice]:
     return slice(r0, r1), slice(c0, c1)
 
 
+@functools.lru_cache(maxsize=4)
+def _undistorted_grid(camera: Camera, offsets_bytes: bytes) -> _Arr:
+    """Undistorted normalised coordinates of every ray, shape (S, H, W, 2) (cached)."""
+    offsets = np.frombuffer(offsets_bytes, dtype=np.float64).reshape(-1, 2)
+    w, h = camera.width, camera.height
+    cx, cy = camera.principal_point
+    x = np.arange(w)[None, None, :] + offsets[:, 0, None, None]
+    y = np.arange(h)[None, :, None] + offsets[:, 1, None, None]
+    shape = (len(offsets), h, w)
+    d = np.stack([np.broadcast_to((x - cx) / camera.fx, shape),
+                  np.broadcast_to((y - cy) / camera.fy, shape)], axis=-1)
+    out = camera.undistort(d)
+    out.setflags(write=False)
+    return out
+
+
 def _cast(
     scene: Scene, camera: Camera, pose: Pose, offsets: _Arr
 ) -> tuple[_Arr, NDArray[np.int32], _Arr]:
@@ -870,6 +888,9 @@ def _cast(
     u = k_inv[0, 0] * x + k_inv[0, 1] * y + k_inv[0, 2]
     v = k_inv[1, 0] * x + k_inv[1, 1] * y + k_inv[1, 2]
     shape = (len(offsets), h, w)
+    if camera.distortion:  # the ray of a distorted pixel: undistort its normalised position
+        n = _undistorted_grid(camera, offsets.tobytes())
+        u, v = n[..., 0], n[..., 1]
     # world direction R @ (u, v, 1): its camera-z component is 1, so t is the depth
     dx = np.broadcast_to(r[0, 0] * u + r[0, 1] * v + r[0, 2], shape)
     dy = np.broadcast_to(r[1, 0] * u + r[1, 1] * v + r[1, 2], shape)
@@ -968,8 +989,8 @@ def render(
         raise InputError(f"scene must be a Scene, got {type(scene).__name__}")
     if not isinstance(camera, Camera):
         raise InputError(f"camera must be a Camera, got {type(camera).__name__}")
-    if not isinstance(pose, Pose):
-        raise InputError(f"pose must be a Pose, got {type(pose).__name__}")
+    if not isinstance(pose, Pose | SE3):
+        raise InputError(f"pose must be a Pose or an SE3, got {type(pose).__name__}")
     if isinstance(supersample, bool) or int(supersample) != supersample or supersample < 1:
         raise InputError(f"supersample must be an integer >= 1, got {supersample}")
     supersample = int(supersample)
