@@ -35,6 +35,7 @@ from robostereo.robot.poses import SE3
 __all__ = [
     "BlockScene",
     "Box",
+    "Checkerboard",
     "Cylinder",
     "Disc",
     "NoiseTexture",
@@ -374,6 +375,8 @@ class Box:
         Rotation of the local x axis from world X, radians, counter-clockwise from above.
     albedo : float
         Grey reflectance in ``[0, 1]``.
+    texture : NoiseTexture or None
+        Optional albedo modulation (by world ``x, y`` of the surface point).
     """
 
     center: tuple[float, float]
@@ -381,6 +384,7 @@ class Box:
     size: tuple[float, float, float]
     yaw: float = 0.0
     albedo: float = 0.8
+    texture: NoiseTexture | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "center", _pair("center", self.center))
@@ -449,11 +453,99 @@ class Box:
         lnz = np.where(axis == 2, -np.sign(ld[2]), 0.0)
         return t, (c * lnx - s * lny, s * lnx + c * lny, lnz)
 
-    def _albedo_at(self, x: _Arr, y: _Arr) -> float:
-        return self.albedo
+    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr | float:
+        if self.texture is None:
+            return self.albedo
+        return self.albedo * self.texture.factor(x, y)
 
 
-Primitive = TablePlane | Disc | Cylinder | Box
+@dataclass(frozen=True)
+class Checkerboard:
+    """A flat chessboard calibration target lying on a horizontal plane.
+
+    The board's inner corners are ``(i * square_mm, j * square_mm)`` in the board
+    frame, ``i < columns``, ``j < rows``; the board frame has its origin at the first
+    inner corner, x at `yaw` from world X, y at ``yaw - 90 deg`` and z down into the
+    table (OpenCV's right-handed object frame seen from above), so
+    ``T_world_board = (Rz(yaw) diag(1, -1, -1), origin)``.  The square at board
+    ``(-, -)`` of the first inner corner is dark; one square of light margin surrounds
+    the outer squares.
+
+    Parameters
+    ----------
+    origin : tuple of float
+        ``(x, y)`` of the first inner corner, world millimetres.
+    z : float
+        Height of the board's surface, millimetres.
+    inner_corners : tuple of int
+        ``(columns, rows)`` of inner corners.
+    square_mm : float
+    yaw : float
+        Radians.
+    dark, light : float
+        Albedo of the dark and the light squares (the margin is light).
+    """
+
+    origin: tuple[float, float]
+    z: float = 0.0
+    inner_corners: tuple[int, int] = (9, 6)
+    square_mm: float = 20.0
+    yaw: float = 0.0
+    dark: float = 0.08
+    light: float = 0.85
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "origin", _pair("origin", self.origin))
+        require_finite("z", self.z)
+        require_positive("square_mm", self.square_mm)
+        require_finite("yaw", self.yaw)
+        _require_albedo(self.dark)
+        _require_albedo(self.light)
+
+    def _local(self, x: _Arr, y: _Arr) -> tuple[_Arr, _Arr]:
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        px, py = x - self.origin[0], y - self.origin[1]
+        return c * px + s * py, s * px - c * py
+
+    def _extent(self) -> tuple[float, float, float, float]:
+        q = self.square_mm
+        c, r = self.inner_corners
+        return -2 * q, c * q + q, -2 * q, r * q + q
+
+    def _bounds(self) -> _Arr | None:
+        x0, x1, y0, y1 = self._extent()
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        pts = np.array([[bx, by] for bx in (x0, x1) for by in (y0, y1)])
+        wx = self.origin[0] + c * pts[:, 0] + s * pts[:, 1]
+        wy = self.origin[1] + s * pts[:, 0] - c * pts[:, 1]
+        return np.array([[wx.min(), wy.min(), self.z], [wx.max(), wy.max(), self.z]])
+
+    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (self.z - o[2]) / dz
+        bx, by = self._local(o[0] + t * dx, o[1] + t * dy)
+        x0, x1, y0, y1 = self._extent()
+        ok = (t > _EPS) & (bx >= x0) & (bx <= x1) & (by >= y0) & (by <= y1)
+        return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
+
+    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
+        bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        q = self.square_mm
+        c, r = self.inner_corners
+        i, j = np.floor(bx / q), np.floor(by / q)
+        inside = (i >= -1) & (i <= c - 1) & (j >= -1) & (j <= r - 1)
+        dark = inside & ((i + j) % 2 == 0)
+        return np.where(dark, self.dark, self.light)
+
+    @property
+    def pose(self) -> SE3:
+        """``T_world_board`` (the frame of the inner corners), millimetres."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        R = np.array([[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, -1.0]])
+        return SE3(R, np.array([self.origin[0], self.origin[1], self.z]))
+
+
+Primitive = TablePlane | Disc | Cylinder | Box | Checkerboard
 
 
 # --------------------------------------------------------------------------- scenes
@@ -493,9 +585,10 @@ class Scene:
     def __post_init__(self) -> None:
         prims = tuple(self.primitives)
         for p in prims:
-            if not isinstance(p, TablePlane | Disc | Cylinder | Box):
+            if not isinstance(p, TablePlane | Disc | Cylinder | Box | Checkerboard):
                 raise InputError(
-                    "primitives must be TablePlane, Disc, Cylinder or Box objects, "
+                    "primitives must be TablePlane, Disc, Cylinder, Box or Checkerboard "
+                    "objects, "
                     f"got {type(p).__name__}"
                 )
         object.__setattr__(self, "primitives", prims)
@@ -869,7 +962,7 @@ def _undistorted_grid(camera: Camera, offsets_bytes: bytes) -> _Arr:
     shape = (len(offsets), h, w)
     d = np.stack([np.broadcast_to((x - cx) / camera.fx, shape),
                   np.broadcast_to((y - cy) / camera.fy, shape)], axis=-1)
-    out = camera.undistort(d)
+    out = camera.undistort(d, iterations=10)  # contraction ~3 k1 r^2: ample
     out.setflags(write=False)
     return out
 
@@ -932,6 +1025,7 @@ def render(
     blur_sigma_px: float = 0.6,
     noise_sigma: float = 0.0,
     rng: np.random.Generator | None = None,
+    vignetting: float = 0.0,
 ) -> Rendering:
     """Render what `camera` at `pose` sees of `scene`, with depth and labels.
 
@@ -952,6 +1046,13 @@ def render(
         (0 for none; needs `rng`).
     rng : numpy.random.Generator or None
         Source of the sensor noise.
+    vignetting : float
+        Relative fall-off of the light towards the image corners, in ``[0, 1)``: the
+        irradiance is multiplied by ``1 - vignetting * (r / r_corner)^2`` (0 for none).
+
+    Other real-camera effects: lens distortion is the camera's
+    (:attr:`robostereo.camera.Camera.distortion`), defocus is `blur_sigma_px`, surface
+    texture a :class:`NoiseTexture` on the table or on a :class:`Box`.
 
     Returns
     -------
@@ -1000,6 +1101,9 @@ def render(
     require_finite("noise_sigma", noise_sigma)
     if noise_sigma < 0:
         raise InputError(f"noise_sigma must be >= 0, got {noise_sigma}")
+    require_finite("vignetting", vignetting)
+    if not 0.0 <= vignetting < 1.0:
+        raise InputError(f"vignetting must be in [0, 1), got {vignetting}")
     if noise_sigma > 0 and not isinstance(rng, np.random.Generator):
         raise InputError("rng must be a numpy.random.Generator when noise_sigma > 0")
     levels = camera.grey_levels
@@ -1015,6 +1119,12 @@ def render(
         t0, l0, _ = _cast(scene, camera, pose, np.zeros((1, 2)))
         depth, label_map = t0[0], l0[0]
     intensity = np.clip(radiance, 0.0, 1.0).mean(axis=0) * (levels - 1)
+    if vignetting > 0:
+        cx, cy = camera.principal_point
+        xs = (np.arange(camera.width) - cx)[None, :]
+        ys = (np.arange(camera.height) - cy)[:, None]
+        r2 = xs * xs + ys * ys
+        intensity = intensity * (1.0 - vignetting * r2 / r2.max())
     if blur_sigma_px > 0:
         radius = max(1, math.ceil(4.0 * blur_sigma_px))
         intensity = cv2.GaussianBlur(
