@@ -430,12 +430,20 @@ def add_locate_parser(sub: Any) -> None:
     p.add_argument("-o", "--output", type=Path,
                    help="points CSV (default DIR/located.csv)")
     p.add_argument("--ply", type=Path, help="write the world points as PLY")
+    p.add_argument("--fuse", type=Path, metavar="DIR2",
+                   help="a second capture of the scene (e.g. an orthogonal baseline): write "
+                        "the two point sets merged, each point with its own bound")
     p.set_defaults(handler=run_locate_command)
 
 
 def run_locate_command(args: argparse.Namespace) -> int:
     from robostereo.io import write_csv, write_ply
     from robostereo.robot.capture import locate_capture
+
+    if args.fuse is not None:
+        from robostereo.cli_robot import run_locate_fused
+
+        return run_locate_fused(args)
 
     if not args.capture.is_dir():
         raise InputError(f"{args.capture}: capture folder not found")
@@ -460,6 +468,7 @@ def _robot_parsers(sub: Any) -> None:
 
     cli_robot.add_handeye_parser(sub)
     cli_robot.add_simulate_handeye_parser(sub)
+    cli_robot.add_plan_parser(sub)
 
 
 PARSERS: list[Callable[[Any], None]] = [add_match_parser]

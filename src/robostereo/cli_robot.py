@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import shutil
 from pathlib import Path
 from typing import Any
@@ -18,9 +19,11 @@ from robostereo.errors import InputError
 
 __all__ = [
     "add_handeye_parser",
+    "add_plan_parser",
     "add_simulate_handeye_parser",
     "run_capture_six_axis",
     "run_demo_six_axis",
+    "run_locate_fused",
 ]
 
 
@@ -200,3 +203,115 @@ def run_demo_six_axis(args: argparse.Namespace) -> int:
     return 0
 
 
+
+
+# -------------------------------------------------------------------------- plan
+
+
+def add_plan_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "plan", help="baseline and disparity range for a depth accuracy; baseline direction",
+        description="Invert eq. 9: the baseline D that bounds the depth error at the target "
+                    "depth by the wanted accuracy, and the disparity range to search; with "
+                    "--image, the baseline direction that makes most of the scene's edges "
+                    "cross the epipolar lines.",
+    )
+    p.add_argument("--depth", type=float, required=True, help="target depth, mm")
+    p.add_argument("--accuracy", type=float, required=True, help="wanted eq. 9 bound, mm")
+    p.add_argument("--camera", type=Path,
+                   help="camera YAML, or robostereo handeye's camera file (default: the "
+                        "seed's camera)")
+    p.add_argument("--near", type=float, help="nearest depth to search, mm (0.8 x depth)")
+    p.add_argument("--far", type=float, help="farthest depth to search, mm (1.2 x depth)")
+    p.add_argument("--disparity-uncertainty", type=float, default=0.2,
+                   help="d(disp) of eq. 9, px (0.2)")
+    p.add_argument("--image", type=Path, help="an image of the scene from the camera")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(handler=run_plan)
+
+
+def _load_any_camera(path: Path) -> Any:
+    import yaml
+
+    from robostereo.camera import camera_from_dict, load_camera_yaml
+    from robostereo.errors import require_file
+
+    require_file(path, "camera file")
+    try:
+        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError):
+        data = None
+    if isinstance(data, dict) and "camera" in data:
+        return camera_from_dict(data["camera"], source=f"{path}: camera")
+    return load_camera_yaml(path)
+
+
+def run_plan(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from robostereo.camera import SEED_CAMERA
+    from robostereo.robot.planning import best_baseline_direction, plan_baseline
+
+    for name in ("depth", "accuracy", "near", "far", "disparity_uncertainty"):
+        v = getattr(args, name)
+        if v is not None and not math.isfinite(v):
+            raise InputError(f"--{name.replace('_', '-')} must be finite, got {v}")
+    camera = _load_any_camera(args.camera) if args.camera is not None else SEED_CAMERA
+    near = args.near if args.near is not None else 0.8 * args.depth
+    far = args.far if args.far is not None else 1.2 * args.depth
+    plan = plan_baseline(camera, args.depth, args.accuracy, depth_range_mm=(near, far),
+                         disparity_uncertainty_px=args.disparity_uncertainty)
+    out: dict[str, Any] = {
+        "baseline_mm": round(plan.baseline_mm, 4),
+        "disparity_px": round(plan.disparity_px, 3),
+        "disparity_range": list(plan.disparity_range),
+        "bound_terms_mm": [round(v, 4) for v in plan.bound_terms_mm],
+    }
+    if args.image is not None:
+        from robostereo.datasets import load_image
+        from robostereo.edges import to_grey
+
+        img, bits = load_image(args.image)
+        grey = to_grey(np.asarray(img, dtype=np.float64), bit_depth=bits)
+        bd = best_baseline_direction(grey)
+        out.update({"direction_deg": bd.direction_deg,
+                    "matchable_fraction": round(bd.matchable_fraction, 4),
+                    "matchable_fraction_x": round(bd.matchable_fraction_x, 4)})
+    if args.json:
+        print(json.dumps(out))
+        return 0
+    t = plan.bound_terms_mm
+    print(f"baseline D = {plan.baseline_mm:.2f} mm for a {args.accuracy:g} mm bound at "
+          f"{args.depth:g} mm (eq. 9 terms: baseline {t[0]:.3f}, focal length {t[1]:.3f}, "
+          f"disparity {t[2]:.3f} mm)")
+    print(f"disparity {plan.disparity_px:.1f} px at the target; search "
+          f"{plan.disparity_range[0]:g} .. {plan.disparity_range[1]:g} px for depths "
+          f"{near:g} .. {far:g} mm")
+    if args.image is not None:
+        print(f"baseline direction: {out['direction_deg']:g} deg from the image's x axis "
+              f"towards y (down): {100 * out['matchable_fraction']:.1f} % of the edge "
+              f"strength crosses the epipolar lines at >= 30 deg "
+              f"(along x: {100 * out['matchable_fraction_x']:.1f} %)")
+    return 0
+
+
+def run_locate_fused(args: argparse.Namespace) -> int:
+    from robostereo.io import write_csv, write_ply
+    from robostereo.robot.capture import locate_capture
+    from robostereo.robot.planning import fuse_located
+
+    for d in (args.capture, args.fuse):
+        if not d.is_dir():
+            raise InputError(f"{d}: capture folder not found")
+    output = args.output if args.output is not None else args.capture / "located-fused.csv"
+    for p in (output, args.ply):
+        if p is not None and not (p.parent if str(p.parent) else Path(".")).is_dir():
+            raise InputError(f"{p}: output folder {p.parent} does not exist")
+    a, b = locate_capture(args.capture), locate_capture(args.fuse)
+    fused = fuse_located(a, b)
+    write_csv(output, fused.table())
+    if args.ply is not None:
+        write_ply(args.ply, fused.world)
+    print(f"{args.capture}: {len(a)} located; {args.fuse}: {len(b)} located; fused "
+          f"{len(fused)} points ({fused.duplicates} seen twice) -> {output}")
+    return 0

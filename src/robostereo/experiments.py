@@ -210,6 +210,7 @@ def simulate_capture(
     setup: RigSetup | None = None,
     lift_mm: float = 0.0,
     seed: int = 0,
+    scene: Scene | None = None,
 ) -> SimulatedCapture:
     """Move the simulated AdeptOne to the two viewpoints and grab (render) both images.
 
@@ -221,6 +222,8 @@ def simulate_capture(
         Block only: raise of the block's top.
     seed : int
         Seed of the sensor noise (``numpy.random.default_rng([seed, scene])``).
+    scene : Scene, optional
+        Render this scene instead of `kind`'s (e.g. one block seen along two baselines).
 
     Returns
     -------
@@ -242,10 +245,8 @@ def simulate_capture(
     if kind not in ("block", "pulley"):
         raise InputError(f"scene must be 'block' or 'pulley', got {kind!r}")
     require_finite("lift_mm", lift_mm)
-    if kind == "block":
-        scene = block_scene(su, lift_mm=lift_mm)
-    else:
-        scene = pulley_scene(su)
+    if scene is None:
+        scene = block_scene(su, lift_mm=lift_mm) if kind == "block" else pulley_scene(su)
     robot = _robot(su)
     if isinstance(seed, bool) or int(seed) != seed or seed < 0:
         raise InputError(f"seed must be a whole number >= 0, got {seed}")
