@@ -137,3 +137,26 @@ def test_capture_yaml_general_forms(scara_captures, tmp_path):
     (dfl / "capture.yaml").write_text(yaml.safe_dump(data))
     with pytest.raises(InputError, match="not both"):
         read_capture(dfl)
+
+
+def test_bad_six_dof_capture_files(scara_captures, tmp_path, capsys):
+    """Non-orthonormal rotations and coinciding optical centres: one line, exit 2."""
+    from robostereo.cli import main
+
+    cap = scara_captures[0.0].capture
+    d = tmp_path / "c"
+    write_capture(d, Capture(left=cap.left, right=cap.right, camera=cap.camera,
+                             pose_left=as_se3(cap.pose_left),
+                             pose_right=as_se3(cap.pose_right), bit_depth=cap.bit_depth,
+                             depth_range_mm=cap.depth_range_mm))
+    good = yaml.safe_load((d / "capture.yaml").read_text())
+    for change, message in (
+        ({"pose_right": {"matrix": np.diag([1.0, 1.0, 1.2, 1.0]).tolist()}}, "orthonormal"),
+        ({"pose_right": good["pose_left"]}, "coincide"),
+        ({"pose_right": {"position": [0, 0, 0], "quaternion": [0, 0, 1, 1]}}, "norm 1"),
+    ):
+        (d / "capture.yaml").write_text(yaml.safe_dump({**good, **change}))
+        assert main(["locate", str(d)]) == 2
+        err = capsys.readouterr().err
+        assert err.startswith("robostereo: error: ") and message in err and err.count("\n") == 1
+        assert not (d / "located.csv").exists()
