@@ -113,3 +113,10 @@ def test_six_axis_demo(tmp_path, capsys):
         assert data["hand_eye"]["position"] != [32.0, -58.0, 41.0]
     assert main(["demo", "--json"]) == 2
     assert "--json needs --robot six-axis" in capsys.readouterr().err
+
+
+def test_six_axis_capture_refuses_scara_options(tmp_path, capsys):
+    assert main(["capture", "--robot", "six-axis", "--out", str(tmp_path / "c"),
+                 "--direction", "30"]) == 2
+    assert "--direction, --roll and --center are for --robot adeptone" in capsys.readouterr().err
+    assert not (tmp_path / "c").exists()

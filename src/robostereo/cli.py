@@ -397,6 +397,9 @@ def run_capture_command(args: argparse.Namespace) -> int:
     if args.robot == "six-axis":
         from robostereo.cli_robot import run_capture_six_axis
 
+        if args.direction != 0.0 or args.roll != 0.0 or tuple(args.center) != (400.0, 0.0):
+            raise InputError("--direction, --roll and --center are for --robot adeptone; "
+                             "the six-axis arm takes --baseline, --tilt and --handeye")
         if args.baseline == 20.0:  # the SCARA default; the six-axis views stand 40 mm apart
             args.baseline = 40.0
         return run_capture_six_axis(args)
