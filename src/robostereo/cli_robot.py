@@ -57,7 +57,12 @@ def add_handeye_parser(sub: Any) -> None:
 
 
 def run_handeye(args: argparse.Namespace) -> int:
-    from robostereo.robot.handeye import calibrate_eye_in_hand, read_views, save_handeye_yaml
+    from robostereo.robot.handeye import (
+        calibrate_eye_in_hand,
+        describe_board,
+        read_views,
+        save_handeye_yaml,
+    )
 
     out_parent = args.output.parent if str(args.output.parent) else Path(".")
     if not out_parent.is_dir():
@@ -68,8 +73,7 @@ def run_handeye(args: argparse.Namespace) -> int:
                                 method=args.method, names=v.names)
     save_handeye_yaml(args.output, cal)
     cam = cal.camera
-    print(f"{len(v.images)} views, board {v.board.inner_corners[0]} x "
-          f"{v.board.inner_corners[1]} ({v.board.square_mm:g} mm)")
+    print(f"{len(v.images)} views, {describe_board(v.board)}, {v.board.square_mm:g} mm squares")
     for name, rms in zip(v.names, cal.per_view_rms_px, strict=True):
         print(f"  {Path(name).name}: reprojection RMS {rms:.3f} px")
     print(f"camera: fx {cam.fx:.2f} px, fy {cam.fy:.2f} px, principal point "
@@ -98,22 +102,25 @@ def add_simulate_handeye_parser(sub: Any) -> None:
                    help="views folder to create (must not exist, or be empty)")
     p.add_argument("--views", type=int, default=15, help="number of views (15)")
     p.add_argument("--seed", type=int, default=0, help="viewpoint and noise seed (0)")
+    p.add_argument("--board", choices=("chessboard", "charuco"), default="chessboard",
+                   help="calibration target: a 9 x 6 chessboard or an 8 x 6 ChArUco board")
     p.set_defaults(handler=run_simulate_handeye)
 
 
 def run_simulate_handeye(args: argparse.Namespace) -> int:
-    from robostereo.robot.handeye import write_views
-    from robostereo.robot.simulated import simulate_handeye_views
+    from robostereo.robot.handeye import Charuco, write_views
+    from robostereo.robot.simulated import BOARD, simulate_handeye_views
 
     if args.views < 3:
         raise InputError(f"--views must be >= 3, got {args.views}")
     if args.seed < 0:
         raise InputError(f"--seed must be >= 0, got {args.seed}")
     _out_folder(args.out)
-    views, truth = simulate_handeye_views(views=args.views, seed=args.seed)
+    board = Charuco() if args.board == "charuco" else BOARD
+    views, truth = simulate_handeye_views(views=args.views, seed=args.seed, board=board)
     write_views(args.out, views, extra={"truth.yaml": truth})
-    print(f"{args.out}: {args.views} views of a {views.board.inner_corners[0]} x "
-          f"{views.board.inner_corners[1]} chessboard; truth in {args.out / 'truth.yaml'}")
+    print(f"{args.out}: {args.views} views of a {args.board}; truth in "
+          f"{args.out / 'truth.yaml'}")
     return 0
 
 

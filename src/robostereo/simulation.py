@@ -38,6 +38,7 @@ __all__ = [
     "Checkerboard",
     "Cylinder",
     "Disc",
+    "ImagePlane",
     "NoiseTexture",
     "PulleyScene",
     "Rendering",
@@ -545,7 +546,93 @@ class Checkerboard:
         return SE3(R, np.array([self.origin[0], self.origin[1], self.z]))
 
 
-Primitive = TablePlane | Disc | Cylinder | Box | Checkerboard
+@dataclass(frozen=True, eq=False)
+class ImagePlane:
+    """A flat printed target (e.g. a ChArUco board) lying on a horizontal plane.
+
+    The grey image is printed with its top-left corner at `origin`, image x at `yaw`
+    from world X and image y at ``yaw - 90 deg``; pixel ``(row i, column j)`` covers
+    ``[j, j + 1) x [i, i + 1)`` times `mm_per_px` in the board frame, whose z points
+    down into the table (``T_world_board = (Rz(yaw) diag(1, -1, -1), origin)``, the
+    frame of OpenCV's board object points).  A light margin of `margin_mm` surrounds it.
+
+    Parameters
+    ----------
+    origin : tuple of float
+        World ``(x, y)`` of the image's top-left corner, millimetres.
+    image : ndarray, shape (H, W)
+        Albedo per pixel in ``[0, 1]`` (an 8-bit board image divided by 255 and
+        scaled to the paper's reflectance).
+    mm_per_px : float
+    z, yaw : float
+    margin_mm : float
+    margin_albedo : float
+    """
+
+    origin: tuple[float, float]
+    image: _Arr
+    mm_per_px: float
+    z: float = 2.0
+    yaw: float = 0.0
+    margin_mm: float = 10.0
+    margin_albedo: float = 0.85
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "origin", _pair("origin", self.origin))
+        img = np.array(self.image, dtype=float)
+        if img.ndim != 2 or not np.all(np.isfinite(img)) or img.min() < 0 or img.max() > 1:
+            raise InputError("image must be a 2-D array of albedos in [0, 1]")
+        img.setflags(write=False)
+        object.__setattr__(self, "image", img)
+        require_positive("mm_per_px", self.mm_per_px)
+        require_finite("z", self.z)
+        require_finite("yaw", self.yaw)
+        _require_albedo(self.margin_albedo)
+
+    def _local(self, x: _Arr, y: _Arr) -> tuple[_Arr, _Arr]:
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        px, py = x - self.origin[0], y - self.origin[1]
+        return c * px + s * py, s * px - c * py
+
+    def _extent(self) -> tuple[float, float, float, float]:
+        h, w = self.image.shape
+        m = self.margin_mm
+        return -m, w * self.mm_per_px + m, -m, h * self.mm_per_px + m
+
+    def _bounds(self) -> _Arr | None:
+        x0, x1, y0, y1 = self._extent()
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        pts = np.array([[bx, by] for bx in (x0, x1) for by in (y0, y1)])
+        wx = self.origin[0] + c * pts[:, 0] + s * pts[:, 1]
+        wy = self.origin[1] + s * pts[:, 0] - c * pts[:, 1]
+        return np.array([[wx.min(), wy.min(), self.z], [wx.max(), wy.max(), self.z]])
+
+    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (self.z - o[2]) / dz
+        bx, by = self._local(o[0] + t * dx, o[1] + t * dy)
+        x0, x1, y0, y1 = self._extent()
+        ok = (t > _EPS) & (bx >= x0) & (bx <= x1) & (by >= y0) & (by <= y1)
+        return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
+
+    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
+        bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        h, w = self.image.shape
+        j = np.floor(bx / self.mm_per_px).astype(np.int64)
+        i = np.floor(by / self.mm_per_px).astype(np.int64)
+        inside = (i >= 0) & (i < h) & (j >= 0) & (j < w)
+        vals = self.image[np.clip(i, 0, h - 1), np.clip(j, 0, w - 1)]
+        return np.where(inside, vals, self.margin_albedo)
+
+    @property
+    def pose(self) -> SE3:
+        """``T_world_board`` (origin at the image's top-left corner), millimetres."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        R = np.array([[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, -1.0]])
+        return SE3(R, np.array([self.origin[0], self.origin[1], self.z]))
+
+
+Primitive = TablePlane | Disc | Cylinder | Box | Checkerboard | ImagePlane
 
 
 # --------------------------------------------------------------------------- scenes
@@ -585,10 +672,10 @@ class Scene:
     def __post_init__(self) -> None:
         prims = tuple(self.primitives)
         for p in prims:
-            if not isinstance(p, TablePlane | Disc | Cylinder | Box | Checkerboard):
+            if not isinstance(p, TablePlane | Disc | Cylinder | Box | Checkerboard | ImagePlane):
                 raise InputError(
-                    "primitives must be TablePlane, Disc, Cylinder, Box or Checkerboard "
-                    "objects, "
+                    "primitives must be TablePlane, Disc, Cylinder, Box, Checkerboard or "
+                    "ImagePlane objects, "
                     f"got {type(p).__name__}"
                 )
         object.__setattr__(self, "primitives", prims)

@@ -47,12 +47,16 @@ __all__ = [
     "METHODS",
     "MIN_VIEWS",
     "VIEWS_YAML",
+    "Board",
+    "Charuco",
     "Chessboard",
     "EyeInHandCalibration",
     "HandEyeResiduals",
     "HandEyeViews",
     "calibrate_eye_in_hand",
     "check_rotation_axes",
+    "describe_board",
+    "detect_board",
     "detect_chessboard",
     "handeye_residuals",
     "load_handeye_yaml",
@@ -354,20 +358,109 @@ class Chessboard:
         return np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)]) * self.square_mm
 
 
+@dataclass(frozen=True)
+class Charuco:
+    """A ChArUco calibration target (a chessboard with ArUco markers in its light squares).
+
+    Parameters
+    ----------
+    squares : tuple of int
+        ``(columns, rows)`` of squares (OpenCV's ``CharucoBoard`` size).
+    square_mm, marker_mm : float
+        Side of a square and of a marker, millimetres.
+    dictionary : str
+        Name of an OpenCV predefined ArUco dictionary, e.g. ``'DICT_5X5_100'``.
+
+    The board frame is OpenCV's: origin at the board's top-left corner, x along the
+    columns, y along the rows, z into the board.  Each detected corner has an id, so a
+    partly seen board still gives corners in a known order.
+    """
+
+    squares: tuple[int, int] = (8, 6)
+    square_mm: float = 12.0
+    marker_mm: float = 9.0
+    dictionary: str = "DICT_5X5_100"
+
+    def __post_init__(self) -> None:
+        c, r = self.squares
+        if int(c) != c or int(r) != r or c < 3 or r < 3:
+            raise InputError(f"squares must be (columns, rows) >= 3, got {self.squares}")
+        object.__setattr__(self, "squares", (int(c), int(r)))
+        for name in ("square_mm", "marker_mm"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise InputError(f"{name} must be a finite number > 0, got {v!r}")
+        if not self.marker_mm < self.square_mm:
+            raise InputError(f"marker_mm must be below square_mm, got {self.marker_mm} and "
+                             f"{self.square_mm}")
+        if not str(self.dictionary).startswith("DICT_") or not hasattr(cv2.aruco,
+                                                                       self.dictionary):
+            raise InputError(f"dictionary must name an OpenCV ArUco dictionary such as "
+                             f"DICT_5X5_100, got {self.dictionary!r}")
+
+    def cv_board(self) -> Any:
+        """The :class:`cv2.aruco.CharucoBoard`."""
+        d = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, self.dictionary))
+        return cv2.aruco.CharucoBoard(self.squares, float(self.square_mm),
+                                      float(self.marker_mm), d)
+
+    @property
+    def object_points(self) -> NDArray[np.float64]:
+        """Inner corners in the board frame, shape ``((cols - 1) (rows - 1), 3)``, mm."""
+        return np.asarray(self.cv_board().getChessboardCorners(), dtype=np.float64)
+
+    def image(self, px_per_mm: float = 10.0) -> NDArray[np.uint8]:
+        """The board drawn at `px_per_mm` (no margin), for printing or rendering."""
+        c, r = self.squares
+        size = (round(c * self.square_mm * px_per_mm), round(r * self.square_mm * px_per_mm))
+        return self.cv_board().generateImage(size, marginSize=0, borderBits=1)
+
+
+Board = Chessboard | Charuco
+MIN_CHARUCO_CORNERS = 6
+"""Fewest ChArUco corners for a view to count (a pose needs a few, spread out)."""
+
+
+def detect_board(
+    image: ArrayLike, board: Board
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """Board corners found in a grey image: ``(object points (K, 3), pixels (K, 2))``.
+
+    None if the board is not found (a chessboard must be whole; a ChArUco board needs
+    :data:`MIN_CHARUCO_CORNERS` corners).
+    """
+    if isinstance(board, Chessboard):
+        c = detect_chessboard(image, board)
+        return None if c is None else (board.object_points, c)
+    if not isinstance(board, Charuco):
+        raise InputError(f"board must be a Chessboard or a Charuco, got {type(board).__name__}")
+    img = _as_uint8(image)
+    corners, ids, _mc, _mi = cv2.aruco.CharucoDetector(board.cv_board()).detectBoard(img)
+    if corners is None or ids is None or len(ids) < MIN_CHARUCO_CORNERS:
+        return None
+    return board.object_points[ids.ravel()], corners.reshape(-1, 2).astype(np.float64)
+
+
+def _as_uint8(image: ArrayLike) -> NDArray[np.uint8]:
+    img = np.asarray(image)
+    if img.ndim != 2:
+        raise InputError(f"image must be a grey (H, W) image, got shape {img.shape}")
+    if img.dtype != np.uint8:
+        top = float(img.max()) if img.size else 1.0
+        return np.clip(img.astype(np.float64) * (255.0 / max(top, 1.0)), 0, 255).astype(
+            np.uint8)
+    if img.size and img.max() < 128:  # 7-bit grey levels: stretch for the detector
+        return (img.astype(np.uint16) * 2).astype(np.uint8)
+    return img
+
+
 def detect_chessboard(image: ArrayLike, board: Chessboard) -> NDArray[np.float64] | None:
     """Sub-pixel inner corners of `board` in a grey image, ``(N, 2)``, or None.
 
     :func:`cv2.findChessboardCornersSB` (the sector-based detector, sub-pixel), in
     the order of :attr:`Chessboard.object_points`.
     """
-    img = np.asarray(image)
-    if img.ndim != 2:
-        raise InputError(f"image must be a grey (H, W) image, got shape {img.shape}")
-    if img.dtype != np.uint8:
-        top = float(img.max()) if img.size else 1.0
-        img = np.clip(img.astype(np.float64) * (255.0 / max(top, 1.0)), 0, 255).astype(np.uint8)
-    elif img.size and img.max() < 128:  # 7-bit grey levels: stretch for the detector
-        img = (img.astype(np.uint16) * 2).astype(np.uint8)
+    img = _as_uint8(image)
     ok, corners = cv2.findChessboardCornersSB(img, board.inner_corners,
                                               flags=cv2.CALIB_CB_ACCURACY)
     if not ok or corners is None:
@@ -436,10 +529,18 @@ class EyeInHandCalibration:
         }
 
 
+def describe_board(board: Board) -> str:
+    """One line naming a board for messages, e.g. ``chessboard 9 x 6``."""
+    if isinstance(board, Chessboard):
+        return f"chessboard {board.inner_corners[0]} x {board.inner_corners[1]}"
+    return (f"ChArUco board {board.squares[0]} x {board.squares[1]} (at least "
+            f"{MIN_CHARUCO_CORNERS} corners)")
+
+
 def calibrate_eye_in_hand(
     images: Sequence[ArrayLike],
     flange_poses: Sequence[SE3],
-    board: Chessboard,
+    board: Board,
     *,
     pixel_pitch_mm: float = 0.01,
     grey_levels: int = 256,
@@ -455,7 +556,7 @@ def calibrate_eye_in_hand(
         Grey views of the board (one size).
     flange_poses : sequence of SE3
         ``T_base_flange`` the robot reported at each view, millimetres.
-    board : Chessboard
+    board : Chessboard or Charuco
     pixel_pitch_mm : float
         Horizontal pixel pitch of the sensor (its data sheet), to express the focal
         length in millimetres; the vertical pitch follows from ``fy``.
@@ -482,7 +583,7 @@ def calibrate_eye_in_hand(
 
     Notes
     -----
-    1. :func:`detect_chessboard` in every view.
+    1. :func:`detect_board` in every view.
     2. :func:`cv2.calibrateCamera` (``k1, k2, p1, p2, k3``) gives ``K``, the
        distortion and ``C_i = T_camera_board`` per view.
     3. :func:`motion_pairs`, :func:`solve_ax_xb`, :func:`handeye_residuals`.
@@ -500,12 +601,11 @@ def calibrate_eye_in_hand(
     h, w = next(iter(shapes))[:2]
     obj, img_pts = [], []
     for im, name in zip(images, labels, strict=True):
-        c = detect_chessboard(np.asarray(im), board)
-        if c is None:
-            raise InputError(f"{name}: chessboard {board.inner_corners[0]} x "
-                             f"{board.inner_corners[1]} not found")
-        obj.append(board.object_points.astype(np.float32))
-        img_pts.append(c.astype(np.float32).reshape(-1, 1, 2))
+        found = detect_board(np.asarray(im), board)
+        if found is None:
+            raise InputError(f"{name}: {describe_board(board)} not found")
+        obj.append(found[0].astype(np.float32))
+        img_pts.append(found[1].astype(np.float32).reshape(-1, 1, 2))
     flags = cv2.CALIB_FIX_K3 if fix_k3 else 0
     rms, K, dist, rvecs, tvecs = cv2.calibrateCamera(obj, img_pts, (w, h), None, None,
                                                      flags=flags)
@@ -545,7 +645,8 @@ class HandEyeViews:
     Folder format (``DIR/``)::
 
         views.yaml   board:          {type: chessboard, inner_corners: [cols, rows],
-                                      square_mm}
+                                      square_mm} or {type: charuco, squares:
+                                      [cols, rows], square_mm, marker_mm, dictionary}
                      pixel_pitch_mm: horizontal pitch of the sensor, mm (data sheet)
                      grey_levels:    optional, default 256
                      views:          - {image: view_00.png, flange: POSE}
@@ -560,7 +661,7 @@ class HandEyeViews:
     flange_poses : tuple of SE3
     names : tuple of str
         Image file names.
-    board : Chessboard
+    board : Chessboard or Charuco
     pixel_pitch_mm : float
     grey_levels : int
     """
@@ -568,7 +669,7 @@ class HandEyeViews:
     images: tuple[NDArray[Any], ...]
     flange_poses: tuple[SE3, ...]
     names: tuple[str, ...]
-    board: Chessboard
+    board: Board
     pixel_pitch_mm: float = 0.01
     grey_levels: int = 256
 
@@ -594,9 +695,16 @@ def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | 
         raise InputError(f"{target}: parent folder {parent} does not exist")
     if target.exists() and (not target.is_dir() or any(target.iterdir())):
         raise InputError(f"{target}: exists and is not an empty folder")
+    b = views.board
+    board: dict[str, Any]
+    if isinstance(b, Chessboard):
+        board = {"type": "chessboard", "inner_corners": list(b.inner_corners),
+                 "square_mm": float(b.square_mm)}
+    else:
+        board = {"type": "charuco", "squares": list(b.squares), "square_mm": float(b.square_mm),
+                 "marker_mm": float(b.marker_mm), "dictionary": b.dictionary}
     data = {
-        "board": {"type": "chessboard", "inner_corners": list(views.board.inner_corners),
-                  "square_mm": float(views.board.square_mm)},
+        "board": board,
         "pixel_pitch_mm": float(views.pixel_pitch_mm),
         "grey_levels": int(views.grey_levels),
         "views": [{"image": n, "flange": pose_to_dict(f)}
@@ -646,13 +754,20 @@ def read_views(directory: Any) -> HandEyeViews:
     if not isinstance(data, dict) or "board" not in data or "views" not in data:
         raise InputError(f"{src}: expected a mapping with keys board, pixel_pitch_mm, views")
     b = data["board"]
-    if not isinstance(b, dict) or b.get("type", "chessboard") != "chessboard":
+    kind = b.get("type", "chessboard") if isinstance(b, dict) else None
+    if kind not in ("chessboard", "charuco"):
         raise InputError(f"{src}: board must be {{type: chessboard, inner_corners: [c, r], "
-                         "square_mm}")
+                         "square_mm} or {type: charuco, squares: [c, r], square_mm, "
+                         "marker_mm, dictionary}")
+    board: Board
     try:
-        board = Chessboard(tuple(b["inner_corners"]), float(b["square_mm"]))  # type: ignore[arg-type]
+        if kind == "chessboard":
+            board = Chessboard(tuple(b["inner_corners"]), float(b["square_mm"]))  # type: ignore[arg-type]
+        else:
+            board = Charuco(tuple(b["squares"]), float(b["square_mm"]),  # type: ignore[arg-type]
+                            float(b["marker_mm"]), str(b.get("dictionary", "DICT_5X5_100")))
     except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{src}: board needs inner_corners [c, r] and square_mm ({exc})") from None
+        raise InputError(f"{src}: board: missing or bad key ({exc})") from None
     except InputError as exc:
         raise InputError(f"{src}: board: {exc}") from None
     pitch = data.get("pixel_pitch_mm", 0.01)

@@ -31,6 +31,7 @@ from robostereo.errors import InputError, UnreachablePoseError, require_finite
 from robostereo.robot.capture import Capture, Located, LocateParameters, locate
 from robostereo.robot.handeye import (
     DEFAULT_METHOD,
+    Board,
     Chessboard,
     EyeInHandCalibration,
     HandEyeMethod,
@@ -42,6 +43,7 @@ from robostereo.robot.sixaxis import WRIST_CAMERA, WRIST_HAND_EYE, SixAxisArm
 from robostereo.simulation import (
     Box,
     Checkerboard,
+    ImagePlane,
     Rendering,
     Scene,
     TablePlane,
@@ -80,12 +82,37 @@ _BLOCK_SIZE = (23.6, 80.0, 50.0)
 SEED_LIFT_MM = 79.65
 
 
-def board_scene(*, board: Chessboard = BOARD, origin_xy: tuple[float, float] = BOARD_ORIGIN_XY,
-                yaw: float = 0.0) -> tuple[Scene, Checkerboard]:
-    """A chessboard (2 mm thick) lying on the table, and the board primitive."""
-    cb = Checkerboard(origin=origin_xy, z=2.0, inner_corners=board.inner_corners,
-                      square_mm=board.square_mm, yaw=yaw)
+def board_scene(
+    *, board: Board = BOARD, origin_xy: tuple[float, float] = BOARD_ORIGIN_XY, yaw: float = 0.0
+) -> tuple[Scene, Checkerboard | ImagePlane]:
+    """A calibration board (2 mm thick) lying on the table, and the board primitive.
+
+    A :class:`Chessboard` is drawn analytically (:class:`Checkerboard`), a
+    :class:`Charuco` as its OpenCV image printed at 10 px/mm (:class:`ImagePlane`).
+    """
+    cb: Checkerboard | ImagePlane
+    if isinstance(board, Chessboard):
+        cb = Checkerboard(origin=origin_xy, z=2.0, inner_corners=board.inner_corners,
+                          square_mm=board.square_mm, yaw=yaw)
+    else:
+        img = board.image(25.0).astype(np.float64) / 255.0
+        cb = ImagePlane(origin=origin_xy, image=0.08 + 0.77 * img, mm_per_px=0.04, z=2.0,
+                        yaw=yaw)
     return Scene((TablePlane(z=0.0, albedo=0.3), cb), light_direction=(0.2, -0.1, 1.0)), cb
+
+
+def _board_frame(board: Board) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Board-frame centre (3,) and outline corners (4, 3) that must be in view."""
+    q = board.square_mm
+    if isinstance(board, Chessboard):
+        c, r = board.inner_corners
+        x0, x1, y0, y1 = -q, c * q, -q, r * q
+    else:
+        c, r = board.squares
+        x0, x1, y0, y1 = 0.0, c * q, 0.0, r * q
+    centre = np.array([(x0 + x1) / 2, (y0 + y1) / 2, 0.0])
+    outline = np.array([[x0, y0, 0.0], [x1, y0, 0.0], [x0, y1, 0.0], [x1, y1, 0.0]])
+    return centre, outline
 
 
 def _render(scene: Scene, camera: Camera, pose: SE3, rng: np.random.Generator) -> Rendering:
@@ -99,7 +126,7 @@ def simulate_handeye_views(
     arm: SixAxisArm | None = None,
     camera: Camera = WRIST_CAMERA,
     hand_eye: SE3 = WRIST_HAND_EYE,
-    board: Chessboard = BOARD,
+    board: Board = BOARD,
 ) -> tuple[HandEyeViews, dict[str, Any]]:
     """Views of a chessboard on the table from the six-axis arm's wrist camera.
 
@@ -111,7 +138,7 @@ def simulate_handeye_views(
         Seed of the viewpoints and the sensor noise.
     arm, camera, hand_eye, board
         The simulated arm (default a UR5), wrist camera, true ``T_flange_camera``
-        and board.
+        and board (a :class:`Chessboard` or a :class:`Charuco`).
 
     Returns
     -------
@@ -136,11 +163,9 @@ def simulate_handeye_views(
     a = arm or SixAxisArm()
     rng = np.random.default_rng([int(seed), 9])
     scene, cb = board_scene(board=board)
-    c, r = board.inner_corners
-    centre = cb.pose.apply([(c - 1) * board.square_mm / 2, (r - 1) * board.square_mm / 2, 0.0])
-    sq = board.square_mm
-    outline = cb.pose.apply([[-sq, -sq, 0.0], [c * sq, -sq, 0.0], [-sq, r * sq, 0.0],
-                             [c * sq, r * sq, 0.0]])
+    centre_b, outline_b = _board_frame(board)
+    centre = cb.pose.apply(centre_b)
+    outline = cb.pose.apply(outline_b)
     images, poses, names = [], [], []
     q = None
     attempts = 0
