@@ -181,7 +181,7 @@ def test_rig_calibration_of_another_size(tmp_path: Path) -> None:
 def test_capture_folder(tmp_path: Path, monkeypatch) -> None:
     root = tmp_path / "in"
     cap_dir = root / "cap"
-    capture = pytest.importorskip("robostereo.capture")
+    capture = pytest.importorskip("robostereo.robot.capture")
     from robostereo.camera import Camera, Pose
 
     left, right, _ = synthetic_pair(np.random.default_rng(3), height=120, width=320)
@@ -193,7 +193,7 @@ def test_capture_folder(tmp_path: Path, monkeypatch) -> None:
         root.mkdir()
         capture.write_capture(cap_dir, c)
     except (TypeError, AttributeError) as e:  # the capture module is still changing
-        pytest.skip(f"robostereo.capture API differs: {e}")
+        pytest.skip(f"robostereo.robot.capture API differs: {e}")
     rep = run_batch(root, tmp_path / "out", workers=1)
     assert rep.failed == (), rep.errors
     row = rep.rows[0]
@@ -201,7 +201,7 @@ def test_capture_folder(tmp_path: Path, monkeypatch) -> None:
     head = (tmp_path / "out" / "cap.csv").read_text().splitlines()[0]
     assert head.startswith("X_w,Y_w,Z_w")
     # without the capture module: a clear one-line error naming capture.yaml
-    monkeypatch.setitem(sys.modules, "robostereo.capture", None)
+    monkeypatch.setitem(sys.modules, "robostereo.robot.capture", None)
     row = process_input(cap_dir, tmp_path)
     assert row["status"] == "error" and "capture.yaml: capture folders need" in row["error"]
 

@@ -11,15 +11,6 @@ import pytest
 import yaml
 
 from robostereo.camera import SEED_CAMERA, Camera, EpipolarGeometry, Pose
-from robostereo.capture import (
-    disparity_range_from_depth,
-    fill_invalid_rows,
-    locate,
-    locate_capture,
-    read_capture,
-    rectify_pair,
-    write_capture,
-)
 from robostereo.cli import main
 from robostereo.edges import detect_edges
 from robostereo.errors import InputError
@@ -28,6 +19,15 @@ from robostereo.experiments import (
     SimulatedCapture,
     run_block_experiment,
     simulate_capture,
+)
+from robostereo.robot.capture import (
+    disparity_range_from_depth,
+    fill_invalid_rows,
+    locate,
+    locate_capture,
+    read_capture,
+    rectify_pair,
+    write_capture,
 )
 
 

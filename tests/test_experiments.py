@@ -7,7 +7,6 @@ import math
 import numpy as np
 import pytest
 
-from robostereo.capture import DISPARITY_UNCERTAINTY_PX
 from robostereo.errors import InputError, UnreachablePoseError
 from robostereo.experiments import (
     SEED_LIFT_MM,
@@ -21,6 +20,7 @@ from robostereo.experiments import (
     save_demo_figures,
     simulate_capture,
 )
+from robostereo.robot.capture import DISPARITY_UNCERTAINTY_PX
 
 SETUPS = {
     "seed": RigSetup(),

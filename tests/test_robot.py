@@ -1,4 +1,4 @@
-"""Tests for robostereo.robot: AdeptOne kinematics, limits, acquisition."""
+"""Tests for robostereo.robot.scara: AdeptOne kinematics, limits, acquisition."""
 
 from __future__ import annotations
 
@@ -9,7 +9,7 @@ import pytest
 
 from robostereo.camera import SEED_CAMERA, Camera, EpipolarGeometry, Pose
 from robostereo.errors import InputError, UnreachablePoseError
-from robostereo.robot import (
+from robostereo.robot.scara import (
     ADEPTONE_LIMITS,
     AdeptOne,
     CameraDevice,

@@ -17,7 +17,8 @@ Conventions used throughout
 One module per stage: :mod:`~robostereo.edges`, :mod:`~robostereo.matching`,
 :mod:`~robostereo.relaxation`, :mod:`~robostereo.triangulation`,
 :mod:`~robostereo.pipeline` (all of them in one call), :mod:`~robostereo.camera`
-(camera, poses, epipolar frames), :mod:`~robostereo.robot`, :mod:`~robostereo.simulation`,
+(camera, poses, epipolar frames), :mod:`~robostereo.robot` (arm models, capture folders),
+:mod:`~robostereo.simulation`,
 :mod:`~robostereo.calibration`, :mod:`~robostereo.datasets`,
 :mod:`~robostereo.evaluation`, :mod:`~robostereo.io`, :mod:`~robostereo.plots` and the
 command line in :mod:`~robostereo.cli`.

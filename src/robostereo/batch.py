@@ -9,7 +9,7 @@ An input is a folder, one of
   (:attr:`BatchOptions.calibration`) the images are the original ones of a calibrated
   rig and go through :func:`robostereo.rig.match_rig`;
 * a **capture folder**: ``capture.yaml``, ``left.png``, ``right.png`` as
-  ``robostereo capture`` writes it, processed by :func:`robostereo.capture.locate_capture`.
+  ``robostereo capture`` writes it, processed by :func:`robostereo.robot.capture.locate_capture`.
 
 :func:`run_batch` processes every input folder of a directory and writes, per input
 ``NAME``, ``OUT/NAME.csv`` (the matched points) and then ``OUT/NAME.json`` (its summary
@@ -244,10 +244,10 @@ def _run_pair(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
 
 def _run_capture(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
     try:
-        from robostereo.capture import locate_capture
+        from robostereo.robot.capture import locate_capture
     except ImportError:
         raise InputError(
-            f"{d / 'capture.yaml'}: capture folders need robostereo.capture, which this "
+            f"{d / 'capture.yaml'}: capture folders need robostereo.robot.capture, which this "
             "installation lacks"
         ) from None
     located = locate_capture(d)

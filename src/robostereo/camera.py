@@ -117,6 +117,10 @@ class Camera:
         ``(cx, cy)`` in pixels; default the image centre.
     grey_levels : int
         Number of grey levels the camera delivers (128 for the seed's 7-bit system).
+    distortion : tuple of float
+        Lens distortion in OpenCV's order ``(k1, k2, p1, p2[, k3])`` (Brown-Conrady,
+        on normalised coordinates); empty (default) for none.  The seed's camera has
+        none; a real lens calibrated with :func:`cv2.calibrateCamera` does.
 
     Examples
     --------
@@ -133,6 +137,7 @@ class Camera:
     image_size: tuple[int, int] = (509, 481)
     principal_point: tuple[float, float] = field(default=(math.nan, math.nan))
     grey_levels: int = 128
+    distortion: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
         require_positive("focal_length_mm", self.focal_length_mm)
@@ -165,6 +170,56 @@ class Camera:
         else:
             require_finite("principal_point", [cx, cy])
             object.__setattr__(self, "principal_point", (float(cx), float(cy)))
+        dist = tuple(float(v) for v in self.distortion)
+        if len(dist) not in (0, 4, 5):
+            raise InputError(
+                f"distortion must be (k1, k2, p1, p2[, k3]) or empty, got {self.distortion}"
+            )
+        require_finite("distortion", list(dist))
+        object.__setattr__(self, "distortion", () if not any(dist) else dist)
+
+    @property
+    def dist_coeffs(self) -> NDArray[np.float64]:
+        """Distortion as OpenCV's ``(5,)`` vector ``k1, k2, p1, p2, k3`` (zeros if none)."""
+        d = np.zeros(5)
+        d[: len(self.distortion)] = self.distortion
+        return d
+
+    def distort(self, normalised: ArrayLike) -> NDArray[np.float64]:
+        """Apply the lens distortion to normalised coordinates ``(N, 2)`` -> ``(N, 2)``."""
+        n = np.asarray(normalised, dtype=float)
+        if not self.distortion:
+            return n.copy()
+        k1, k2, p1, p2, k3 = self.dist_coeffs
+        x, y = n[..., 0], n[..., 1]
+        r2 = x * x + y * y
+        radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
+        xd = x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x)
+        yd = y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y
+        return np.stack([xd, yd], axis=-1)
+
+    def undistort(self, distorted: ArrayLike, *, iterations: int = 30) -> NDArray[np.float64]:
+        """Invert :meth:`distort` (fixed-point iteration, to ~1e-12 for lens-like values).
+
+        Examples
+        --------
+        >>> cam = Camera(distortion=(-0.2, 0.05, 0.001, -0.002, 0.0))
+        >>> n = np.array([[0.1, -0.08], [-0.12, 0.09]])
+        >>> bool(np.allclose(cam.undistort(cam.distort(n)), n, atol=1e-12))
+        True
+        """
+        d = np.asarray(distorted, dtype=float)
+        if not self.distortion:
+            return d.copy()
+        k1, k2, p1, p2, k3 = self.dist_coeffs
+        xd, yd = d[..., 0], d[..., 1]
+        x, y = xd.copy(), yd.copy()
+        for _ in range(iterations):  # fixed-point on whole arrays, not on pixels
+            r2 = x * x + y * y
+            radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
+            x = (xd - 2.0 * p1 * x * y - p2 * (r2 + 2.0 * x * x)) / radial
+            y = (yd - p1 * (r2 + 2.0 * y * y) - 2.0 * p2 * x * y) / radial
+        return np.stack([x, y], axis=-1)
 
     @property
     def fx(self) -> float:
@@ -213,8 +268,9 @@ class Camera:
         pc = (p - pose.position) @ pose.rotation
         z = pc[:, 2]
         with np.errstate(divide="ignore", invalid="ignore"):
-            x = self.fx * pc[:, 0] / z + self.principal_point[0]
-            y = self.fy * pc[:, 1] / z + self.principal_point[1]
+            n = self.distort(np.column_stack([pc[:, 0] / z, pc[:, 1] / z]))
+            x = self.fx * n[:, 0] + self.principal_point[0]
+            y = self.fy * n[:, 1] + self.principal_point[1]
         return np.column_stack([x, y]), z
 
     def backproject(
@@ -246,7 +302,8 @@ class Camera:
         uv = np.atleast_2d(np.asarray(pixels, dtype=float))
         z = np.asarray(depth, dtype=float)
         cx, cy = self.principal_point
-        pc = np.column_stack([(uv[:, 0] - cx) / self.fx * z, (uv[:, 1] - cy) / self.fy * z, z])
+        n = self.undistort(np.column_stack([(uv[:, 0] - cx) / self.fx, (uv[:, 1] - cy) / self.fy]))
+        pc = np.column_stack([n[:, 0] * z, n[:, 1] * z, z])
         return pc @ pose.rotation.T + pose.position
 
 
@@ -270,7 +327,10 @@ def wrap_angle(angle: float) -> float:
 # YAML files
 # --------------------------------------------------------------------------------------
 
-_CAMERA_KEYS = ("focal_length_mm", "pixel_pitch_mm", "image_size", "principal_point", "grey_levels")
+_CAMERA_KEYS = (
+    "focal_length_mm", "pixel_pitch_mm", "image_size", "principal_point", "grey_levels",
+    "distortion",
+)
 _POSE_KEYS = ("x", "y", "z", "phi_deg")
 
 
@@ -333,13 +393,16 @@ def camera_to_dict(camera: Camera) -> dict[str, Any]:
     {'focal_length_mm': 25.0, 'pixel_pitch_mm': [0.0172, 0.0137], 'image_size': [509, 481],
      'principal_point': [254.0, 240.0], 'grey_levels': 128}
     """
-    return {
+    out: dict[str, Any] = {
         "focal_length_mm": float(camera.focal_length_mm),
         "pixel_pitch_mm": [float(p) for p in camera.pixel_pitch_mm],
         "image_size": [int(n) for n in camera.image_size],
         "principal_point": [float(c) for c in camera.principal_point],
         "grey_levels": int(camera.grey_levels),
     }
+    if camera.distortion:
+        out["distortion"] = [float(v) for v in camera.distortion]
+    return out
 
 
 def camera_from_dict(data: Mapping[str, Any], *, source: str = "camera") -> Camera:
@@ -386,6 +449,10 @@ def camera_from_dict(data: Mapping[str, Any], *, source: str = "camera") -> Came
     grey = data.get("grey_levels", 128)
     if not isinstance(grey, int) or isinstance(grey, bool) or grey < 2:
         raise InputError(f"{source}: key 'grey_levels' must be an integer >= 2, got {grey!r}")
+    dist = data.get("distortion") or ()
+    if not isinstance(dist, list | tuple) or not all(_is_number(v) for v in dist):
+        raise InputError(f"{source}: key 'distortion' must be [k1, k2, p1, p2(, k3)], "
+                         f"got {dist!r}")
     try:
         return Camera(
             focal_length_mm=f,
@@ -393,6 +460,7 @@ def camera_from_dict(data: Mapping[str, Any], *, source: str = "camera") -> Came
             image_size=(int(size[0]), int(size[1])),
             principal_point=pp,
             grey_levels=grey,
+            distortion=tuple(dist),
         )
     except InputError as exc:
         raise InputError(f"{source}: {exc}") from None

@@ -377,11 +377,22 @@ def add_demo_parser(sub: Any) -> None:
     p.add_argument("--out", type=Path, default=Path("robostereo-out"),
                    help="folder for the figures (created; default ./robostereo-out)")
     p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
+    p.add_argument("--robot", choices=("adeptone", "six-axis"), default="adeptone",
+                   help="the seed's SCARA (adeptone, default) or the six-axis arm's block "
+                        "experiment with an estimated hand-eye transform")
+    p.add_argument("--json", action="store_true", help="six-axis: print one JSON object")
     p.set_defaults(handler=run_demo_command)
 
 
 def run_demo_command(args: argparse.Namespace) -> int:
     from rich.console import Console
+
+    if args.robot == "six-axis":
+        from robostereo.cli_robot import run_demo_six_axis
+
+        return run_demo_six_axis(args)
+    if args.json:
+        raise InputError("--json needs --robot six-axis")
 
     from robostereo.experiments import print_demo_report, run_demo, save_demo_figures
 
@@ -422,12 +433,29 @@ def add_capture_parser(sub: Any) -> None:
     p.add_argument("--center", type=_finite("--center"), nargs=2, default=(400.0, 0.0),
                    metavar=("X", "Y"), help="mid-baseline point, world mm (400 0)")
     p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
+    p.add_argument("--robot", choices=("adeptone", "six-axis"), default="adeptone",
+                   help="simulated robot (adeptone: the seed's SCARA)")
+    p.add_argument("--tilt", type=_finite("--tilt"), default=25.0,
+                   help="six-axis: camera tilt from vertical, degrees (25)")
+    p.add_argument("--handeye", type=Path,
+                   help="six-axis: record this camera file's camera and hand_eye "
+                        "(robostereo handeye's output) instead of the truth")
     p.set_defaults(handler=run_capture_command)
 
 
 def run_capture_command(args: argparse.Namespace) -> int:
-    from robostereo.capture import write_capture
     from robostereo.experiments import RigSetup, simulate_capture
+    from robostereo.robot.capture import write_capture
+
+    if args.robot == "six-axis":
+        from robostereo.cli_robot import run_capture_six_axis
+
+        if args.direction != 0.0 or args.roll != 0.0 or tuple(args.center) != (400.0, 0.0):
+            raise InputError("--direction, --roll and --center are for --robot adeptone; "
+                             "the six-axis arm takes --baseline, --tilt and --handeye")
+        if args.baseline == 20.0:  # the SCARA default; the six-axis views stand 40 mm apart
+            args.baseline = 40.0
+        return run_capture_six_axis(args)
 
     if args.seed < 0:
         raise InputError(f"--seed must be >= 0, got {args.seed}")
@@ -458,12 +486,20 @@ def add_locate_parser(sub: Any) -> None:
     p.add_argument("-o", "--output", type=Path,
                    help="points CSV (default DIR/located.csv)")
     p.add_argument("--ply", type=Path, help="write the world points as PLY")
+    p.add_argument("--fuse", type=Path, metavar="DIR2",
+                   help="a second capture of the scene (e.g. an orthogonal baseline): write "
+                        "the two point sets merged, each point with its own bound")
     p.set_defaults(handler=run_locate_command)
 
 
 def run_locate_command(args: argparse.Namespace) -> int:
-    from robostereo.capture import locate_capture
     from robostereo.io import write_csv, write_ply
+    from robostereo.robot.capture import locate_capture
+
+    if args.fuse is not None:
+        from robostereo.cli_robot import run_locate_fused
+
+        return run_locate_fused(args)
 
     if not args.capture.is_dir():
         raise InputError(f"{args.capture}: capture folder not found")
@@ -482,9 +518,19 @@ def run_locate_command(args: argparse.Namespace) -> int:
     return 0
 
 
+def _robot_parsers(sub: Any) -> None:
+    """The any-arm subcommands (issue 9): handeye, simulate-handeye, plan."""
+    from robostereo import cli_robot
+
+    cli_robot.add_handeye_parser(sub)
+    cli_robot.add_simulate_handeye_parser(sub)
+    cli_robot.add_plan_parser(sub)
+
+
 PARSERS: list[Callable[[Any], None]] = [add_match_parser]
 PARSERS += [add_rig_parser, add_evaluate_parser, add_batch_parser]
 PARSERS += [add_demo_parser, add_capture_parser, add_locate_parser]
+PARSERS += [_robot_parsers]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -3,7 +3,7 @@
 * :func:`simulate_capture`: the seed's set-up: the camera on the AdeptOne's forearm,
   moved by the acquisition program to ``-D/2`` and ``+D/2`` about a point above the
   object, one image grabbed (rendered) at each; returns a
-  :class:`~robostereo.capture.Capture` like the ones ``robostereo capture`` writes.
+  :class:`~robostereo.robot.capture.Capture` like the ones ``robostereo capture`` writes.
 * :func:`run_block_experiment`: the accuracy test of 5.2 (table 5-1): the precision
   block at two heights 79.65 mm apart; per epipolar line the block's left and right
   edge points, the width, the mean depth per height, the measured lift and every
@@ -35,11 +35,17 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.camera import SEED_CAMERA, Camera, EpipolarGeometry
-from robostereo.capture import Capture, Located, LocateParameters, capture_from_acquisition, locate
 from robostereo.errors import InputError, require_finite, require_positive
 from robostereo.evaluation import MatchScore, score_matches
 from robostereo.pipeline import MatchParameters
 from robostereo.robot import AdeptOne, CameraMount, SimulatedCamera, acquire_stereo_pair
+from robostereo.robot.capture import (
+    Capture,
+    Located,
+    LocateParameters,
+    capture_from_acquisition,
+    locate,
+)
 from robostereo.simulation import (
     Box,
     Rendering,
@@ -210,6 +216,7 @@ def simulate_capture(
     setup: RigSetup | None = None,
     lift_mm: float = 0.0,
     seed: int = 0,
+    scene: Scene | None = None,
 ) -> SimulatedCapture:
     """Move the simulated AdeptOne to the two viewpoints and grab (render) both images.
 
@@ -221,6 +228,8 @@ def simulate_capture(
         Block only: raise of the block's top.
     seed : int
         Seed of the sensor noise (``numpy.random.default_rng([seed, scene])``).
+    scene : Scene, optional
+        Render this scene instead of `kind`'s (e.g. one block seen along two baselines).
 
     Returns
     -------
@@ -234,7 +243,7 @@ def simulate_capture(
 
     Notes
     -----
-    The seed's acquisition (4.1, 4.2.1): :func:`robostereo.robot.acquire_stereo_pair`
+    The seed's acquisition (4.1, 4.2.1): :func:`robostereo.robot.scara.acquire_stereo_pair`
     moves the camera to ``centre -+ (D/2) u``, grabbing at each; the poses the robot
     reports go into the capture.
     """
@@ -242,10 +251,8 @@ def simulate_capture(
     if kind not in ("block", "pulley"):
         raise InputError(f"scene must be 'block' or 'pulley', got {kind!r}")
     require_finite("lift_mm", lift_mm)
-    if kind == "block":
-        scene = block_scene(su, lift_mm=lift_mm)
-    else:
-        scene = pulley_scene(su)
+    if scene is None:
+        scene = block_scene(su, lift_mm=lift_mm) if kind == "block" else pulley_scene(su)
     robot = _robot(su)
     if isinstance(seed, bool) or int(seed) != seed or seed < 0:
         raise InputError(f"seed must be a whole number >= 0, got {seed}")
@@ -290,7 +297,7 @@ class BlockHeight:
     ----------
     lift_mm : float
     located : Located
-        Everything :func:`robostereo.capture.locate` found.
+        Everything :func:`robostereo.robot.capture.locate` found.
     true_depth_mm : float
         Depth of the block's top below the mid-baseline point (the true Z).
     true_x_mm : tuple of float
@@ -453,7 +460,7 @@ def run_block_experiment(
 
     Notes
     -----
-    For each height: :func:`simulate_capture`, :func:`robostereo.capture.locate`, then
+    For each height: :func:`simulate_capture`, :func:`robostereo.robot.capture.locate`, then
     the block's left and right top edges are found among the located points by their
     rectified column (within 2 px of the projected true edge, 3 rows inside the ends),
     and compared with the true top-face geometry.
@@ -515,7 +522,7 @@ def run_pulley_experiment(
 
     Notes
     -----
-    1. :func:`simulate_capture` of the pulley and :func:`robostereo.capture.locate`.
+    1. :func:`simulate_capture` of the pulley and :func:`robostereo.robot.capture.locate`.
     2. Ground truth: the left rendering's depth rectified with the left view's theta
        (nearest neighbour; a rotation about the optical axis keeps depth), as
        disparity ``fx D / depth``.

@@ -18,6 +18,7 @@ the scenes built here.  The camera conventions are those of
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -29,12 +30,15 @@ from scipy.ndimage import gaussian_filter
 
 from robostereo.camera import Camera, Pose
 from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.robot.poses import SE3
 
 __all__ = [
     "BlockScene",
     "Box",
+    "Checkerboard",
     "Cylinder",
     "Disc",
+    "ImagePlane",
     "NoiseTexture",
     "PulleyScene",
     "Rendering",
@@ -372,6 +376,8 @@ class Box:
         Rotation of the local x axis from world X, radians, counter-clockwise from above.
     albedo : float
         Grey reflectance in ``[0, 1]``.
+    texture : NoiseTexture or None
+        Optional albedo modulation (by world ``x, y`` of the surface point).
     """
 
     center: tuple[float, float]
@@ -379,6 +385,7 @@ class Box:
     size: tuple[float, float, float]
     yaw: float = 0.0
     albedo: float = 0.8
+    texture: NoiseTexture | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "center", _pair("center", self.center))
@@ -447,11 +454,185 @@ class Box:
         lnz = np.where(axis == 2, -np.sign(ld[2]), 0.0)
         return t, (c * lnx - s * lny, s * lnx + c * lny, lnz)
 
-    def _albedo_at(self, x: _Arr, y: _Arr) -> float:
-        return self.albedo
+    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr | float:
+        if self.texture is None:
+            return self.albedo
+        return self.albedo * self.texture.factor(x, y)
 
 
-Primitive = TablePlane | Disc | Cylinder | Box
+@dataclass(frozen=True)
+class Checkerboard:
+    """A flat chessboard calibration target lying on a horizontal plane.
+
+    The board's inner corners are ``(i * square_mm, j * square_mm)`` in the board
+    frame, ``i < columns``, ``j < rows``; the board frame has its origin at the first
+    inner corner, x at `yaw` from world X, y at ``yaw - 90 deg`` and z down into the
+    table (OpenCV's right-handed object frame seen from above), so
+    ``T_world_board = (Rz(yaw) diag(1, -1, -1), origin)``.  The square at board
+    ``(-, -)`` of the first inner corner is dark; one square of light margin surrounds
+    the outer squares.
+
+    Parameters
+    ----------
+    origin : tuple of float
+        ``(x, y)`` of the first inner corner, world millimetres.
+    z : float
+        Height of the board's surface, millimetres.
+    inner_corners : tuple of int
+        ``(columns, rows)`` of inner corners.
+    square_mm : float
+    yaw : float
+        Radians.
+    dark, light : float
+        Albedo of the dark and the light squares (the margin is light).
+    """
+
+    origin: tuple[float, float]
+    z: float = 0.0
+    inner_corners: tuple[int, int] = (9, 6)
+    square_mm: float = 20.0
+    yaw: float = 0.0
+    dark: float = 0.08
+    light: float = 0.85
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "origin", _pair("origin", self.origin))
+        require_finite("z", self.z)
+        require_positive("square_mm", self.square_mm)
+        require_finite("yaw", self.yaw)
+        _require_albedo(self.dark)
+        _require_albedo(self.light)
+
+    def _local(self, x: _Arr, y: _Arr) -> tuple[_Arr, _Arr]:
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        px, py = x - self.origin[0], y - self.origin[1]
+        return c * px + s * py, s * px - c * py
+
+    def _extent(self) -> tuple[float, float, float, float]:
+        q = self.square_mm
+        c, r = self.inner_corners
+        return -2 * q, c * q + q, -2 * q, r * q + q
+
+    def _bounds(self) -> _Arr | None:
+        x0, x1, y0, y1 = self._extent()
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        pts = np.array([[bx, by] for bx in (x0, x1) for by in (y0, y1)])
+        wx = self.origin[0] + c * pts[:, 0] + s * pts[:, 1]
+        wy = self.origin[1] + s * pts[:, 0] - c * pts[:, 1]
+        return np.array([[wx.min(), wy.min(), self.z], [wx.max(), wy.max(), self.z]])
+
+    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (self.z - o[2]) / dz
+        bx, by = self._local(o[0] + t * dx, o[1] + t * dy)
+        x0, x1, y0, y1 = self._extent()
+        ok = (t > _EPS) & (bx >= x0) & (bx <= x1) & (by >= y0) & (by <= y1)
+        return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
+
+    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
+        bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        q = self.square_mm
+        c, r = self.inner_corners
+        i, j = np.floor(bx / q), np.floor(by / q)
+        inside = (i >= -1) & (i <= c - 1) & (j >= -1) & (j <= r - 1)
+        dark = inside & ((i + j) % 2 == 0)
+        return np.where(dark, self.dark, self.light)
+
+    @property
+    def pose(self) -> SE3:
+        """``T_world_board`` (the frame of the inner corners), millimetres."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        R = np.array([[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, -1.0]])
+        return SE3(R, np.array([self.origin[0], self.origin[1], self.z]))
+
+
+@dataclass(frozen=True, eq=False)
+class ImagePlane:
+    """A flat printed target (e.g. a ChArUco board) lying on a horizontal plane.
+
+    The grey image is printed with its top-left corner at `origin`, image x at `yaw`
+    from world X and image y at ``yaw - 90 deg``; pixel ``(row i, column j)`` covers
+    ``[j, j + 1) x [i, i + 1)`` times `mm_per_px` in the board frame, whose z points
+    down into the table (``T_world_board = (Rz(yaw) diag(1, -1, -1), origin)``, the
+    frame of OpenCV's board object points).  A light margin of `margin_mm` surrounds it.
+
+    Parameters
+    ----------
+    origin : tuple of float
+        World ``(x, y)`` of the image's top-left corner, millimetres.
+    image : ndarray, shape (H, W)
+        Albedo per pixel in ``[0, 1]`` (an 8-bit board image divided by 255 and
+        scaled to the paper's reflectance).
+    mm_per_px : float
+    z, yaw : float
+    margin_mm : float
+    margin_albedo : float
+    """
+
+    origin: tuple[float, float]
+    image: _Arr
+    mm_per_px: float
+    z: float = 2.0
+    yaw: float = 0.0
+    margin_mm: float = 10.0
+    margin_albedo: float = 0.85
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "origin", _pair("origin", self.origin))
+        img = np.array(self.image, dtype=float)
+        if img.ndim != 2 or not np.all(np.isfinite(img)) or img.min() < 0 or img.max() > 1:
+            raise InputError("image must be a 2-D array of albedos in [0, 1]")
+        img.setflags(write=False)
+        object.__setattr__(self, "image", img)
+        require_positive("mm_per_px", self.mm_per_px)
+        require_finite("z", self.z)
+        require_finite("yaw", self.yaw)
+        _require_albedo(self.margin_albedo)
+
+    def _local(self, x: _Arr, y: _Arr) -> tuple[_Arr, _Arr]:
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        px, py = x - self.origin[0], y - self.origin[1]
+        return c * px + s * py, s * px - c * py
+
+    def _extent(self) -> tuple[float, float, float, float]:
+        h, w = self.image.shape
+        m = self.margin_mm
+        return -m, w * self.mm_per_px + m, -m, h * self.mm_per_px + m
+
+    def _bounds(self) -> _Arr | None:
+        x0, x1, y0, y1 = self._extent()
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        pts = np.array([[bx, by] for bx in (x0, x1) for by in (y0, y1)])
+        wx = self.origin[0] + c * pts[:, 0] + s * pts[:, 1]
+        wy = self.origin[1] + s * pts[:, 0] - c * pts[:, 1]
+        return np.array([[wx.min(), wy.min(), self.z], [wx.max(), wy.max(), self.z]])
+
+    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (self.z - o[2]) / dz
+        bx, by = self._local(o[0] + t * dx, o[1] + t * dy)
+        x0, x1, y0, y1 = self._extent()
+        ok = (t > _EPS) & (bx >= x0) & (bx <= x1) & (by >= y0) & (by <= y1)
+        return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
+
+    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
+        bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        h, w = self.image.shape
+        j = np.floor(bx / self.mm_per_px).astype(np.int64)
+        i = np.floor(by / self.mm_per_px).astype(np.int64)
+        inside = (i >= 0) & (i < h) & (j >= 0) & (j < w)
+        vals = self.image[np.clip(i, 0, h - 1), np.clip(j, 0, w - 1)]
+        return np.where(inside, vals, self.margin_albedo)
+
+    @property
+    def pose(self) -> SE3:
+        """``T_world_board`` (origin at the image's top-left corner), millimetres."""
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        R = np.array([[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, -1.0]])
+        return SE3(R, np.array([self.origin[0], self.origin[1], self.z]))
+
+
+Primitive = TablePlane | Disc | Cylinder | Box | Checkerboard | ImagePlane
 
 
 # --------------------------------------------------------------------------- scenes
@@ -491,9 +672,10 @@ class Scene:
     def __post_init__(self) -> None:
         prims = tuple(self.primitives)
         for p in prims:
-            if not isinstance(p, TablePlane | Disc | Cylinder | Box):
+            if not isinstance(p, TablePlane | Disc | Cylinder | Box | Checkerboard | ImagePlane):
                 raise InputError(
-                    "primitives must be TablePlane, Disc, Cylinder or Box objects, "
+                    "primitives must be TablePlane, Disc, Cylinder, Box, Checkerboard or "
+                    "ImagePlane objects, "
                     f"got {type(p).__name__}"
                 )
         object.__setattr__(self, "primitives", prims)
@@ -856,6 +1038,22 @@ def _window(prim: Primitive, camera: Camera, pose: Pose) -> tuple[slice, slice]:
     return slice(r0, r1), slice(c0, c1)
 
 
+@functools.lru_cache(maxsize=4)
+def _undistorted_grid(camera: Camera, offsets_bytes: bytes) -> _Arr:
+    """Undistorted normalised coordinates of every ray, shape (S, H, W, 2) (cached)."""
+    offsets = np.frombuffer(offsets_bytes, dtype=np.float64).reshape(-1, 2)
+    w, h = camera.width, camera.height
+    cx, cy = camera.principal_point
+    x = np.arange(w)[None, None, :] + offsets[:, 0, None, None]
+    y = np.arange(h)[None, :, None] + offsets[:, 1, None, None]
+    shape = (len(offsets), h, w)
+    d = np.stack([np.broadcast_to((x - cx) / camera.fx, shape),
+                  np.broadcast_to((y - cy) / camera.fy, shape)], axis=-1)
+    out = camera.undistort(d, iterations=10)  # contraction ~3 k1 r^2: ample
+    out.setflags(write=False)
+    return out
+
+
 def _cast(
     scene: Scene, camera: Camera, pose: Pose, offsets: _Arr
 ) -> tuple[_Arr, NDArray[np.int32], _Arr]:
@@ -870,6 +1068,9 @@ def _cast(
     u = k_inv[0, 0] * x + k_inv[0, 1] * y + k_inv[0, 2]
     v = k_inv[1, 0] * x + k_inv[1, 1] * y + k_inv[1, 2]
     shape = (len(offsets), h, w)
+    if camera.distortion:  # the ray of a distorted pixel: undistort its normalised position
+        n = _undistorted_grid(camera, offsets.tobytes())
+        u, v = n[..., 0], n[..., 1]
     # world direction R @ (u, v, 1): its camera-z component is 1, so t is the depth
     dx = np.broadcast_to(r[0, 0] * u + r[0, 1] * v + r[0, 2], shape)
     dy = np.broadcast_to(r[1, 0] * u + r[1, 1] * v + r[1, 2], shape)
@@ -911,6 +1112,7 @@ def render(
     blur_sigma_px: float = 0.6,
     noise_sigma: float = 0.0,
     rng: np.random.Generator | None = None,
+    vignetting: float = 0.0,
 ) -> Rendering:
     """Render what `camera` at `pose` sees of `scene`, with depth and labels.
 
@@ -931,6 +1133,13 @@ def render(
         (0 for none; needs `rng`).
     rng : numpy.random.Generator or None
         Source of the sensor noise.
+    vignetting : float
+        Relative fall-off of the light towards the image corners, in ``[0, 1)``: the
+        irradiance is multiplied by ``1 - vignetting * (r / r_corner)^2`` (0 for none).
+
+    Other real-camera effects: lens distortion is the camera's
+    (:attr:`robostereo.camera.Camera.distortion`), defocus is `blur_sigma_px`, surface
+    texture a :class:`NoiseTexture` on the table or on a :class:`Box`.
 
     Returns
     -------
@@ -968,8 +1177,8 @@ def render(
         raise InputError(f"scene must be a Scene, got {type(scene).__name__}")
     if not isinstance(camera, Camera):
         raise InputError(f"camera must be a Camera, got {type(camera).__name__}")
-    if not isinstance(pose, Pose):
-        raise InputError(f"pose must be a Pose, got {type(pose).__name__}")
+    if not isinstance(pose, Pose | SE3):
+        raise InputError(f"pose must be a Pose or an SE3, got {type(pose).__name__}")
     if isinstance(supersample, bool) or int(supersample) != supersample or supersample < 1:
         raise InputError(f"supersample must be an integer >= 1, got {supersample}")
     supersample = int(supersample)
@@ -979,6 +1188,9 @@ def render(
     require_finite("noise_sigma", noise_sigma)
     if noise_sigma < 0:
         raise InputError(f"noise_sigma must be >= 0, got {noise_sigma}")
+    require_finite("vignetting", vignetting)
+    if not 0.0 <= vignetting < 1.0:
+        raise InputError(f"vignetting must be in [0, 1), got {vignetting}")
     if noise_sigma > 0 and not isinstance(rng, np.random.Generator):
         raise InputError("rng must be a numpy.random.Generator when noise_sigma > 0")
     levels = camera.grey_levels
@@ -994,6 +1206,12 @@ def render(
         t0, l0, _ = _cast(scene, camera, pose, np.zeros((1, 2)))
         depth, label_map = t0[0], l0[0]
     intensity = np.clip(radiance, 0.0, 1.0).mean(axis=0) * (levels - 1)
+    if vignetting > 0:
+        cx, cy = camera.principal_point
+        xs = (np.arange(camera.width) - cx)[None, :]
+        ys = (np.arange(camera.height) - cy)[:, None]
+        r2 = xs * xs + ys * ys
+        intensity = intensity * (1.0 - vignetting * r2 / r2.max())
     if blur_sigma_px > 0:
         radius = max(1, math.ceil(4.0 * blur_sigma_px))
         intensity = cv2.GaussianBlur(

@@ -4,11 +4,15 @@ A *capture* is what the seed's VAL-II program leaves behind: two grabbed images,
 camera and the two camera poses the robot reported.  :func:`locate` turns one into 3-D
 points in the robot's world frame with a per-point depth bound:
 
-1. the epipolar frame of the two poses (:class:`~robostereo.camera.EpipolarGeometry`:
-   ``alpha``, ``theta_l``, ``theta_r``, ``D``);
-2. each image rectified by its ``theta`` (rows become epipolar lines), the pixels
-   whose source lies outside the grabbed image filled by replicating the nearest valid
-   pixel of the same row (:func:`rectify_pair`);
+1. the epipolar frame of the two poses: for two SCARA poses (camera looking down,
+   equal heights, no lens distortion) the seed's
+   (:class:`~robostereo.camera.EpipolarGeometry`: ``alpha``, ``theta_l``, ``theta_r``,
+   ``D``), for any other pair of 6-DoF poses
+   :class:`~robostereo.robot.geometry.GeneralEpipolarGeometry` (relative pose,
+   OpenCV ``stereoRectify`` with the intrinsics and distortion);
+2. each image rectified (rows become epipolar lines), the pixels whose source lies
+   outside the grabbed image filled by replicating the nearest valid pixel of the
+   same row (:func:`rectify_pair`);
 3. the matcher of chapter 3 (:func:`robostereo.pipeline.match_stereo`) on the two
    rectified images, within the capture's disparity range, told which pixels are
    filled so that no edge point whose features would see the fill is used;
@@ -19,9 +23,14 @@ Capture folder format (``DIR/``)::
 
     left.png, right.png   the grabbed (unrectified) images, 8-bit PNG, grey levels as
                           grabbed (0..127 for the seed's 7-bit camera)
-    capture.yaml          camera:          camera mapping (robostereo.camera YAML keys)
-                          pose_left:       {x, y, z (mm), phi_deg}  the reported poses,
-                          pose_right:      {x, y, z (mm), phi_deg}  world frame
+    capture.yaml          camera:          camera mapping (robostereo.camera YAML keys,
+                                           optional distortion [k1, k2, p1, p2, k3])
+                          pose_left:       camera pose of each view, world frame, in
+                          pose_right:      any form of robostereo.robot.poses
+                                           ({x, y, z (mm), phi_deg} for a SCARA), or
+                          flange_left:     the flange poses the robot reported plus
+                          flange_right:    the flange-to-camera transform (hand-eye
+                          hand_eye:        calibration): camera = flange @ hand_eye
                           bit_depth:       7 (optional; default the PNG's)
                           disparity_range: [min, max] px (optional), or
                           depth_range_mm:  [near, far] expected depth of the object
@@ -54,12 +63,14 @@ from robostereo.camera import (
     Pose,
     camera_from_dict,
     camera_to_dict,
-    pose_from_dict,
-    pose_to_dict,
     rectified_valid_mask,
 )
 from robostereo.errors import InputError, require_finite, require_positive
 from robostereo.pipeline import MatchParameters, MatchResult, match_stereo
+from robostereo.robot.geometry import GeneralEpipolarGeometry
+from robostereo.robot.poses import SE3, as_se3
+from robostereo.robot.poses import pose_from_dict as any_pose_from_dict
+from robostereo.robot.poses import pose_to_dict as any_pose_to_dict
 from robostereo.triangulation import StereoCamera
 
 __all__ = [
@@ -82,9 +93,11 @@ __all__ = [
 CAPTURE_YAML = "capture.yaml"
 _IMAGES = ("left.png", "right.png")
 _KEYS = (
-    "camera", "pose_left", "pose_right", "bit_depth", "disparity_range", "depth_range_mm",
-    "uncertainty", "robot", "scene",
+    "camera", "pose_left", "pose_right", "flange_left", "flange_right", "hand_eye",
+    "bit_depth", "disparity_range", "depth_range_mm", "uncertainty", "robot", "scene",
 )
+Rectification = Literal["auto", "theta", "general"]
+Geometry = EpipolarGeometry | GeneralEpipolarGeometry
 _UNCERTAINTY_KEYS = ("baseline_mm", "focal_length_mm", "disparity_px")
 
 DISPARITY_UNCERTAINTY_PX = 0.2
@@ -110,8 +123,10 @@ class Capture:
     left, right : ndarray, shape (H, W)
         Grabbed, unrectified images (grey levels as grabbed).
     camera : Camera
-    pose_left, pose_right : Pose
-        Reported camera poses; ``left`` is the viewpoint at ``-D/2`` on the baseline.
+    pose_left, pose_right : Pose or SE3
+        Camera poses (``T_world_camera``, world mm); ``left`` is the viewpoint at
+        ``-D/2`` on the baseline.  Two SCARA :class:`~robostereo.camera.Pose` s must be
+        at one height (the seed's set-up).
     bit_depth : int
         Significant bits of the grey levels (7 for the seed's camera).
     disparity_range : tuple of float or None
@@ -123,13 +138,17 @@ class Capture:
         ``dD``, ``ds`` and ``d(disp)`` of eq. (9).
     notes : mapping
         Free-form ``robot`` and ``scene`` notes (written, never read).
+    flange_left, flange_right, hand_eye : SE3 or None
+        Where the poses came from, when they came from the robot's flange poses and a
+        hand-eye transform (``pose = flange @ hand_eye``); written to ``capture.yaml``
+        in place of the camera poses.
     """
 
     left: NDArray[Any]
     right: NDArray[Any]
     camera: Camera
-    pose_left: Pose
-    pose_right: Pose
+    pose_left: Pose | SE3
+    pose_right: Pose | SE3
     bit_depth: int = 7
     disparity_range: tuple[float, float] | None = None
     depth_range_mm: tuple[float, float] | None = None
@@ -137,8 +156,23 @@ class Capture:
     focal_length_uncertainty_mm: float = 0.01
     disparity_uncertainty_px: float = DISPARITY_UNCERTAINTY_PX
     notes: Mapping[str, Any] = field(default_factory=dict)
+    flange_left: SE3 | None = None
+    flange_right: SE3 | None = None
+    hand_eye: SE3 | None = None
+
+    @classmethod
+    def from_flange(cls, *, flange_left: SE3, flange_right: SE3, hand_eye: SE3,
+                    **kwargs: Any) -> Capture:
+        """A capture whose camera poses are ``flange @ hand_eye`` (eye-in-hand)."""
+        return cls(pose_left=flange_left @ hand_eye, pose_right=flange_right @ hand_eye,
+                   flange_left=flange_left, flange_right=flange_right, hand_eye=hand_eye,
+                   **kwargs)
 
     def __post_init__(self) -> None:
+        for name in ("pose_left", "pose_right"):
+            if not isinstance(getattr(self, name), Pose | SE3):
+                raise InputError(f"{name} must be a Pose or an SE3, got "
+                                 f"{type(getattr(self, name)).__name__}")
         w, h = self.camera.image_size
         for name in ("left", "right"):
             img = np.asarray(getattr(self, name))
@@ -177,36 +211,83 @@ class Capture:
             require_finite(name, v)
             if v < 0:
                 raise InputError(f"{name} must be >= 0, got {v}")
-        if abs(self.pose_left.z - self.pose_right.z) > 1e-3:
-            raise InputError(
-                "pose_left and pose_right must be at the same height (the camera moves "
-                f"horizontally), got z = {self.pose_left.z} and {self.pose_right.z} mm"
-            )
-        EpipolarGeometry.from_poses(self.camera, self.pose_left, self.pose_right)  # D > 0
+        if self.is_scara:
+            if abs(self.pose_left.z - self.pose_right.z) > 1e-3:
+                raise InputError(
+                    "pose_left and pose_right must be at the same height (the camera moves "
+                    f"horizontally), got z = {self.pose_left.z} and {self.pose_right.z} mm"
+                )
+            EpipolarGeometry.from_poses(self.camera, self.pose_left, self.pose_right)  # D > 0
+        else:
+            d = float(np.linalg.norm(as_se3(self.pose_left).translation
+                                     - as_se3(self.pose_right).translation))
+            if not d > 1e-9:
+                raise InputError(f"baseline: the two optical centres coincide (D = {d} mm)")
 
     @property
-    def epipolar(self) -> EpipolarGeometry:
-        """Epipolar frame of the two poses (``alpha``, ``theta_l``, ``theta_r``, ``D``)."""
-        return EpipolarGeometry.from_poses(self.camera, self.pose_left, self.pose_right)
+    def is_scara(self) -> bool:
+        """Both poses in the SCARA form (looking down) and no lens distortion: the seed's
+        theta rectification applies."""
+        return (isinstance(self.pose_left, Pose) and isinstance(self.pose_right, Pose)
+                and not self.camera.distortion)
 
-    def resolved_disparity_range(self) -> tuple[float, float]:
+    def geometry(self, rectification: Rectification = "auto") -> Geometry:
+        """The epipolar frame and rectification of the two poses.
+
+        Parameters
+        ----------
+        rectification : {'auto', 'theta', 'general'}
+            ``'theta'``: the seed's turn of each view about its optical axis (SCARA
+            poses only); ``'general'``: OpenCV ``stereoRectify`` of the relative pose
+            (any poses); ``'auto'``: theta for SCARA captures, general otherwise.
+        """
+        if rectification not in ("auto", "theta", "general"):
+            raise InputError(f"rectification must be 'auto', 'theta' or 'general', got "
+                             f"{rectification!r}")
+        if rectification == "theta" or (rectification == "auto" and self.is_scara):
+            if not self.is_scara:
+                raise InputError("rectification 'theta' needs two SCARA poses "
+                                 "{x, y, z, phi_deg} and a camera without distortion")
+            return EpipolarGeometry.from_poses(self.camera, self.pose_left, self.pose_right)
+        return GeneralEpipolarGeometry.from_poses(self.camera, self.pose_left, self.pose_right)
+
+    @property
+    def epipolar(self) -> Geometry:
+        """:meth:`geometry` with ``'auto'``."""
+        return self.geometry()
+
+    def resolved_disparity_range(self, geometry: Geometry | None = None) -> tuple[float, float]:
         """`disparity_range`, or that of `depth_range_mm` (:func:`disparity_range_from_depth`)."""
         if self.disparity_range is not None:
             return self.disparity_range
         assert self.depth_range_mm is not None
-        return disparity_range_from_depth(self.camera, self.epipolar.baseline_mm,
-                                          self.depth_range_mm)
+        g = geometry if geometry is not None else self.epipolar
+        return disparity_range_from_depth(self.camera, g.baseline_mm, self.depth_range_mm,
+                                          fx=_rectified_fx(g))
 
-    def stereo_camera(self) -> StereoCamera:
+    def stereo_camera(self, geometry: Geometry | None = None) -> StereoCamera:
         """The rectified pair's geometry for eq. (6)-(9): intrinsics, ``D`` and bounds."""
         cam = self.camera
-        cx, cy = cam.principal_point
+        g = geometry if geometry is not None else self.epipolar
+        if isinstance(g, GeneralEpipolarGeometry):
+            K = g.K_rect
+            fx, fy, cx, cy = K[0, 0], K[1, 1], K[0, 2], K[1, 2]
+        else:
+            fx, fy = cam.fx, cam.fy
+            cx, cy = cam.principal_point
         return StereoCamera(
-            fx=cam.fx, fy=cam.fy, baseline_mm=self.epipolar.baseline_mm, cx=cx, cy=cy,
-            focal_uncertainty_px=self.focal_length_uncertainty_mm / cam.pixel_pitch_mm[0],
+            fx=fx, fy=fy, baseline_mm=g.baseline_mm, cx=cx, cy=cy,
+            focal_uncertainty_px=self.focal_length_uncertainty_mm / cam.pixel_pitch_mm[0]
+            * fx / cam.fx,
             baseline_uncertainty_mm=self.baseline_uncertainty_mm,
             disparity_uncertainty_px=self.disparity_uncertainty_px,
         )
+
+
+def _rectified_fx(geometry: Geometry) -> float:
+    if isinstance(geometry, GeneralEpipolarGeometry):
+        return float(geometry.K_rect[0, 0])
+    return geometry.camera.fx
 
 
 def _pair(name: str, value: object) -> tuple[float, float]:
@@ -223,9 +304,15 @@ def _pair(name: str, value: object) -> tuple[float, float]:
 
 
 def disparity_range_from_depth(
-    camera: Camera, baseline_mm: float, depth_range_mm: tuple[float, float]
+    camera: Camera,
+    baseline_mm: float,
+    depth_range_mm: tuple[float, float],
+    *,
+    fx: float | None = None,
 ) -> tuple[float, float]:
     """Whole-pixel disparity range ``(floor(fx D / far), ceil(fx D / near))``.
+
+    `fx` (pixels) defaults to the camera's; a general rectification has its own.
 
     Examples
     --------
@@ -239,7 +326,7 @@ def disparity_range_from_depth(
     if far < near:
         raise InputError(f"depth_range_mm must be [near, far] with near <= far, got "
                          f"{[near, far]}")
-    f = camera.fx * baseline_mm
+    f = (camera.fx if fx is None else fx) * baseline_mm
     return float(math.floor(f / far)), float(math.ceil(f / near))
 
 
@@ -284,12 +371,16 @@ def _plain(v: Any) -> Any:
 
 def capture_to_dict(capture: Capture) -> dict[str, Any]:
     """The ``capture.yaml`` mapping of a capture."""
-    out: dict[str, Any] = {
-        "camera": camera_to_dict(capture.camera),
-        "pose_left": pose_to_dict(capture.pose_left),
-        "pose_right": pose_to_dict(capture.pose_right),
-        "bit_depth": int(capture.bit_depth),
-    }
+    out: dict[str, Any] = {"camera": camera_to_dict(capture.camera)}
+    if capture.hand_eye is not None and capture.flange_left is not None \
+            and capture.flange_right is not None:
+        out["flange_left"] = any_pose_to_dict(capture.flange_left)
+        out["flange_right"] = any_pose_to_dict(capture.flange_right)
+        out["hand_eye"] = any_pose_to_dict(capture.hand_eye)
+    else:
+        out["pose_left"] = any_pose_to_dict(capture.pose_left)
+        out["pose_right"] = any_pose_to_dict(capture.pose_right)
+    out["bit_depth"] = int(capture.bit_depth)
     if capture.disparity_range is not None:
         out["disparity_range"] = [float(v) for v in capture.disparity_range]
     if capture.depth_range_mm is not None:
@@ -386,11 +477,29 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
     unknown = [k for k in data if k not in _KEYS]
     if unknown:
         raise InputError(f"{src}: unknown key '{unknown[0]}' (allowed: {', '.join(_KEYS)})")
-    for k in ("camera", "pose_left", "pose_right"):
-        if k not in data:
-            raise InputError(f"{src}: missing key '{k}'")
+    if "camera" not in data:
+        raise InputError(f"{src}: missing key 'camera'")
     camera = camera_from_dict(data["camera"], source=f"{src}: camera")
-    poses = [pose_from_dict(data[k], source=f"{src}: {k}") for k in ("pose_left", "pose_right")]
+    flange_keys = ("flange_left", "flange_right", "hand_eye")
+    extra: dict[str, Any] = {}
+    if any(k in data for k in flange_keys):
+        if "pose_left" in data or "pose_right" in data:
+            raise InputError(f"{src}: give camera poses (pose_left, pose_right) or flange "
+                             "poses with hand_eye, not both")
+        for k in flange_keys:
+            if k not in data:
+                raise InputError(f"{src}: missing key '{k}' (flange poses need "
+                                 "flange_left, flange_right and hand_eye)")
+        fl, fr, he = (as_se3(any_pose_from_dict(data[k], source=f"{src}: {k}"))
+                      for k in flange_keys)
+        poses: list[Pose | SE3] = [fl @ he, fr @ he]
+        extra = {"flange_left": fl, "flange_right": fr, "hand_eye": he}
+    else:
+        for k in ("pose_left", "pose_right"):
+            if k not in data:
+                raise InputError(f"{src}: missing key '{k}'")
+        poses = [any_pose_from_dict(data[k], source=f"{src}: {k}")
+                 for k in ("pose_left", "pose_right")]
     images = []
     bits_file = []
     for name in _IMAGES:
@@ -424,7 +533,7 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
     notes = {k: data[k] for k in ("robot", "scene") if k in data}
     try:
         return Capture(left=images[0], right=images[1], camera=camera, pose_left=poses[0],
-                       pose_right=poses[1], bit_depth=bit_depth, notes=notes, **kw)
+                       pose_right=poses[1], bit_depth=bit_depth, notes=notes, **extra, **kw)
     except InputError as exc:
         raise InputError(f"{d}: {exc}") from None
 
@@ -484,14 +593,14 @@ class RectifiedPair:
         (:func:`fill_invalid_rows`).
     valid_left, valid_right : ndarray of bool, shape (H, W)
         Pixels whose source lies inside the grabbed image.
-    geometry : EpipolarGeometry
+    geometry : EpipolarGeometry or GeneralEpipolarGeometry
     """
 
     left: NDArray[np.float64]
     right: NDArray[np.float64]
     valid_left: NDArray[np.bool_]
     valid_right: NDArray[np.bool_]
-    geometry: EpipolarGeometry
+    geometry: Geometry
 
 
 def _grey(image: NDArray[Any]) -> NDArray[np.float64]:
@@ -507,17 +616,21 @@ def _grey(image: NDArray[Any]) -> NDArray[np.float64]:
 def rectify_pair(
     left: ArrayLike,
     right: ArrayLike,
-    geometry: EpipolarGeometry,
+    geometry: Geometry,
     *,
     interpolation: Literal["nearest", "linear", "cubic", "lanczos4"] = "linear",
 ) -> RectifiedPair:
-    """Rectify both views by their ``theta`` and fill what falls outside the images.
+    """Rectify both views and fill what falls outside the images.
+
+    The seed's theta rectification for an :class:`EpipolarGeometry`, OpenCV's
+    (with undistortion) for a
+    :class:`~robostereo.robot.geometry.GeneralEpipolarGeometry`.
 
     Parameters
     ----------
     left, right : array_like, shape (H, W) (or (H, W, 3) colour)
         Grabbed images of the left and right viewpoints.
-    geometry : EpipolarGeometry
+    geometry : EpipolarGeometry or GeneralEpipolarGeometry
     interpolation : str
         Interpolator of :func:`robostereo.camera.rectify_image` (default linear: on the
         simulated block its sub-pixel edges were nearer the truth than cubic's).
@@ -539,7 +652,10 @@ def rectify_pair(
     out: dict[str, Any] = {}
     for side, img in (("left", left), ("right", right)):
         r = geometry.rectify(_grey(np.asarray(img)), side, interpolation=interpolation)
-        valid = rectified_valid_mask(geometry.camera, geometry.theta(side))
+        if isinstance(geometry, GeneralEpipolarGeometry):
+            valid = geometry.valid_mask(side)
+        else:
+            valid = rectified_valid_mask(geometry.camera, geometry.theta(side))
         out[side] = fill_invalid_rows(r, valid)
         out[f"valid_{side}"] = valid
     return RectifiedPair(geometry=geometry, **out)
@@ -559,14 +675,21 @@ class LocateParameters:
         Default: robostereo's defaults (sub-pixel edges, threshold 8, every row).
     interpolation : str
         Rectification interpolator (:func:`rectify_pair`).
+    rectification : {'auto', 'theta', 'general'}
+        :meth:`Capture.geometry`: the seed's theta rectification for SCARA captures
+        and OpenCV's for all others (``'auto'``), or one of them forced.
     """
 
     match: MatchParameters = field(default_factory=MatchParameters)
     interpolation: Literal["nearest", "linear", "cubic", "lanczos4"] = "linear"
+    rectification: Rectification = "auto"
 
     def __post_init__(self) -> None:
         if not isinstance(self.match, MatchParameters):
             raise InputError("match must be a MatchParameters")
+        if self.rectification not in ("auto", "theta", "general"):
+            raise InputError(f"rectification must be 'auto', 'theta' or 'general', got "
+                             f"{self.rectification!r}")
 
 
 @dataclass(frozen=True)
@@ -610,7 +733,7 @@ class Located:
         return int(self.row.shape[0])
 
     @property
-    def geometry(self) -> EpipolarGeometry:
+    def geometry(self) -> Geometry:
         return self.rectified.geometry
 
     def matches_after(self, iteration: int) -> NDArray[np.intp]:
@@ -649,7 +772,7 @@ def locate(capture: Capture, *, params: LocateParameters | None = None) -> Locat
 
     Notes
     -----
-    1. Epipolar frame of the two reported poses (seed 2.2).
+    1. Epipolar frame of the two reported poses (seed 2.2; :meth:`Capture.geometry`).
     2. Rectify and fill (:func:`rectify_pair`).
     3. :func:`robostereo.pipeline.match_stereo` with the capture's bit depth and
        disparity range (chapter 3).
@@ -662,12 +785,14 @@ def locate(capture: Capture, *, params: LocateParameters | None = None) -> Locat
     Seed 2.2, chapter 3, 3.6 (eq. 6-8), 3.7 (eq. 9), 4.2.
     """
     p = params or LocateParameters()
-    geometry = capture.epipolar
+    geometry = capture.geometry(p.rectification)
+    if isinstance(geometry, GeneralEpipolarGeometry):
+        geometry.check_overlap()
     rect = rectify_pair(capture.left, capture.right, geometry,
                         interpolation=p.interpolation)
     mp = replace(p.match, bit_depth=int(capture.bit_depth))
-    drange = capture.resolved_disparity_range()
-    sc = capture.stereo_camera()
+    drange = capture.resolved_disparity_range(geometry)
+    sc = capture.stereo_camera(geometry)
     result = match_stereo(rect.left, rect.right, drange, params=mp, camera=sc,
                           valid_left=rect.valid_left, valid_right=rect.valid_right)
     rows, xl, xr = result.rows, result.x_left, result.x_right

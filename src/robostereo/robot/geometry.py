@@ -1,0 +1,252 @@
+"""Stereo geometry of two general 6-DoF camera poses (the seed's 2.2 for any arm).
+
+The seed's SCARA keeps the camera looking straight down and moves it horizontally, so
+each view is rectified by a turn ``theta`` about its optical axis
+(:class:`robostereo.camera.EpipolarGeometry`).  A six-axis arm tilts the camera and
+moves it in all six coordinates; :class:`GeneralEpipolarGeometry` rectifies such a
+pair with OpenCV:
+
+1. the relative pose ``T_right_left`` (``x_right = R x_left + T``,
+   :func:`robostereo.robot.poses.relative_pose`);
+2. :func:`cv2.stereoRectify` with the camera's intrinsics and distortion
+   (``CALIB_ZERO_DISPARITY``, ``alpha = 0``) gives the rotations ``R1``, ``R2`` of the
+   two virtual cameras and their common projection; an extra quarter or half turn
+   about the optical axis makes the baseline run along +x of the rectified images
+   whatever way it runs through the grabbed ones (OpenCV picks rows or columns);
+3. :func:`cv2.initUndistortRectifyMap` and :func:`cv2.remap` resample each view.
+
+The rectified pair keeps the camera's pixel grid (``K``, without distortion), has
+rows that are epipolar lines and ``d = x_l - x_r`` positive in front.  Its
+epipolar frame is the seed's: origin mid-baseline, X along the baseline from the left
+to the right optical centre, Z along the virtual cameras' common optical axis, Y = Z x X;
+:meth:`GeneralEpipolarGeometry.to_world` carries eq. (6)-(8) points into the robot's
+base frame.  For two SCARA poses (looking down, equal heights) the epipolar frame is
+the seed's exactly; only the resampling differs.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Literal
+
+import cv2
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robostereo.camera import Camera, Pose
+from robostereo.errors import InputError
+from robostereo.robot.poses import SE3, as_se3, relative_pose
+
+__all__ = [
+    "MIN_OVERLAP_ROWS",
+    "GeneralEpipolarGeometry",
+]
+
+MIN_OVERLAP_ROWS = 10
+"""Fewest rectified rows that both views must cover for a pair to be matched."""
+
+Side = Literal["left", "right"]
+
+
+def _quarter_turn(b: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Rotation about z (multiple of 90 deg) that takes the in-plane direction of `b`
+    to +x."""
+    k = round(math.atan2(b[1], b[0]) / (math.pi / 2))
+    a = -k * math.pi / 2
+    c, s = round(math.cos(a)), round(math.sin(a))
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+@dataclass(frozen=True, eq=False)
+class GeneralEpipolarGeometry:
+    """Rectification of two views of one camera from two general poses.
+
+    Build it with :meth:`from_poses`.
+
+    Attributes
+    ----------
+    camera : Camera
+        The grabbing camera (intrinsics and distortion).
+    pose_left, pose_right : SE3
+        ``T_world_camera`` of the two views (world millimetres).
+    R1, R2 : ndarray, shape (3, 3)
+        Rotation from each grabbed camera's frame to its rectified camera's frame.
+    K_rect : ndarray, shape (3, 3)
+        Intrinsics of both rectified views: the grabbing camera's ``K`` (its pixel
+        grid, no distortion).
+    baseline_mm : float
+        ``D``, the distance between the optical centres.
+    origin : ndarray, shape (3,)
+        Mid-baseline point, world millimetres.
+    rotation : ndarray, shape (3, 3)
+        Columns: the epipolar frame's X, Y, Z axes in the world.
+
+    Examples
+    --------
+    Two views 30 mm apart, tilted 25 degrees, looking at the origin:
+
+    >>> from robostereo.camera import Camera
+    >>> cam = Camera(image_size=(320, 240), pixel_pitch_mm=(0.02, 0.02))
+    >>> a = SE3.look_at([-15.0, -400.0, 900.0], [0.0, 0.0, 0.0])
+    >>> b = SE3.look_at([15.0, -390.0, 905.0], [0.0, 0.0, 0.0])
+    >>> g = GeneralEpipolarGeometry.from_poses(cam, a, b)
+    >>> round(g.baseline_mm, 3)
+    32.016
+    >>> P = np.array([[10.0, 20.0, 30.0]])
+    >>> pl = g.to_rectified(cam.project(P, a)[0], "left")
+    >>> pr = g.to_rectified(cam.project(P, b)[0], "right")
+    >>> bool(abs(pl[0, 1] - pr[0, 1]) < 1e-6), bool(pl[0, 0] > pr[0, 0])  # same row, d > 0
+    (True, True)
+    """
+
+    camera: Camera
+    pose_left: SE3
+    pose_right: SE3
+    R1: NDArray[np.float64]
+    R2: NDArray[np.float64]
+    K_rect: NDArray[np.float64]
+    baseline_mm: float
+    origin: NDArray[np.float64]
+    rotation: NDArray[np.float64]
+
+    @classmethod
+    def from_poses(
+        cls, camera: Camera, pose_left: Pose | SE3, pose_right: Pose | SE3
+    ) -> GeneralEpipolarGeometry:
+        """Rectify the views at `pose_left` and `pose_right` (camera poses, world mm).
+
+        Raises
+        ------
+        InputError
+            Zero baseline (the optical centres coincide).
+
+        Notes
+        -----
+        ``T_right_left = T_world_right^-1 T_world_left``; :func:`cv2.stereoRectify`
+        on ``K``, the distortion and ``(R, T)`` of it; ``R_i <- Q R_i`` with ``Q`` the
+        quarter turn taking the baseline ``R1 (c_r - c_l)`` to +x; ``K_rect = K``.
+
+        References
+        ----------
+        Seed 2.2 (the epipolar frame; rectification by theta is the SCARA case).
+        """
+        tl, tr = as_se3(pose_left), as_se3(pose_right)
+        rel = relative_pose(tl, tr)
+        D = float(np.linalg.norm(tr.translation - tl.translation))
+        if not D > 1e-9:
+            raise InputError(f"baseline: the two optical centres coincide (D = {D} mm)")
+        K = camera.K
+        dist = camera.dist_coeffs
+        size = camera.image_size
+        R1, R2, _P1, _P2, _Q, _r1, _r2 = cv2.stereoRectify(
+            K, dist, K, dist, size, rel.rotation, rel.translation.reshape(3, 1),
+            flags=cv2.CALIB_ZERO_DISPARITY, alpha=0.0,
+        )
+        # baseline (left to right centre) in the left camera's frame, then rectified
+        b_left = tl.rotation.T @ (tr.translation - tl.translation)
+        Q = _quarter_turn(R1 @ b_left)
+        R1, R2 = Q @ R1, Q @ R2
+        # the rectified views keep the grabbing camera's pixel grid (fx, fy, principal
+        # point): no resampling to another scale, so edge thresholds and eq. 9's
+        # d(disp) mean what they mean for the grabbed images (P1's zoom is not used)
+        K_rect = camera.K.copy()
+        rot_epi = tl.rotation @ R1.T  # rectified-left axes in the world
+        origin = 0.5 * (tl.translation + tr.translation)
+        return cls(camera=camera, pose_left=tl, pose_right=tr, R1=R1, R2=R2, K_rect=K_rect,
+                   baseline_mm=D, origin=origin, rotation=rot_epi)
+
+    # --------------------------------------------------------------------- frames
+    def _R(self, side: Side) -> NDArray[np.float64]:
+        if side not in ("left", "right"):
+            raise InputError(f"side must be 'left' or 'right', got {side!r}")
+        return self.R1 if side == "left" else self.R2
+
+    def to_world(self, points_epi: ArrayLike) -> NDArray[np.float64]:
+        """Epipolar-frame points ``(N, 3)`` (mm, origin mid-baseline) to the world."""
+        p = np.atleast_2d(np.asarray(points_epi, dtype=float))
+        if p.shape[-1] != 3:
+            raise InputError(f"points_epi must have shape (N, 3), got {p.shape}")
+        return p @ self.rotation.T + self.origin
+
+    def from_world(self, points: ArrayLike) -> NDArray[np.float64]:
+        """World points ``(N, 3)`` to the epipolar frame: ``R^T (P - origin)``."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        return (p - self.origin) @ self.rotation
+
+    def to_rectified(self, points: ArrayLike, side: Side) -> NDArray[np.float64]:
+        """Grabbed-image pixels ``(N, 2)`` of one view to its rectified image."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        cam = self.camera
+        cx, cy = cam.principal_point
+        n = cam.undistort(np.column_stack([(p[:, 0] - cx) / cam.fx, (p[:, 1] - cy) / cam.fy]))
+        ray = np.column_stack([n, np.ones(len(n))]) @ self._R(side).T
+        with np.errstate(divide="ignore", invalid="ignore"):
+            uv = ray[:, :2] / ray[:, 2:3]
+        K = self.K_rect
+        return np.column_stack([K[0, 0] * uv[:, 0] + K[0, 2], K[1, 1] * uv[:, 1] + K[1, 2]])
+
+    def from_rectified(self, points: ArrayLike, side: Side) -> NDArray[np.float64]:
+        """Rectified pixels ``(N, 2)`` back to the grabbed (distorted) image."""
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        K = self.K_rect
+        ray = np.column_stack([(p[:, 0] - K[0, 2]) / K[0, 0], (p[:, 1] - K[1, 2]) / K[1, 1],
+                               np.ones(len(p))]) @ self._R(side)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            n = self.camera.distort(ray[:, :2] / ray[:, 2:3])
+        cam = self.camera
+        cx, cy = cam.principal_point
+        return np.column_stack([cam.fx * n[:, 0] + cx, cam.fy * n[:, 1] + cy])
+
+    # --------------------------------------------------------------------- images
+    def _maps(self, side: Side) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
+        mx, my = cv2.initUndistortRectifyMap(
+            self.camera.K, self.camera.dist_coeffs, self._R(side), self.K_rect,
+            self.camera.image_size, cv2.CV_32FC1,
+        )
+        return mx, my
+
+    def valid_mask(self, side: Side) -> NDArray[np.bool_]:
+        """Rectified pixels whose source lies within the grabbed image's pixel centres."""
+        mx, my = self._maps(side)
+        w, h = self.camera.image_size
+        return (mx >= 0) & (mx <= w - 1) & (my >= 0) & (my <= h - 1)
+
+    def rectify(
+        self,
+        image: ArrayLike,
+        side: Side,
+        *,
+        interpolation: Literal["nearest", "linear", "cubic", "lanczos4"] = "linear",
+        fill_value: float = math.nan,
+    ) -> NDArray[np.float64]:
+        """Undistort and rectify the grabbed image of one view, shape ``(H, W)``.
+
+        Pixels whose source lies outside the grabbed image are `fill_value`.
+        """
+        from robostereo.camera import _INTERPOLATION
+
+        img = np.asarray(image, dtype=np.float64)
+        w, h = self.camera.image_size
+        if img.shape != (h, w):
+            raise InputError(f"image must have shape (H, W) = ({h}, {w}), got {img.shape}")
+        if interpolation not in _INTERPOLATION:
+            raise InputError(
+                f"interpolation must be one of {sorted(_INTERPOLATION)}, got {interpolation!r}"
+            )
+        mx, my = self._maps(side)
+        out = cv2.remap(img, mx, my, _INTERPOLATION[interpolation],
+                        borderMode=cv2.BORDER_REPLICATE)
+        out[~((mx >= 0) & (mx <= w - 1) & (my >= 0) & (my <= h - 1))] = fill_value
+        return out
+
+    def check_overlap(self) -> None:
+        """Raise InputError if fewer than :data:`MIN_OVERLAP_ROWS` rectified rows hold
+        data in both views (views that do not overlap)."""
+        vl, vr = self.valid_mask("left"), self.valid_mask("right")
+        both = int(np.count_nonzero((vl.sum(axis=1) >= 10) & (vr.sum(axis=1) >= 10)))
+        if both < MIN_OVERLAP_ROWS:
+            raise InputError(
+                f"the two views do not overlap: {both} rectified rows are seen by both "
+                f"(need at least {MIN_OVERLAP_ROWS})"
+            )

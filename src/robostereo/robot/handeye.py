@@ -1,0 +1,832 @@
+"""Eye-in-hand calibration: the camera's pose on the robot's flange (AX = XB).
+
+The seed's camera pose came from the robot alone (a fixed forearm mount, seed 4.1).
+A camera bolted to any arm's flange needs the flange-to-camera transform
+``X = T_flange_camera``.  With the flange poses ``F_i = T_base_flange`` the robot
+reports and the board poses ``C_i = T_camera_board`` seen in each view,
+``F_i X C_i = T_base_board`` is the same for every view, so for every pair of views
+
+    ``A X = X B``,   ``A = F_j^-1 F_i``,   ``B = C_j C_i^-1``.
+
+OpenCV 5's Python package no longer exposes ``calibrateHandEye``; this module
+solves AX = XB with the published closed forms on numpy and scipy:
+
+* ``'tsai'``: Tsai and Lenz (1989), rotation from the modified Rodrigues vectors;
+* ``'park'``: Park and Martin (1994), rotation from the logarithms,
+  ``R_X = (M^T M)^(-1/2) M^T`` with ``M = sum beta_i alpha_i^T``;
+* ``'daniilidis'``: Daniilidis (1999), rotation and translation together from the
+  null space of the stacked dual-quaternion equations.
+
+For ``'tsai'`` and ``'park'`` the translation is the least-squares solution of
+``(R_A - I) t_X = R_X t_B - t_A``.  All pairs of views are used.
+
+:func:`calibrate_eye_in_hand` runs the whole calibration from board images: corner
+detection, :func:`cv2.calibrateCamera` (intrinsics and distortion, per-view board
+poses) and AX = XB.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import cv2
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.linalg import sqrtm
+from scipy.spatial.transform import Rotation
+
+from robostereo.camera import Camera
+from robostereo.errors import InputError
+from robostereo.robot.poses import SE3
+
+__all__ = [
+    "DEFAULT_METHOD",
+    "METHODS",
+    "MIN_VIEWS",
+    "VIEWS_YAML",
+    "Board",
+    "Charuco",
+    "Chessboard",
+    "EyeInHandCalibration",
+    "HandEyeResiduals",
+    "HandEyeViews",
+    "calibrate_eye_in_hand",
+    "check_rotation_axes",
+    "describe_board",
+    "detect_board",
+    "detect_chessboard",
+    "handeye_residuals",
+    "load_handeye_yaml",
+    "motion_pairs",
+    "read_views",
+    "save_handeye_yaml",
+    "solve_ax_xb",
+    "write_views",
+]
+
+HandEyeMethod = Literal["tsai", "park", "daniilidis"]
+METHODS: tuple[str, ...] = ("tsai", "park", "daniilidis")
+DEFAULT_METHOD: HandEyeMethod = "park"
+"""The default method: the most accurate of the three on the simulated views (see
+the README's hand-eye table; Park-Martin and Daniilidis are within a few percent,
+Tsai-Lenz behind)."""
+MIN_VIEWS = 3
+"""Fewest usable views: two motions with non-parallel rotation axes need three poses."""
+MIN_AXIS_SPREAD_DEG = 2.0
+"""Least angle between rotation axes of the motions for the rotation to be determined."""
+
+
+def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    x, y, z = v
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def motion_pairs(
+    flange_poses: Sequence[SE3], board_poses: Sequence[SE3]
+) -> tuple[list[SE3], list[SE3]]:
+    """The motions ``A = F_j^-1 F_i`` and ``B = C_j C_i^-1`` of every pair ``i < j``.
+
+    Parameters
+    ----------
+    flange_poses : sequence of SE3
+        ``F_i = T_base_flange`` of each view (mm).
+    board_poses : sequence of SE3
+        ``C_i = T_camera_board`` of each view (mm), e.g. from :func:`cv2.calibrateCamera`.
+
+    Returns
+    -------
+    A, B : list of SE3
+        ``n (n - 1) / 2`` motions each.
+    """
+    if len(flange_poses) != len(board_poses):
+        raise InputError(f"flange_poses and board_poses must be as many, got "
+                         f"{len(flange_poses)} and {len(board_poses)}")
+    A, B = [], []
+    n = len(flange_poses)
+    for i in range(n):
+        for j in range(i + 1, n):
+            A.append(flange_poses[j].inv() @ flange_poses[i])
+            B.append(board_poses[j] @ board_poses[i].inv())
+    return A, B
+
+
+def check_rotation_axes(A: Sequence[SE3], *, min_spread_deg: float = MIN_AXIS_SPREAD_DEG) -> None:
+    """Refuse motions whose rotations are (nearly) all about one axis.
+
+    Rotations about one axis only (as any SCARA gives: every flange rotation is about
+    the vertical) leave the hand-eye rotation's turn about that axis and the
+    translation along it undetermined.
+
+    Raises
+    ------
+    InputError
+        Fewer than two motions with a rotation of at least 1 degree, or their axes all
+        within `min_spread_deg` of one line.
+    """
+    axes = []
+    for a in A:
+        rv = a.rotvec
+        ang = float(np.linalg.norm(rv))
+        if ang > math.radians(1.0):
+            axes.append(rv / ang)
+    if len(axes) < 2:
+        raise InputError("hand-eye: the flange hardly rotates between the views (need "
+                         "rotations of at least 1 deg about two different axes)")
+    ax = np.asarray(axes)
+    # spread: largest angle between an axis and the principal axis (sign-free)
+    _, _, vt = np.linalg.svd(ax, full_matrices=False)
+    cosines = np.abs(ax @ vt[0])
+    spread = math.degrees(math.acos(min(1.0, float(cosines.min()))))
+    if spread < min_spread_deg:
+        raise InputError(
+            f"hand-eye: all flange rotations are about one axis (spread {spread:.2f} deg < "
+            f"{min_spread_deg:g} deg), as a SCARA's are; tilt the flange about at least "
+            "two different axes between the views"
+        )
+
+
+def _translation(A: Sequence[SE3], B: Sequence[SE3], R: NDArray[np.float64]) -> NDArray:
+    M = np.vstack([a.rotation - np.eye(3) for a in A])
+    rhs = np.concatenate([R @ b.translation - a.translation for a, b in zip(A, B, strict=True)])
+    t, *_ = np.linalg.lstsq(M, rhs, rcond=None)
+    return t
+
+
+def _tsai(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
+    rows, rhs = [], []
+    for a, b in zip(A, B, strict=True):
+        ra, rb = a.rotvec, b.rotvec
+        ta, tb = np.linalg.norm(ra), np.linalg.norm(rb)
+        pa = 2.0 * math.sin(ta / 2) * (ra / ta) if ta > 1e-12 else np.zeros(3)
+        pb = 2.0 * math.sin(tb / 2) * (rb / tb) if tb > 1e-12 else np.zeros(3)
+        rows.append(_skew(pa + pb))
+        rhs.append(pb - pa)
+    pc_, *_ = np.linalg.lstsq(np.vstack(rows), np.concatenate(rhs), rcond=None)
+    pc = 2.0 * pc_ / math.sqrt(1.0 + float(pc_ @ pc_))
+    n2 = float(pc @ pc)
+    R = (1.0 - n2 / 2.0) * np.eye(3) + 0.5 * (np.outer(pc, pc)
+                                              + math.sqrt(4.0 - n2) * _skew(pc))
+    return SE3(R, _translation(A, B, R))
+
+
+def _park(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
+    M = np.zeros((3, 3))
+    for a, b in zip(A, B, strict=True):
+        M += np.outer(b.rotvec, a.rotvec)
+    R = np.real(np.linalg.inv(sqrtm(M.T @ M))) @ M.T
+    u, _, vt = np.linalg.svd(R)
+    R = u @ vt
+    return SE3(R, _translation(A, B, R))
+
+
+def _dual_quaternion(T: SE3) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    x, y, z, w = Rotation.from_matrix(T.rotation).as_quat()
+    q = np.array([w, x, y, z])
+    t = np.concatenate([[0.0], T.translation])
+    return q, 0.5 * _qmul(t, q)
+
+
+def _qmul(p: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.float64]:
+    pw, pv = p[0], p[1:]
+    qw, qv = q[0], q[1:]
+    return np.concatenate([[pw * qw - pv @ qv], pw * qv + qw * pv + np.cross(pv, qv)])
+
+
+def _daniilidis(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
+    rows = []
+    for a, b in zip(A, B, strict=True):
+        qa, qa_d = _dual_quaternion(a)
+        qb, qb_d = _dual_quaternion(b)
+        if qa[0] * qb[0] < 0:  # one sign for both (A and B turn by the same angle)
+            qb, qb_d = -qb, -qb_d
+        va, vb, va_d, vb_d = qa[1:], qb[1:], qa_d[1:], qb_d[1:]
+        S = np.zeros((6, 8))
+        S[:3, 0] = va - vb
+        S[:3, 1:4] = _skew(va + vb)
+        S[3:, 0] = va_d - vb_d
+        S[3:, 1:4] = _skew(va_d + vb_d)
+        S[3:, 4] = va - vb
+        S[3:, 5:8] = _skew(va + vb)
+        rows.append(S)
+    _, _, vt = np.linalg.svd(np.vstack(rows))
+    v7, v8 = vt[-2], vt[-1]
+    u1, w1, u2, w2 = v7[:4], v7[4:], v8[:4], v8[4:]
+    a_ = u1 @ w1
+    b_ = u1 @ w2 + u2 @ w1
+    c_ = u2 @ w2
+    disc = max(b_ * b_ - 4 * a_ * c_, 0.0)
+    if abs(a_) < 1e-15:
+        roots = [-c_ / b_] if abs(b_) > 1e-15 else [0.0]
+    else:
+        roots = [(-b_ + math.sqrt(disc)) / (2 * a_), (-b_ - math.sqrt(disc)) / (2 * a_)]
+    vals = [s * s * (u1 @ u1) + 2 * s * (u1 @ u2) + u2 @ u2 for s in roots]
+    k = int(np.argmax(vals))
+    s = roots[k]
+    l2 = 1.0 / math.sqrt(vals[k])
+    l1 = s * l2
+    q = l1 * u1 + l2 * u2
+    q_d = l1 * w1 + l2 * w2
+    q_conj = q * np.array([1.0, -1.0, -1.0, -1.0])
+    t = 2.0 * _qmul(q_d, q_conj)[1:]
+    R = Rotation.from_quat([q[1], q[2], q[3], q[0]]).as_matrix()
+    return SE3(R, t)
+
+
+_SOLVERS = {"tsai": _tsai, "park": _park, "daniilidis": _daniilidis}
+
+
+def solve_ax_xb(
+    A: Sequence[SE3], B: Sequence[SE3], *, method: HandEyeMethod = DEFAULT_METHOD
+) -> SE3:
+    """Solve ``A_i X = X B_i`` for the rigid transform ``X`` (closed forms).
+
+    Parameters
+    ----------
+    A, B : sequence of SE3
+        Paired motions (:func:`motion_pairs`): flange motions ``A_i`` and camera
+        motions ``B_i``, millimetres.
+    method : {'park', 'tsai', 'daniilidis'}
+        Tsai-Lenz, Park-Martin or Daniilidis (module docstring).
+
+    Returns
+    -------
+    SE3
+        ``X = T_flange_camera``.
+
+    Raises
+    ------
+    InputError
+        Unknown method, fewer than two motions, rotations about one axis only.
+
+    References
+    ----------
+    R. Tsai, R. Lenz, IEEE Trans. Robotics and Automation 5(3), 1989;
+    F. Park, B. Martin, IEEE Trans. Robotics and Automation 10(5), 1994;
+    K. Daniilidis, Int. J. Robotics Research 18(3), 1999.
+
+    Examples
+    --------
+    >>> X = SE3.from_rotvec([10.0, -5.0, 80.0], [0.2, -0.1, 0.3])
+    >>> A = [SE3.from_rotvec([1, 2, 3], [0.5, 0, 0]), SE3.from_rotvec([0, 5, 1], [0, 0.4, 0.2])]
+    >>> B = [X.inv() @ a @ X for a in A]
+    >>> [round(v, 9) for v in X.distance_to(solve_ax_xb(A, B, method="tsai"))]
+    [0.0, 0.0]
+    """
+    if method not in _SOLVERS:
+        raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if len(A) != len(B) or len(A) < 2:
+        raise InputError(f"hand-eye needs at least 2 paired motions, got {len(A)} and {len(B)}")
+    check_rotation_axes(A)
+    return _SOLVERS[method](A, B)
+
+
+@dataclass(frozen=True)
+class HandEyeResiduals:
+    """How well ``X`` fits ``A_i X = X B_i``.
+
+    Attributes
+    ----------
+    rotation_deg : ndarray, shape (M,)
+        Angle of ``(A_i X)^-1 (X B_i)`` per motion, degrees.
+    translation_mm : ndarray, shape (M,)
+        Norm of its translation ``|R_A t_X + t_A - R_X t_B - t_X|``, millimetres.
+    """
+
+    rotation_deg: NDArray[np.float64]
+    translation_mm: NDArray[np.float64]
+
+    @property
+    def rms_rotation_deg(self) -> float:
+        return float(np.sqrt(np.mean(self.rotation_deg**2)))
+
+    @property
+    def rms_translation_mm(self) -> float:
+        return float(np.sqrt(np.mean(self.translation_mm**2)))
+
+
+def handeye_residuals(A: Sequence[SE3], B: Sequence[SE3], X: SE3) -> HandEyeResiduals:
+    """AX = XB residuals of `X` on each motion pair (:class:`HandEyeResiduals`)."""
+    rot, tr = [], []
+    for a, b in zip(A, B, strict=True):
+        lhs, rhs = a @ X, X @ b
+        rot.append(math.degrees((lhs.inv() @ rhs).angle))
+        tr.append(float(np.linalg.norm(lhs.translation - rhs.translation)))
+    return HandEyeResiduals(np.asarray(rot), np.asarray(tr))
+
+
+# ------------------------------------------------------------------------ boards
+
+
+@dataclass(frozen=True)
+class Chessboard:
+    """A chessboard calibration target.
+
+    Parameters
+    ----------
+    inner_corners : tuple of int
+        ``(columns, rows)`` of inner corners (OpenCV's ``patternSize``).
+    square_mm : float
+        Side of one square, millimetres.
+
+    The board frame has its origin at the first inner corner, x along the columns,
+    y along the rows, z into the board (the right-handed frame of OpenCV's
+    ``objectPoints``).  The square diagonally outside the first inner corner is dark,
+    the one outside the last is light when ``columns + rows`` is odd (e.g. 9 x 6):
+    that fixes the order of the detected corners.
+    """
+
+    inner_corners: tuple[int, int] = (9, 6)
+    square_mm: float = 20.0
+
+    def __post_init__(self) -> None:
+        c, r = self.inner_corners
+        if int(c) != c or int(r) != r or c < 2 or r < 2:
+            raise InputError(f"inner_corners must be (columns, rows) >= 2, got "
+                             f"{self.inner_corners}")
+        if not (math.isfinite(self.square_mm) and self.square_mm > 0):
+            raise InputError(f"square_mm must be a finite number > 0, got {self.square_mm}")
+        object.__setattr__(self, "inner_corners", (int(c), int(r)))
+
+    @property
+    def object_points(self) -> NDArray[np.float64]:
+        """Inner corners in the board frame, shape ``(columns * rows, 3)``, mm."""
+        c, r = self.inner_corners
+        xs, ys = np.meshgrid(np.arange(c), np.arange(r))
+        return np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)]) * self.square_mm
+
+
+@dataclass(frozen=True)
+class Charuco:
+    """A ChArUco calibration target (a chessboard with ArUco markers in its light squares).
+
+    Parameters
+    ----------
+    squares : tuple of int
+        ``(columns, rows)`` of squares (OpenCV's ``CharucoBoard`` size).
+    square_mm, marker_mm : float
+        Side of a square and of a marker, millimetres.
+    dictionary : str
+        Name of an OpenCV predefined ArUco dictionary, e.g. ``'DICT_5X5_100'``.
+
+    The board frame is OpenCV's: origin at the board's top-left corner, x along the
+    columns, y along the rows, z into the board.  Each detected corner has an id, so a
+    partly seen board still gives corners in a known order.
+    """
+
+    squares: tuple[int, int] = (8, 6)
+    square_mm: float = 12.0
+    marker_mm: float = 9.0
+    dictionary: str = "DICT_5X5_100"
+
+    def __post_init__(self) -> None:
+        c, r = self.squares
+        if int(c) != c or int(r) != r or c < 3 or r < 3:
+            raise InputError(f"squares must be (columns, rows) >= 3, got {self.squares}")
+        object.__setattr__(self, "squares", (int(c), int(r)))
+        for name in ("square_mm", "marker_mm"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise InputError(f"{name} must be a finite number > 0, got {v!r}")
+        if not self.marker_mm < self.square_mm:
+            raise InputError(f"marker_mm must be below square_mm, got {self.marker_mm} and "
+                             f"{self.square_mm}")
+        if not str(self.dictionary).startswith("DICT_") or not hasattr(cv2.aruco,
+                                                                       self.dictionary):
+            raise InputError(f"dictionary must name an OpenCV ArUco dictionary such as "
+                             f"DICT_5X5_100, got {self.dictionary!r}")
+
+    def cv_board(self) -> Any:
+        """The :class:`cv2.aruco.CharucoBoard`."""
+        d = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, self.dictionary))
+        return cv2.aruco.CharucoBoard(self.squares, float(self.square_mm),
+                                      float(self.marker_mm), d)
+
+    @property
+    def object_points(self) -> NDArray[np.float64]:
+        """Inner corners in the board frame, shape ``((cols - 1) (rows - 1), 3)``, mm."""
+        return np.asarray(self.cv_board().getChessboardCorners(), dtype=np.float64)
+
+    def image(self, px_per_mm: float = 10.0) -> NDArray[np.uint8]:
+        """The board drawn at `px_per_mm` (no margin), for printing or rendering."""
+        c, r = self.squares
+        size = (round(c * self.square_mm * px_per_mm), round(r * self.square_mm * px_per_mm))
+        return self.cv_board().generateImage(size, marginSize=0, borderBits=1)
+
+
+Board = Chessboard | Charuco
+MIN_CHARUCO_CORNERS = 6
+"""Fewest ChArUco corners for a view to count (a pose needs a few, spread out)."""
+
+
+def detect_board(
+    image: ArrayLike, board: Board
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """Board corners found in a grey image: ``(object points (K, 3), pixels (K, 2))``.
+
+    None if the board is not found (a chessboard must be whole; a ChArUco board needs
+    :data:`MIN_CHARUCO_CORNERS` corners).
+    """
+    if isinstance(board, Chessboard):
+        c = detect_chessboard(image, board)
+        return None if c is None else (board.object_points, c)
+    if not isinstance(board, Charuco):
+        raise InputError(f"board must be a Chessboard or a Charuco, got {type(board).__name__}")
+    img = _as_uint8(image)
+    corners, ids, _mc, _mi = cv2.aruco.CharucoDetector(board.cv_board()).detectBoard(img)
+    if corners is None or ids is None or len(ids) < MIN_CHARUCO_CORNERS:
+        return None
+    return board.object_points[ids.ravel()], corners.reshape(-1, 2).astype(np.float64)
+
+
+def _as_uint8(image: ArrayLike) -> NDArray[np.uint8]:
+    img = np.asarray(image)
+    if img.ndim != 2:
+        raise InputError(f"image must be a grey (H, W) image, got shape {img.shape}")
+    if img.dtype != np.uint8:
+        top = float(img.max()) if img.size else 1.0
+        return np.clip(img.astype(np.float64) * (255.0 / max(top, 1.0)), 0, 255).astype(
+            np.uint8)
+    if img.size and img.max() < 128:  # 7-bit grey levels: stretch for the detector
+        return (img.astype(np.uint16) * 2).astype(np.uint8)
+    return img
+
+
+def detect_chessboard(image: ArrayLike, board: Chessboard) -> NDArray[np.float64] | None:
+    """Sub-pixel inner corners of `board` in a grey image, ``(N, 2)``, or None.
+
+    :func:`cv2.findChessboardCornersSB` (the sector-based detector, sub-pixel), in
+    the order of :attr:`Chessboard.object_points`.
+    """
+    img = _as_uint8(image)
+    ok, corners = cv2.findChessboardCornersSB(img, board.inner_corners,
+                                              flags=cv2.CALIB_CB_ACCURACY)
+    if not ok or corners is None:
+        return None
+    c = corners.reshape(-1, 2).astype(np.float64)
+    # 180-degree ambiguity of the grid: the square diagonally outside the first inner
+    # corner is the dark one (robostereo's board convention, :class:`Chessboard`)
+    cols, rows = board.inner_corners
+    grid = c.reshape(rows, cols, 2)
+    out0 = grid[0, 0] - 0.5 * (grid[0, 1] - grid[0, 0]) - 0.5 * (grid[1, 0] - grid[0, 0])
+    out1 = grid[-1, -1] + 0.5 * (grid[-1, -1] - grid[-1, -2]) \
+        + 0.5 * (grid[-1, -1] - grid[-2, -1])
+    g = img.astype(np.float64)
+    v0, v1 = (float(cv2.getRectSubPix(g.astype(np.float32), (3, 3), (float(p[0]), float(p[1])))
+                    .mean()) for p in (out0, out1))
+    return c[::-1].copy() if v0 > v1 else c
+
+
+@dataclass(frozen=True, eq=False)
+class EyeInHandCalibration:
+    """Result of :func:`calibrate_eye_in_hand`.
+
+    Attributes
+    ----------
+    camera : Camera
+        Intrinsics and distortion from :func:`cv2.calibrateCamera`.
+    hand_eye : SE3
+        ``T_flange_camera``, millimetres.
+    method : str
+    reprojection_rms_px : float
+        Overall RMS reprojection error of the board corners, pixels.
+    per_view_rms_px : ndarray, shape (N,)
+        RMS reprojection error of each view, pixels.
+    board_poses : tuple of SE3
+        ``T_camera_board`` of each view.
+    residuals : HandEyeResiduals
+        AX = XB residuals of every pair of views.
+    base_board : SE3
+        ``T_base_board`` implied (mean over the views of ``F_i X C_i``).
+    """
+
+    camera: Camera
+    hand_eye: SE3
+    method: str
+    reprojection_rms_px: float
+    per_view_rms_px: NDArray[np.float64]
+    board_poses: tuple[SE3, ...]
+    residuals: HandEyeResiduals
+    base_board: SE3
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``camera.yaml`` mapping that ``robostereo handeye`` writes."""
+        from robostereo.camera import camera_to_dict
+        from robostereo.robot.poses import pose_to_dict
+
+        return {
+            "camera": camera_to_dict(self.camera),
+            "hand_eye": pose_to_dict(self.hand_eye),
+            "method": self.method,
+            "reprojection_rms_px": round(self.reprojection_rms_px, 6),
+            "per_view_rms_px": [round(float(v), 6) for v in self.per_view_rms_px],
+            "handeye_residuals": {
+                "rotation_deg_rms": round(self.residuals.rms_rotation_deg, 6),
+                "translation_mm_rms": round(self.residuals.rms_translation_mm, 6),
+            },
+        }
+
+
+def describe_board(board: Board) -> str:
+    """One line naming a board for messages, e.g. ``chessboard 9 x 6``."""
+    if isinstance(board, Chessboard):
+        return f"chessboard {board.inner_corners[0]} x {board.inner_corners[1]}"
+    return (f"ChArUco board {board.squares[0]} x {board.squares[1]} (at least "
+            f"{MIN_CHARUCO_CORNERS} corners)")
+
+
+def calibrate_eye_in_hand(
+    images: Sequence[ArrayLike],
+    flange_poses: Sequence[SE3],
+    board: Board,
+    *,
+    pixel_pitch_mm: float = 0.01,
+    grey_levels: int = 256,
+    method: HandEyeMethod = DEFAULT_METHOD,
+    names: Sequence[str] | None = None,
+    fix_k3: bool = True,
+) -> EyeInHandCalibration:
+    """Intrinsics, distortion and ``T_flange_camera`` from views of a chessboard.
+
+    Parameters
+    ----------
+    images : sequence of array_like, shape (H, W)
+        Grey views of the board (one size).
+    flange_poses : sequence of SE3
+        ``T_base_flange`` the robot reported at each view, millimetres.
+    board : Chessboard or Charuco
+    pixel_pitch_mm : float
+        Horizontal pixel pitch of the sensor (its data sheet), to express the focal
+        length in millimetres; the vertical pitch follows from ``fy``.
+    grey_levels : int
+        Grey levels of the camera (for the :class:`Camera` returned).
+    method : {'park', 'tsai', 'daniilidis'}
+        AX = XB solver (:func:`solve_ax_xb`).
+    names : sequence of str, optional
+        View names for error messages (default ``view 0``, ``view 1``, ...).
+    fix_k3 : bool
+        Hold the sixth-order radial term ``k3`` at 0 (default): a board that does not
+        reach the image corners leaves ``k2`` and ``k3`` free to trade off against each
+        other (seen: ``k2 = 0.8, k3 = -8.5`` for a true ``0.03, 0``).
+
+    Returns
+    -------
+    EyeInHandCalibration
+
+    Raises
+    ------
+    InputError
+        Images of different sizes, a board not found in a view (naming it), fewer than
+        :data:`MIN_VIEWS` views, flange rotations about one axis only.
+
+    Notes
+    -----
+    1. :func:`detect_board` in every view.
+    2. :func:`cv2.calibrateCamera` (``k1, k2, p1, p2, k3``) gives ``K``, the
+       distortion and ``C_i = T_camera_board`` per view.
+    3. :func:`motion_pairs`, :func:`solve_ax_xb`, :func:`handeye_residuals`.
+    """
+    n = len(images)
+    if len(flange_poses) != n:
+        raise InputError(f"images and flange_poses must be as many, got {n} and "
+                         f"{len(flange_poses)}")
+    labels = list(names) if names is not None else [f"view {i}" for i in range(n)]
+    if n < MIN_VIEWS:
+        raise InputError(f"hand-eye needs at least {MIN_VIEWS} usable views, got {n}")
+    shapes = {np.asarray(im).shape for im in images}
+    if len(shapes) != 1:
+        raise InputError(f"the views must have one size, got shapes {sorted(shapes)}")
+    h, w = next(iter(shapes))[:2]
+    obj, img_pts = [], []
+    for im, name in zip(images, labels, strict=True):
+        found = detect_board(np.asarray(im), board)
+        if found is None:
+            raise InputError(f"{name}: {describe_board(board)} not found")
+        obj.append(found[0].astype(np.float32))
+        img_pts.append(found[1].astype(np.float32).reshape(-1, 1, 2))
+    flags = cv2.CALIB_FIX_K3 if fix_k3 else 0
+    rms, K, dist, rvecs, tvecs = cv2.calibrateCamera(obj, img_pts, (w, h), None, None,
+                                                     flags=flags)
+    C = [SE3.from_rotvec(t.ravel(), r.ravel()) for r, t in zip(rvecs, tvecs, strict=True)]
+    per_view = []
+    for o, p, r, t in zip(obj, img_pts, rvecs, tvecs, strict=True):
+        proj, _ = cv2.projectPoints(o, r, t, K, dist)
+        per_view.append(float(np.sqrt(np.mean(np.sum((proj - p) ** 2, axis=2)))))
+    A, B = motion_pairs(list(flange_poses), C)
+    X = solve_ax_xb(A, B, method=method)
+    res = handeye_residuals(A, B, X)
+    bb = [f @ X @ c for f, c in zip(flange_poses, C, strict=True)]
+    mean_t = np.mean([b.translation for b in bb], axis=0)
+    mean_R = Rotation.from_matrix(np.stack([b.rotation for b in bb])).mean().as_matrix()
+    fmm = float(K[0, 0]) * pixel_pitch_mm
+    camera = Camera(
+        focal_length_mm=fmm, pixel_pitch_mm=(pixel_pitch_mm, fmm / float(K[1, 1])),
+        image_size=(int(w), int(h)), principal_point=(float(K[0, 2]), float(K[1, 2])),
+        grey_levels=grey_levels, distortion=tuple(float(v) for v in dist.ravel()[:5]),
+    )
+    return EyeInHandCalibration(
+        camera=camera, hand_eye=X, method=method, reprojection_rms_px=float(rms),
+        per_view_rms_px=np.asarray(per_view), board_poses=tuple(C), residuals=res,
+        base_board=SE3(mean_R, mean_t),
+    )
+
+
+# ------------------------------------------------------------------ views folders
+
+VIEWS_YAML = "views.yaml"
+
+
+@dataclass(frozen=True, eq=False)
+class HandEyeViews:
+    """A hand-eye views folder: board images with the flange pose of each.
+
+    Folder format (``DIR/``)::
+
+        views.yaml   board:          {type: chessboard, inner_corners: [cols, rows],
+                                      square_mm} or {type: charuco, squares:
+                                      [cols, rows], square_mm, marker_mm, dictionary}
+                     pixel_pitch_mm: horizontal pitch of the sensor, mm (data sheet)
+                     grey_levels:    optional, default 256
+                     views:          - {image: view_00.png, flange: POSE}
+                                     ...   POSE in any form of robostereo.robot.poses
+                                     (T_base_flange as the robot reports it; mm, or
+                                     the ROS form in m)
+        view_00.png ...
+
+    Attributes
+    ----------
+    images : tuple of ndarray, shape (H, W)
+    flange_poses : tuple of SE3
+    names : tuple of str
+        Image file names.
+    board : Chessboard or Charuco
+    pixel_pitch_mm : float
+    grey_levels : int
+    """
+
+    images: tuple[NDArray[Any], ...]
+    flange_poses: tuple[SE3, ...]
+    names: tuple[str, ...]
+    board: Board
+    pixel_pitch_mm: float = 0.01
+    grey_levels: int = 256
+
+
+def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | None = None
+                ) -> None:
+    """Write a views folder (the folder must not exist or be empty; written whole).
+
+    `extra` maps further file names to mappings written as YAML (e.g. ``truth.yaml``).
+    """
+    import os
+    import shutil
+    import tempfile
+    from pathlib import Path
+
+    import yaml
+
+    from robostereo.robot.poses import pose_to_dict
+
+    target = Path(directory)
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{target}: parent folder {parent} does not exist")
+    if target.exists() and (not target.is_dir() or any(target.iterdir())):
+        raise InputError(f"{target}: exists and is not an empty folder")
+    b = views.board
+    board: dict[str, Any]
+    if isinstance(b, Chessboard):
+        board = {"type": "chessboard", "inner_corners": list(b.inner_corners),
+                 "square_mm": float(b.square_mm)}
+    else:
+        board = {"type": "charuco", "squares": list(b.squares), "square_mm": float(b.square_mm),
+                 "marker_mm": float(b.marker_mm), "dictionary": b.dictionary}
+    data = {
+        "board": board,
+        "pixel_pitch_mm": float(views.pixel_pitch_mm),
+        "grey_levels": int(views.grey_levels),
+        "views": [{"image": n, "flange": pose_to_dict(f)}
+                  for n, f in zip(views.names, views.flange_poses, strict=True)],
+    }
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".part", dir=parent))
+    try:
+        for name, img in zip(views.names, views.images, strict=True):
+            ok, buf = cv2.imencode(".png", np.asarray(img, dtype=np.uint8))
+            if not ok:  # pragma: no cover
+                raise InputError(f"{target / name}: cannot encode PNG")
+            (tmp / name).write_bytes(buf.tobytes())
+        (tmp / VIEWS_YAML).write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+        for fname, mapping in (extra or {}).items():
+            (tmp / fname).write_text(yaml.safe_dump(mapping, sort_keys=False), encoding="utf-8")
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)
+        if target.is_dir():
+            target.rmdir()
+        os.replace(tmp, target)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
+
+
+def read_views(directory: Any) -> HandEyeViews:
+    """Read a views folder (:class:`HandEyeViews`); one-line InputError on bad input."""
+    from pathlib import Path
+
+    import yaml
+
+    from robostereo.datasets import load_image
+    from robostereo.robot.poses import as_se3, pose_from_dict
+
+    d = Path(directory)
+    if not d.is_dir():
+        raise InputError(f"{d}: views folder not found")
+    ypath = d / VIEWS_YAML
+    if not ypath.is_file():
+        raise InputError(f"{ypath}: missing views file (expected {VIEWS_YAML} in {d})")
+    try:
+        data = yaml.safe_load(ypath.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise InputError(f"{ypath}: not a readable YAML file ({exc.__class__.__name__})") from None
+    src = str(ypath)
+    if not isinstance(data, dict) or "board" not in data or "views" not in data:
+        raise InputError(f"{src}: expected a mapping with keys board, pixel_pitch_mm, views")
+    b = data["board"]
+    kind = b.get("type", "chessboard") if isinstance(b, dict) else None
+    if kind not in ("chessboard", "charuco"):
+        raise InputError(f"{src}: board must be {{type: chessboard, inner_corners: [c, r], "
+                         "square_mm} or {type: charuco, squares: [c, r], square_mm, "
+                         "marker_mm, dictionary}")
+    board: Board
+    try:
+        if kind == "chessboard":
+            board = Chessboard(tuple(b["inner_corners"]), float(b["square_mm"]))  # type: ignore[arg-type]
+        else:
+            board = Charuco(tuple(b["squares"]), float(b["square_mm"]),  # type: ignore[arg-type]
+                            float(b["marker_mm"]), str(b.get("dictionary", "DICT_5X5_100")))
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{src}: board: missing or bad key ({exc})") from None
+    except InputError as exc:
+        raise InputError(f"{src}: board: {exc}") from None
+    pitch = data.get("pixel_pitch_mm", 0.01)
+    if isinstance(pitch, list):
+        pitch = pitch[0] if pitch else None
+    if not isinstance(pitch, int | float) or isinstance(pitch, bool) or not pitch > 0:
+        raise InputError(f"{src}: pixel_pitch_mm must be a number > 0, got {pitch!r}")
+    grey = data.get("grey_levels", 256)
+    if not isinstance(grey, int) or isinstance(grey, bool) or grey < 2:
+        raise InputError(f"{src}: grey_levels must be an integer >= 2, got {grey!r}")
+    views = data["views"]
+    if not isinstance(views, list):
+        raise InputError(f"{src}: views must be a list of {{image, flange}}")
+    images, poses, names = [], [], []
+    for i, v in enumerate(views):
+        if not isinstance(v, dict) or "image" not in v or "flange" not in v:
+            raise InputError(f"{src}: views[{i}] must be a mapping {{image, flange}}")
+        name = str(v["image"])
+        poses.append(as_se3(pose_from_dict(v["flange"], source=f"{src}: views[{i}].flange")))
+        img, _bits = load_image(d / name)
+        if img.ndim == 3:
+            img = cv2.cvtColor(np.ascontiguousarray(img[..., :3]), cv2.COLOR_RGB2GRAY)
+        images.append(np.asarray(img))
+        names.append(str(d / name))
+    if len(images) < MIN_VIEWS:
+        raise InputError(f"{src}: hand-eye needs at least {MIN_VIEWS} usable views, got "
+                         f"{len(images)}")
+    return HandEyeViews(images=tuple(images), flange_poses=tuple(poses), names=tuple(names),
+                        board=board, pixel_pitch_mm=float(pitch), grey_levels=grey)
+
+
+def save_handeye_yaml(path: Any, calibration: EyeInHandCalibration) -> None:
+    """Write ``camera.yaml`` (:meth:`EyeInHandCalibration.to_dict`) atomically."""
+    import yaml
+
+    from robostereo.io import atomic_path
+
+    text = yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None)
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+
+
+def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
+    """Read the camera and ``T_flange_camera`` of a ``robostereo handeye`` file."""
+    from pathlib import Path
+
+    import yaml
+
+    from robostereo.camera import camera_from_dict
+    from robostereo.errors import require_file
+    from robostereo.robot.poses import as_se3, pose_from_dict
+
+    p = require_file(path, "hand-eye camera file")
+    try:
+        data = yaml.safe_load(Path(p).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise InputError(f"{p}: not a readable YAML file ({exc.__class__.__name__})") from None
+    if not isinstance(data, dict) or "camera" not in data or "hand_eye" not in data:
+        raise InputError(f"{p}: expected the keys camera and hand_eye (robostereo handeye's "
+                         "output)")
+    camera = camera_from_dict(data["camera"], source=f"{p}: camera")
+    return camera, as_se3(pose_from_dict(data["hand_eye"], source=f"{p}: hand_eye"))

@@ -1,0 +1,68 @@
+"""Planning: eq. 9 inverted, the baseline direction from an image, fusing two captures."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from robostereo.camera import Camera
+from robostereo.cli import main
+from robostereo.errors import InputError
+from robostereo.experiments import RigSetup, block_scene, simulate_capture
+from robostereo.robot.capture import write_capture
+from robostereo.robot.planning import best_baseline_direction, plan_baseline
+from robostereo.robot.simulated import run_fused_block
+from robostereo.triangulation import depth_error_bound
+
+
+def test_plan_inverts_eq9():
+    cam = Camera()
+    for depth, acc in ((1000.0, 5.0), (600.0, 1.0), (1500.0, 20.0)):
+        p = plan_baseline(cam, depth, acc)
+        d = cam.fx * p.baseline_mm / depth
+        bound = depth_error_bound(p.baseline_mm, cam.fx, d, baseline_uncertainty=0.01,
+                                  focal_uncertainty=0.01 / cam.pixel_pitch_mm[0],
+                                  disparity_uncertainty=0.2)
+        assert float(bound) == pytest.approx(acc, rel=1e-9)
+        lo, hi = p.disparity_range
+        assert lo <= cam.fx * p.baseline_mm / (1.2 * depth) and hi >= d / 0.8
+    with pytest.raises(InputError, match="unreachable"):
+        plan_baseline(cam, 1000.0, 0.3)
+
+
+def test_direction_crosses_the_edges():
+    """Stripes along the image's x axis: a horizontal baseline cannot match them, a
+    vertical one can."""
+    y = np.arange(120)[:, None] * np.ones((1, 160))
+    stripes = np.where((y // 10) % 2 == 0, 20.0, 100.0)
+    bd = best_baseline_direction(stripes)
+    assert bd.matchable_fraction_x == pytest.approx(0.0, abs=0.01)
+    assert abs(bd.direction_deg - 90.0) <= 60.0 and bd.matchable_fraction > 0.99
+    with pytest.raises(InputError, match="no edges"):
+        best_baseline_direction(np.zeros((20, 20)))
+
+
+def test_orthogonal_baselines_fuse_more_of_the_block():
+    g = run_fused_block(seed=0)
+    assert g.fused > g.located[0] and g.top_edge_points[2] > 1.15 * g.top_edge_points[0]
+    assert g.outline_covered[2] > g.outline_covered[0] + 0.2
+
+
+def test_plan_and_fused_locate_commands(tmp_path, capsys):
+    assert main(["plan", "--depth", "1000", "--accuracy", "5", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["baseline_mm"] == pytest.approx(32.09, abs=0.01)
+    assert main(["plan", "--depth", "1000", "--accuracy", "0.2"]) == 2
+    assert capsys.readouterr().err.startswith("robostereo: error: accuracy_mm = 0.2 mm is")
+    scene = block_scene(RigSetup())
+    for name, d in (("x", 0.0), ("y", 90.0)):
+        sim = simulate_capture("block", setup=RigSetup(direction_deg=d), scene=scene)
+        write_capture(tmp_path / name, sim.capture)
+    assert main(["locate", str(tmp_path / "x"), "--fuse", str(tmp_path / "y")]) == 0
+    text = (tmp_path / "x" / "located-fused.csv").read_text().splitlines()
+    assert text[0] == "X_w,Y_w,Z_w,z_bound,capture"
+    caps = [line.rsplit(",", 1)[1] for line in text[1:]]
+    assert "0" in caps and "1" in caps
+    assert main(["locate", str(tmp_path / "x"), "--fuse", str(tmp_path / "none")]) == 2

@@ -1,0 +1,101 @@
+"""SE3 rigid transforms and the pose forms of capture.yaml."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from robostereo.camera import Camera, Pose
+from robostereo.errors import InputError
+from robostereo.robot.poses import SE3, as_se3, pose_from_dict, pose_to_dict, relative_pose
+
+
+def _random_pose(rng: np.random.Generator) -> SE3:
+    return SE3(Rotation.random(random_state=rng).as_matrix(), rng.uniform(-500, 500, 3))
+
+
+def test_compose_invert_apply():
+    rng = np.random.default_rng(1)
+    a, b = _random_pose(rng), _random_pose(rng)
+    p = rng.normal(size=(5, 3)) * 100
+    assert np.allclose((a @ b).apply(p), a.apply(b.apply(p)))
+    assert np.allclose((a @ a.inv()).matrix, np.eye(4), atol=1e-12)
+    assert np.allclose(a.inv().apply(a.apply(p)), p)
+    t, r = a.distance_to(a @ SE3.from_rotvec([0, 0, 0], [0, 0, 0.01]))
+    assert t == pytest.approx(0.0, abs=1e-9) and r == pytest.approx(0.01)
+
+
+def test_forms_agree():
+    """Matrix, quaternion (x, y, z, w), rotation vector and ROS (metres) give one pose."""
+    rng = np.random.default_rng(2)
+    T = _random_pose(rng)
+    q, rv, t = T.quaternion, T.rotvec, T.translation
+    forms = [
+        {"matrix": T.matrix.tolist()},
+        {"position": t.tolist(), "quaternion": q.tolist()},
+        {"position": t.tolist(), "rotvec": rv.tolist()},
+        {"position": (t / 1000).tolist(), "rotvec": rv.tolist(), "unit": "m"},
+        {"translation": dict(zip("xyz", (t / 1000).tolist(), strict=True)),
+         "rotation": dict(zip("xyzw", q.tolist(), strict=True))},
+    ]
+    for f in forms:
+        P = pose_from_dict(f)
+        assert isinstance(P, SE3)
+        dt, dr = T.distance_to(P)
+        assert dt < 1e-9 and dr < 1e-9, f
+    assert T.distance_to(as_se3(pose_from_dict(pose_to_dict(T))))[0] < 1e-6
+    # ROS order: (x, y, z, w); a half turn about x
+    Rx = pose_from_dict({"position": [0, 0, 0], "quaternion": [1, 0, 0, 0]}).rotation
+    assert np.allclose(Rx, np.diag([1.0, -1.0, -1.0]))
+
+
+def test_scara_form_keeps_its_meaning():
+    """{x, y, z, phi_deg} is today's SCARA pose, and its SE3 projects the same pixels."""
+    p = pose_from_dict({"x": 400.0, "y": 10.0, "z": 1050.0, "phi_deg": 30.0})
+    assert isinstance(p, Pose) and p.phi == pytest.approx(math.radians(30.0))
+    cam = Camera()
+    P = np.array([[380.0, 30.0, 50.0], [420.0, -20.0, 0.0]])
+    uv1, z1 = cam.project(P, p)
+    uv2, z2 = cam.project(P, as_se3(p))
+    assert np.allclose(uv1, uv2) and np.allclose(z1, z2)
+    assert pose_to_dict(p) == {"x": 400.0, "y": 10.0, "z": 1050.0, "phi_deg": 30.0}
+
+
+def test_relative_pose_is_opencv_convention():
+    rng = np.random.default_rng(3)
+    a, b = _random_pose(rng), _random_pose(rng)
+    rel = relative_pose(a, b)
+    P = rng.normal(size=(4, 3)) * 100
+    x_left = a.inv().apply(P)
+    x_right = b.inv().apply(P)
+    assert np.allclose(x_right, x_left @ rel.rotation.T + rel.translation)
+
+
+@pytest.mark.parametrize("data, message", [
+    ({"matrix": np.diag([1.0, 1.0, 1.01, 1.0]).tolist()}, "orthonormal"),
+    ({"matrix": np.diag([1.0, 1.0, -1.0, 1.0]).tolist()}, "det"),
+    ({"matrix": [[1, 0, 0], [0, 1, 0], [0, 0, 1]]}, "4 x 4"),
+    ({"position": [0, 0, 0], "quaternion": [0, 0, 0, 2]}, "norm 1"),
+    ({"position": [0, 0], "rotvec": [0, 0, 0]}, "position"),
+    ({"position": [0, 0, 0]}, "quaternion"),
+    ({"position": [0, 0, 0], "rotvec": [0, 0, float("nan")]}, "rotvec"),
+    ({"position": [0, 0, 0], "rotvec": [0, 0, 0], "unit": "cm"}, "unit"),
+    ({"position": [0, 0, 0], "rotvec": [0, 0, 0], "colour": 1}, "unknown key 'colour'"),
+    ({"frame": "tool0"}, "not a pose"),
+])
+def test_bad_poses(data, message):
+    with pytest.raises(InputError, match=message) as e:
+        pose_from_dict(data, source="cap.yaml: pose_left")
+    assert str(e.value).startswith("cap.yaml: pose_left") and "\n" not in str(e.value)
+
+
+def test_look_at():
+    T = SE3.look_at([0.0, -300.0, 800.0], [0.0, 0.0, 0.0])
+    uv, z = Camera().project([[0.0, 0.0, 0.0]], T)
+    assert np.allclose(uv, [Camera().principal_point])
+    assert z[0] == pytest.approx(math.hypot(300, 800))
+    with pytest.raises(InputError, match="coincide"):
+        SE3.look_at([1.0, 2.0, 3.0], [1.0, 2.0, 3.0])
