@@ -28,6 +28,7 @@ from numpy.typing import NDArray
 
 from robostereo.camera import Camera, camera_to_dict
 from robostereo.errors import InputError, UnreachablePoseError, require_finite
+from robostereo.pipeline import MatchParameters
 from robostereo.robot.capture import Capture, Located, LocateParameters, locate
 from robostereo.robot.handeye import (
     DEFAULT_METHOD,
@@ -492,6 +493,8 @@ def run_six_axis_block(
     method : {'park', 'tsai', 'daniilidis'}
     viewpoints : SixAxisViewpoints, optional
     params : LocateParameters, optional
+        Default: the seed's matcher (relaxation), as the SCARA block experiment
+        (:data:`robostereo.experiments.SEED_EXPERIMENT`).
 
     Notes
     -----
@@ -517,7 +520,9 @@ def run_six_axis_block(
         sim = simulate_six_axis_capture("block", lift_mm=lift, seed=seed,
                                         viewpoints=viewpoints, hand_eye=cal.hand_eye,
                                         camera=cal.camera)
-        loc = locate(sim.capture, params=params)
+        # the seed's block experiment, with the seed's matcher as robostereo demo uses it
+        loc = locate(sim.capture, params=params or LocateParameters(
+            match=MatchParameters(method="relaxation")))
         top = _BLOCK_SIZE[2] + lift
         on_top, z_true = _top_points(sim, loc, top)
         z_err = loc.epipolar_xyz[on_top, 2] - z_true[on_top] if on_top.any() else np.zeros(0)
