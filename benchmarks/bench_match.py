@@ -1,21 +1,25 @@
 """Time robostereo's whole matcher against OpenCV's StereoSGBM on the same pairs.
 
-Run:  python benchmarks/bench_match.py [--repeat N]
+Run:  python benchmarks/bench_match.py [--repeat N] [--no-memory]
 
-For every pair (the real scenes of ../shared/data/stereo and synthetic pairs of a few
-sizes) both run in this one process on the same grey images and disparity range:
-robostereo's ``match_stereo`` (edges, candidates, relaxation, acceptance) and
-``cv2.StereoSGBM`` (blockSize 5, uniquenessRatio 10).  It prints the median time of
-each, their ratio (SGBM time / robostereo time: above 1 means robostereo is faster)
-and the peak traced memory of each (tracemalloc; OpenCV's internal buffers are not
-traced: SGBM keeps about ``W * H * numDisparities * 2`` bytes of path costs besides).
-Speed goals live here, never in the tests.
+For every pair (the six real scenes of ../shared/data/stereo, motorcycle again with
+wider disparity ranges, and synthetic pairs of two sizes) both run in this one process
+on the same images and disparity range: robostereo's ``match_stereo`` (edges, window
+costs, confidence, acceptance: the default window method) and ``cv2.StereoSGBM``
+(blockSize 5, uniquenessRatio 10, P1 = 8*25, P2 = 32*25).  It prints the median time
+of each, their ratio (SGBM time / robostereo time: above 1 means robostereo is
+faster) and the peak memory each adds to a process: a fresh child process per method
+and pair, the growth of its peak resident set (``ru_maxrss``) over a warm-up on a
+small pair (so that imports, numba's compiled code and OpenCV's own buffers are all
+counted the same way).  Speed goals live here, never in the tests.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import statistics
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -28,21 +32,32 @@ from robostereo.datasets import find_data_dir, load_scene
 from robostereo.evaluation import sgbm_disparity
 from robostereo.pipeline import match_stereo
 
+SCENES = ("tsukuba", "venus", "motorcycle", "cloth3", "reindeer", "wood2")
 
-def pairs() -> list[tuple[str, np.ndarray, np.ndarray, tuple[float, float]]]:
+
+def names() -> list[str]:
+    """The pairs benchmarked, in order."""
+    d = find_data_dir()
+    out = [n for n in SCENES if d is not None and (d / n).is_dir()]
+    if "motorcycle" in out:
+        out += [f"motorcycle 0..{hi}" for hi in (64, 128, 256)]
+    return out + ["synthetic 640x480", "synthetic 1280x960"]
+
+
+def pair(name: str) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
+    """Left, right and disparity range of the pair ``name`` (see :func:`names`)."""
     from synthetic import synthetic_pair
 
-    out = []
-    d = find_data_dir()
-    if d is not None:
-        for name in ("tsukuba", "venus"):
-            s = load_scene(d / name)
-            out.append((name, s.left, s.right, s.disparity_range))
-    rng = np.random.default_rng(0)
-    for h, w in ((480, 640), (960, 1280)):
-        left, right, _ = synthetic_pair(rng, height=h, width=w, disparities=(7.3, 11.65, 9.05))
-        out.append((f"synthetic {w}x{h}", left, right, (4.0, 16.0)))
-    return out
+    if name.startswith("synthetic"):
+        w, h = (int(v) for v in name.split()[1].split("x"))
+        left, right, _ = synthetic_pair(np.random.default_rng(0), height=h, width=w,
+                                        disparities=(7.3, 11.65, 9.05))
+        return left, right, (4.0, 16.0)
+    scene = name.split()[0]
+    s = load_scene(find_data_dir() / scene)
+    if " 0.." in name:
+        return s.left, s.right, (0.0, float(name.split("..")[1]))
+    return s.left, s.right, s.disparity_range
 
 
 def _time(fn, repeat: int) -> float:
@@ -55,39 +70,56 @@ def _time(fn, repeat: int) -> float:
     return statistics.median(times)
 
 
-def peak_mib(fn) -> float:
-    """Peak of the memory traced while ``fn()`` runs once, MiB (tracemalloc: every
-    NumPy array and Python object; OpenCV's internal C++ buffers are not traced, so
-    SGBM's figure counts its input copies and output only)."""
-    import tracemalloc
+_CHILD = """
+import resource, sys, json
+sys.path.insert(0, {tests!r})
+import numpy as np
+from bench_match import pair
+from robostereo.evaluation import sgbm_disparity
+from robostereo.pipeline import match_stereo
+fn = match_stereo if {method!r} == "robostereo" else sgbm_disparity
+left, right, rng = pair({name!r})
+fn(np.ascontiguousarray(left[:32]), np.ascontiguousarray(right[:32]), rng)
+base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+fn(left, right, rng)
+print(json.dumps((resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - base) / 1024.0))
+"""
 
-    tracemalloc.start()
-    fn()
-    peak = tracemalloc.get_traced_memory()[1]
-    tracemalloc.stop()
-    return peak / 2**20
+
+def peak_mib(method: str, name: str) -> float:
+    """Peak resident memory (MiB) that one run of ``method`` on pair ``name`` adds."""
+    here = Path(__file__).resolve().parent
+    code = _CHILD.format(tests=str(here.parent / "tests"), method=method, name=name)
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=here, check=True)
+    return float(json.loads(out.stdout.strip().splitlines()[-1]))
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--repeat", type=int, default=15)
+    ap.add_argument("--no-memory", action="store_true", help="skip the memory children")
     args = ap.parse_args()
     import cv2
 
     print(f"OpenCV {cv2.__version__}, {cv2.getNumThreads()} threads; median of {args.repeat}")
-    head = (f"{'pair':<20} {'robostereo ms':>14} {'SGBM ms':>9} {'ratio':>7} "
-            f"{'robostereo MiB':>15} {'SGBM MiB':>9}")
+    head = (f"{'pair':<20} {'edges':>6} {'robostereo ms':>14} {'SGBM ms':>9} {'ratio':>7} "
+            f"{'robostereo MiB':>15} {'SGBM MiB':>9} {'mem ratio':>9}")
     print(head)
     print("-" * len(head))
-    for name, left, right, rng in pairs():
+    for name in names():
+        left, right, rng = pair(name)
+        n = len(match_stereo(left, right, rng).left_edges)
         t_ours = _time(lambda left=left, right=right, rng=rng: match_stereo(left, right, rng),
                        args.repeat)
         t_sgbm = _time(lambda left=left, right=right, rng=rng: sgbm_disparity(left, right, rng),
                        args.repeat)
-        m_ours = peak_mib(lambda left=left, right=right, rng=rng: match_stereo(left, right, rng))
-        m_sgbm = peak_mib(lambda left=left, right=right, rng=rng: sgbm_disparity(left, right, rng))
-        print(f"{name:<20} {1000 * t_ours:>14.2f} {1000 * t_sgbm:>9.2f} "
-              f"{t_sgbm / t_ours:>6.2f}x {m_ours:>15.1f} {m_sgbm:>9.1f}")
+        mem = ""
+        if not args.no_memory:
+            m_ours, m_sgbm = peak_mib("robostereo", name), peak_mib("sgbm", name)
+            mem = f"{m_ours:>15.1f} {m_sgbm:>9.1f} {m_ours / max(m_sgbm, 0.1):>8.2f}x"
+        print(f"{name:<20} {n:>6} {1000 * t_ours:>14.2f} {1000 * t_sgbm:>9.2f} "
+              f"{t_sgbm / t_ours:>6.2f}x {mem}", flush=True)
 
 
 if __name__ == "__main__":

@@ -18,6 +18,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import cv2
+import numba as nb
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -334,6 +335,50 @@ def connectivity(
     return up, down, up_off, down_off
 
 
+@nb.njit(cache=True)
+def _peaks(sr, threshold, m):  # type: ignore[no-untyped-def]
+    """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of ``sr``:
+    strictly above the left neighbour, at least the right one and ``threshold``, at
+    least ``m`` pixels inside the borders.  Returns the rows, columns, ``|g|`` at the
+    column and its neighbours, and ``g`` at the column (float32 arithmetic, as NumPy's
+    on the same arrays)."""
+    n_rows, w = sr.shape
+    half = np.float32(0.5)
+    count = 0
+    for r in range(n_rows):
+        s = sr[r]
+        for x in range(m, w - m):
+            a0 = abs((s[x + 1] - s[x - 1]) * half)
+            if a0 >= threshold and a0 > abs((s[x] - s[x - 2]) * half) \
+                    and a0 >= abs((s[x + 2] - s[x]) * half):
+                count += 1
+    k = np.empty(count, np.int64)
+    j = np.empty(count, np.int64)
+    am = np.empty(count, np.float32)
+    a0s = np.empty(count, np.float32)
+    ap = np.empty(count, np.float32)
+    gp = np.empty(count, np.float32)
+    i = 0
+    for r in range(n_rows):
+        s = sr[r]
+        for x in range(m, w - m):
+            g0 = (s[x + 1] - s[x - 1]) * half
+            a0 = abs(g0)
+            if a0 < threshold:
+                continue
+            a_m = abs((s[x] - s[x - 2]) * half)
+            a_p = abs((s[x + 2] - s[x]) * half)
+            if a0 > a_m and a0 >= a_p:
+                k[i] = r
+                j[i] = x
+                am[i] = a_m
+                a0s[i] = a0
+                ap[i] = a_p
+                gp[i] = g0
+                i += 1
+    return k, j, am, a0s, ap, gp
+
+
 def detect_edges(
     image: ArrayLike,
     *,
@@ -413,22 +458,13 @@ def detect_edges(
     s = smooth(g0)
     rows = np.arange(row_offset, h, row_step)
     sr = s[row_offset::row_step]  # a view: no copy of the image
-    g = np.zeros_like(sr)
-    np.subtract(sr[:, 2:], sr[:, :-2], out=g[:, 1:-1])
-    g *= 0.5
-    a = np.abs(g)
-    m = BORDER
-    c = a[:, m:-m]
-    peak = (c > a[:, m - 1:-m - 1]) & (c >= a[:, m + 1:w - m + 1]) & (c >= threshold)
-    k, j = np.nonzero(peak)
-    j = j + m
+    k, j, am, a0, ap, g_peak = _peaks(np.ascontiguousarray(sr), np.float32(threshold), BORDER)
     if valid is not None:
         vm = np.asarray(valid, dtype=bool)
         if vm.shape != (h, w):
             raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
         keep = usable_pixels(vm)[rows[k], j]
-        k, j = k[keep], j[keep]
-    am, a0, ap = a[k, j - 1], a[k, j], a[k, j + 1]
+        k, j, am, a0, ap, g_peak = (v[keep] for v in (k, j, am, a0, ap, g_peak))
     if subpixel:
         den = am - 2.0 * a0 + ap
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -439,7 +475,7 @@ def detect_edges(
         off = np.zeros(k.shape[0])
         mag = a0
     x = j + off
-    sign = np.sign(g[k, j]).astype(np.int8)
+    sign = np.sign(g_peak).astype(np.int8)
     n_lines = rows.shape[0]
     up, down, up_off, down_off = connectivity(k, j, sign, n_lines, w)
     pattern = pattern_type(up_off, down_off, up >= 0, down >= 0)

@@ -28,7 +28,7 @@ from robostereo.matching import (
 )
 from robostereo.relaxation import RelaxationParameters, RelaxationResult, relax
 from robostereo.triangulation import StereoCamera, triangulate
-from robostereo.window import WindowMatch, window_match
+from robostereo.window import WindowMatch, census_transform, window_match
 
 __all__ = ["DEFAULT_MIN_CONFIDENCE", "METHODS", "MatchParameters", "MatchResult", "match_stereo"]
 
@@ -403,12 +403,18 @@ def match_stereo(
     t: dict[str, float] = {}
     t0 = time.perf_counter()
     say("edges")
-    ga = to_grey(a, bit_depth=p.bit_depth, name="left image")
-    gb = to_grey(b, bit_depth=p.bit_depth, name="right image")
-    el = detect_edges(a, threshold=p.threshold, row_step=p.row_step, subpixel=p.subpixel,
-                      grey=ga, valid=valid_left)
-    er = detect_edges(b, threshold=p.threshold * p.right_threshold_ratio, row_step=p.row_step,
-                      subpixel=p.subpixel, grey=gb, valid=valid_right)
+    window = p.method == "window"
+
+    def per_image(img: np.ndarray, side: str, threshold: float, valid: ArrayLike | None
+                  ) -> tuple[NDArray[np.float32], EdgeSet, NDArray[np.uint64] | None]:
+        """Grey levels, edge points and (window method) census of one image."""
+        grey = to_grey(img, bit_depth=p.bit_depth, name=f"{side} image")
+        edges = detect_edges(img, threshold=threshold, row_step=p.row_step,
+                             subpixel=p.subpixel, grey=grey, valid=valid)
+        return grey, edges, census_transform(grey) if window else None
+
+    ga, el, ca = per_image(a, "left", p.threshold, valid_left)
+    gb, er, cb = per_image(b, "right", p.threshold * p.right_threshold_ratio, valid_right)
     t1 = time.perf_counter()
     t["edges"] = t1 - t0
     n = len(el)
@@ -419,7 +425,7 @@ def match_stereo(
                           profile_scale=p.profile_scale,
                           valid_left=None if valid_left is None else np.asarray(valid_left, bool),
                           valid_right=None if valid_right is None
-                          else np.asarray(valid_right, bool))
+                          else np.asarray(valid_right, bool), census_left=ca, census_right=cb)
         conf = wm.confidence
         accepted = np.nan_to_num(conf, nan=-1.0) >= p.acceptance
         fields = dict(edge_disparity=wm.disparity, edge_confidence=conf,

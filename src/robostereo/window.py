@@ -82,10 +82,10 @@ def _census_bits(acc, nbr, centre):  # type: ignore[no-untyped-def]
         acc[x] = (acc[x] << np.uint64(1)) | np.uint64(nbr[x] < centre[x])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, parallel=True)
 def _census(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
     out = np.zeros((h, w), np.uint64)
-    for y in range(h):
+    for y in nb.prange(h):
         centre = padded[y + hh, hw:hw + w]
         for dy in range(-hh, hh + 1):
             for dx in range(-hw, hw + 1):
@@ -191,29 +191,38 @@ def _box(col, out, t2, t4):  # type: ignore[no-untyped-def]
         out[x + 4] = t2[x] + col[x + 8]
 
 
-@nb.njit(cache=True, fastmath=True, inline="always")
-def _least(b_up, b_mid, b_down, x, hw, vertical):  # type: ignore[no-untyped-def]
-    """Least of the window sums placed at ``x - hw, x, x + hw`` on the three rows of
-    box sums (only the middle row unless ``vertical``)."""
-    v = np.int32(min(b_mid[x - hw], min(b_mid[x], b_mid[x + hw])))
-    if vertical:
-        v = min(v, np.int32(min(b_up[x], b_down[x])))
-    return v
+@nb.njit(cache=True, fastmath=True, parallel=True)
+def _stream(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
+            n_strips, out):  # type: ignore[no-untyped-def]
+    """The rows cut into ``n_strips`` bands, each streamed on its own thread."""
+    h = cl.shape[0]
+    step = (h + n_strips - 1) // n_strips
+    for s in nb.prange(n_strips):
+        y0 = s * step
+        y1 = min(h, y0 + step)
+        if y0 < y1:
+            _stream_rows(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
+                         y0, y1, out)
 
 
 @nb.njit(cache=True, fastmath=True)
-def _stream(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
-            out_of_view, cost, rcost, xr_out, row_cost):  # type: ignore[no-untyped-def]
+def _stream_rows(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
+                 y_first, y_last, out):  # type: ignore[no-untyped-def]
+    """One pass down rows ``y_first .. y_last - 1``; ``out[i]`` receives the summary
+    of each edge point ``i`` on them (see :class:`WindowCosts`)."""
     h, w = cl.shape
     n_ring = 2 * hw + 1
     m = 2 * hw
     wp = w + 2 * m
+    big = np.int32(OUT_OF_VIEW)
     base = 4 * n_ring  # keeps ring indices of negative rows positive
     ring = np.zeros((n_ring, nd, wp), np.int16)   # pixel costs of the last 2 hw + 1 rows
     colsum = np.zeros((nd, wp), np.int16)         # their column sums
     boxes = np.zeros((n_ring, nd, wp), np.int16)  # window sums of the last 2 hw + 1 rows
     t2 = np.zeros(wp, np.int16)
     t4 = np.zeros(wp, np.int16)
+    s5 = np.empty(nd, np.int32)
+    s3 = np.empty(nd, np.int32)
     colsum[:, :m] = n_ring * pmax
     colsum[:, w + m:] = n_ring * pmax
 
@@ -221,13 +230,13 @@ def _stream(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
         return row_start[min(max(y1, 0), h)] > row_start[min(max(y0, 0), h)]
 
     lag = hw if vertical else 0  # rows of box sums needed below the output row
-    j0 = -lag
+    j0 = y_first - lag
     # column sums of the window centred on row j0: rows j0 - hw .. j0 + hw, clamped
     for r in range(j0 - hw, j0 + hw + 1):
         yc = min(max(r, 0), h - 1)
         _row_update(cl[yc], cr[yc], gl[yc], gr[yc], dlo, nd, trunc, pmax, m, colsum,
                     ring[(r + base) % n_ring], True)
-    for j in range(j0, h + lag):
+    for j in range(j0, y_last + lag):
         if j > j0:
             r = j + hw  # the new pixel row; its ring slot holds row j - hw - 1
             yc = min(max(r, 0), h - 1)
@@ -239,67 +248,115 @@ def _stream(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
             for k in range(nd):
                 _box(colsum[k], bj[k], t2, t4)
         y = j - lag  # the row whose windows are all complete
-        if y < 0 or row_start[y + 1] == row_start[y]:
+        if y < y_first or row_start[y + 1] == row_start[y]:
             continue
-        b_up = boxes[(y - hw + base) % n_ring]
-        b_mid = boxes[(y + base) % n_ring]
-        b_down = boxes[(y + hw + base) % n_ring]
+        bu = boxes[(y - hw + base) % n_ring]
+        bm = boxes[(y + base) % n_ring]
+        bd = boxes[(y + hw + base) % n_ring]
         for i in range(row_start[y], row_start[y + 1]):
             c = cols[i]
-            kbest = 0
-            vbest = out_of_view
+            xc = c + m
+            k5 = -1
+            c5 = big
+            k3 = -1
+            c3 = big
+            n_in = 0
             for k in range(nd):
                 xr = c - dlo - k
                 if xr < 0 or xr >= w:
-                    v = out_of_view
-                    row_cost[i, k] = out_of_view
-                else:
-                    v = _least(b_up[k], b_mid[k], b_down[k], c + m, hw, vertical)
-                    row_cost[i, k] = _least(b_up[k], b_mid[k], b_down[k], c + m, hw, False)
-                cost[i, k] = v
-                if v < vbest:
-                    vbest = v
-                    kbest = k
-            xr = c - dlo - kbest
-            xr_out[i] = xr
+                    s5[k] = big
+                    s3[k] = big
+                    continue
+                n_in += 1
+                v3 = np.int32(min(bm[k, xc - hw], min(bm[k, xc], bm[k, xc + hw])))
+                v5 = v3
+                if vertical:
+                    v5 = min(v5, np.int32(min(bu[k, xc], bd[k, xc])))
+                s5[k] = v5
+                s3[k] = v3
+                if v5 < c5:
+                    c5 = v5
+                    k5 = k
+                if v3 < c3:
+                    c3 = v3
+                    k3 = k
+            f5 = big
+            f3 = big
+            for k in range(nd):
+                if abs(k - k5) > 1 and s5[k] < f5:
+                    f5 = s5[k]
+                if abs(k - k3) > 1 and s3[k] < f3:
+                    f3 = s3[k]
+            o = out[i]
+            o[0] = k5
+            o[1] = c5
+            o[2] = f5
+            o[3] = s5[k5 - 1] if k5 > 0 else big
+            o[4] = s5[k5 + 1] if 0 <= k5 < nd - 1 else big
+            o[5] = k3
+            o[6] = c3
+            o[7] = f3
+            o[8] = n_in
+            o[9] = -1
+            if k5 < 0:
+                continue
             # the right pixel of the best disparity against every left pixel
+            xr = c - dlo - k5
+            kr = -1
+            cb = big
             for k in range(nd):
                 xl = xr + dlo + k
                 if xl < 0 or xl >= w:
-                    rcost[i, k] = out_of_view
-                else:
-                    rcost[i, k] = _least(b_up[k], b_mid[k], b_down[k], xl + m, hw, vertical)
+                    continue
+                x2 = xl + m
+                v = np.int32(min(bm[k, x2 - hw], min(bm[k, x2], bm[k, x2 + hw])))
+                if vertical:
+                    v = min(v, np.int32(min(bu[k, x2], bd[k, x2])))
+                if v < cb:
+                    cb = v
+                    kr = k
+            o[9] = kr
 
 
 @dataclass(frozen=True)
 class WindowCosts:
-    """Window costs of left edge points over the whole-pixel disparity range.
+    """Window costs of left edge points over the whole-pixel disparity range, summed up.
+
+    Disparity ``k`` stands for ``d_min + k``; costs are window sums of pixel costs
+    (:func:`window_costs`, Notes); ``OUT_OF_VIEW`` where there is no such cost.  Arrays
+    have shape ``(N,)``.
 
     Attributes
     ----------
-    d_min : int
-        Disparity of column 0 of the cost arrays.
-    cost : ndarray of int32, shape (N, D)
-        Side-aware window cost of each left edge point at disparity ``d_min + k``;
-        ``2**30`` where the right pixel falls outside the image.
-    right_cost : ndarray of int32, shape (N, D)
-        Cost of the right pixel of each point's best disparity against the left
-        pixel at ``d_min + k`` (the left-right check's costs).
-    right_column : ndarray of int, shape (N,)
-        That right pixel's column.
-    row_cost : ndarray of int32, shape (N, D)
-        The cost with the three windows along the row only.
+    d_min, n_disparities : int
+    best, cost : ndarray of int
+        The best disparity ``k1`` (-1 where every right pixel is outside the image) and
+        its cost ``c1``, with all five windows.
+    second : ndarray of int
+        The least cost more than one disparity away from ``k1``.
+    before, after : ndarray of int
+        The costs at ``k1 - 1`` and ``k1 + 1`` (for the sub-pixel parabola).
+    best_row, cost_row, second_row : ndarray of int
+        The same with the three windows along the row only.
+    in_view : ndarray of int
+        Disparities whose right pixel is inside the image.
+    right_best : ndarray of int
+        Best disparity of the right pixel ``x - d_min - k1`` against every left pixel
+        (the left-right check); -1 where there is none.
     """
 
     d_min: int
+    n_disparities: int
+    best: NDArray[np.int32]
     cost: NDArray[np.int32]
-    right_cost: NDArray[np.int32]
-    right_column: NDArray[np.intp]
-    row_cost: NDArray[np.int32]
-
-    @property
-    def n_disparities(self) -> int:
-        return int(self.cost.shape[1])
+    second: NDArray[np.int32]
+    before: NDArray[np.int32]
+    after: NDArray[np.int32]
+    best_row: NDArray[np.int32]
+    cost_row: NDArray[np.int32]
+    second_row: NDArray[np.int32]
+    in_view: NDArray[np.int32]
+    right_best: NDArray[np.int32]
 
 
 #: cost value of a disparity whose right pixel lies outside the image
@@ -356,6 +413,8 @@ def window_costs(
        ``x - 4``, ``x`` and ``x + 4``; the lowest is the cost (side-aware windows).
     4. For the right pixel ``x_r = x - d*`` of the best disparity, the same cost
        against the left pixels ``x_r + d`` for every ``d`` (left-right check).
+    5. Per point only a summary is kept (:class:`WindowCosts`): memory is a few rows
+       of costs, whatever the range.
 
     Examples
     --------
@@ -363,8 +422,8 @@ def window_costs(
     >>> left = rng.uniform(0, 127, (30, 60)).astype(np.float32)
     >>> right = np.roll(left, -6, axis=1)
     >>> wc = window_costs(left, right, np.array([15]), np.array([30]), (0, 12))
-    >>> int(np.argmin(wc.cost[0])) + wc.d_min, int(np.argmin(wc.right_cost[0])) + wc.d_min
-    (6, 6)
+    >>> int(wc.best[0]) + wc.d_min, int(wc.right_best[0]) + wc.d_min, int(wc.cost[0])
+    (6, 6, 0)
     """
     gl = np.asarray(grey_left, dtype=np.float32)
     gr = np.asarray(grey_right, dtype=np.float32)
@@ -402,18 +461,17 @@ def window_costs(
                     cr = cen
     nd = d_hi - d_lo + 1
     n = r.shape[0]
-    cost = np.empty((n, nd), np.int32)
-    rcost = np.empty((n, nd), np.int32)
-    xr = np.empty(n, np.int64)
-    row_cost = np.empty((n, nd), np.int32)
+    out = np.full((n, 10), -1, np.int32)
     if n:
         row_start = np.searchsorted(r, np.arange(h + 1)).astype(np.int64)
         trunc = int(gradient_truncation)
-        pmax = np.int16(34 + trunc)
-        _stream(cl, cr, sl, sr, row_start, c, d_lo, nd, np.int16(trunc), pmax, HALF_WINDOW,
-                bool(vertical), np.int32(OUT_OF_VIEW), cost, rcost, xr, row_cost)
-    return WindowCosts(d_min=d_lo, cost=cost, right_cost=rcost, right_column=xr.astype(np.intp),
-                       row_cost=row_cost)
+        # bands of at least 64 rows, one per thread: a band repeats 2 * HALF_WINDOW rows
+        n_strips = max(1, min(nb.get_num_threads(), h // 64))
+        _stream(cl, cr, sl, sr, row_start, c, d_lo, nd, np.int16(trunc), np.int16(34 + trunc),
+                HALF_WINDOW, bool(vertical), n_strips, out)
+    cols = dict(zip(("best", "cost", "second", "before", "after", "best_row", "cost_row",
+                     "second_row", "in_view", "right_best"), out.T, strict=True))
+    return WindowCosts(d_min=d_lo, n_disparities=nd, **cols)
 
 
 @dataclass(frozen=True)
@@ -467,29 +525,14 @@ def _nearest_right_edge(left: EdgeSet, right: EdgeSet, x_right: NDArray[np.float
     return idx, dist
 
 
-def _uniqueness(cost: NDArray[np.float64], best: NDArray[np.intp]) -> NDArray[np.float64]:
+def _uniqueness(best: NDArray[np.float64], second: NDArray[np.integer]) -> NDArray[np.float64]:
     """``(c2 - c1) / c2`` of the best cost ``c1`` and the best ``c2`` more than one
-    disparity away; 0 where there is no such cost in view."""
-    n, nd = cost.shape
-    if n == 0:
-        return np.zeros(0)
-    c1 = cost[np.arange(n), best]
-    far = np.abs(np.arange(nd)[None, :] - best[:, None]) > 1
-    c2 = np.min(np.where(far, cost, np.inf), axis=1, initial=np.inf)
+    disparity away; 0 where either is out of view."""
+    c2 = second.astype(np.float64)
+    ok = (best < OUT_OF_VIEW) & (c2 < OUT_OF_VIEW)
     with np.errstate(invalid="ignore", divide="ignore"):
-        u = np.where(np.isfinite(c2) & np.isfinite(c1), (c2 - c1) / np.maximum(c2, 1.0), 0.0)
+        u = np.where(ok, (c2 - best) / np.maximum(c2, 1.0), 0.0)
     return np.clip(u, 0.0, 1.0)
-
-
-def _row_agreement(wc: WindowCosts, best: NDArray[np.intp]) -> NDArray[np.float64]:
-    """1 where the windows along the row alone give the same best disparity (or one
-    pixel off), and their own uniqueness there; 0 elsewhere."""
-    if wc.row_cost.shape[0] == 0:
-        return np.zeros(0)
-    rc = wc.row_cost.astype(np.float64)
-    rc[wc.row_cost >= OUT_OF_VIEW] = np.inf
-    kb = np.argmin(rc, axis=1)
-    return np.where(np.abs(kb - best) <= 1, _uniqueness(rc, kb), 0.0)
 
 
 def window_match(
@@ -505,6 +548,8 @@ def window_match(
     model: ConfidenceModel | None = None,
     valid_left: NDArray[np.bool_] | None = None,
     valid_right: NDArray[np.bool_] | None = None,
+    census_left: NDArray[np.uint64] | None = None,
+    census_right: NDArray[np.uint64] | None = None,
 ) -> WindowMatch:
     """Best disparity and calibrated confidence of every left edge point.
 
@@ -526,6 +571,8 @@ def window_match(
         Default :data:`robostereo.confidence.DEFAULT_MODEL`.
     valid_left, valid_right : ndarray of bool, shape (H, W), optional
         Pixels that hold image data (see :func:`window_costs`).
+    census_left, census_right : ndarray of uint64, optional
+        :func:`census_transform` of the grey images, if already computed.
 
     Returns
     -------
@@ -547,28 +594,23 @@ def window_match(
     d_lo, d_hi = int(np.floor(lo)), int(np.ceil(hi))
     wc = window_costs(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
                       gradient_truncation=gradient_truncation, valid_left=valid_left,
-                      valid_right=valid_right)
-    n, nd = wc.cost.shape
-    cost = wc.cost.astype(np.float64)
-    out = wc.cost >= OUT_OF_VIEW
-    cost[out] = np.inf
-    ar = np.arange(n)
-    k1 = np.argmin(cost, axis=1) if nd else np.zeros(n, np.intp)
-    c1 = cost[ar, k1] if n else np.zeros(0)
-    seen = np.isfinite(c1)
-    uniq = _uniqueness(cost, k1)
+                      valid_right=valid_right, census_left=census_left,
+                      census_right=census_right)
+    n, nd = len(left), wc.n_disparities
+    k1 = wc.best.astype(np.intp)
+    seen = k1 >= 0
+    c1 = wc.cost.astype(np.float64)
+    uniq = _uniqueness(c1, wc.second)
+    cm = wc.before.astype(np.float64)
+    cp = wc.after.astype(np.float64)
     with np.errstate(invalid="ignore", divide="ignore"):
-        cm = cost[ar, np.clip(k1 - 1, 0, max(nd - 1, 0))] if n else c1
-        cp = cost[ar, np.clip(k1 + 1, 0, max(nd - 1, 0))] if n else c1
         den = cm - 2.0 * c1 + cp
-        inner = (k1 > 0) & (k1 < nd - 1) & np.isfinite(den) & (den > 0)
+        inner = seen & (cm < OUT_OF_VIEW) & (cp < OUT_OF_VIEW) & (den > 0)
         off = np.where(inner, 0.5 * (cm - cp) / np.where(inner, den, 1.0), 0.0)
-    d_par = d_lo + k1 + np.clip(off, -0.5, 0.5)
-    d_par = np.where(seen, d_par, np.nan)
-    rc = wc.right_cost.astype(np.float64)
-    rc[wc.right_cost >= OUT_OF_VIEW] = np.inf
-    kr = np.argmin(rc, axis=1) if nd else k1
-    lr = np.abs(kr - k1)
+    d_par = np.where(seen, d_lo + k1 + np.clip(off, -0.5, 0.5), np.nan)
+    lr = np.where(wc.right_best >= 0, np.abs(wc.right_best - k1), nd)
+    agree = seen & (np.abs(wc.best_row - k1) <= 1)
+    u_row = np.where(agree, _uniqueness(wc.cost_row.astype(np.float64), wc.second_row), 0.0)
     idx, dist = _nearest_right_edge(left, right, left.x - d_par)
     has = dist <= 1.0
     d_edge = left.x - right.x[np.maximum(idx, 0)] if len(right) else d_par
@@ -582,7 +624,6 @@ def window_match(
         sel = np.nonzero(use_edge)[0]
         sim[sel] = pair_similarity(left, right, sel, idx[sel], weights=weights,
                                    profile_scale=profile_scale)[4]
-    u_row = _row_agreement(wc, k1)
     feats = np.column_stack([
         uniq,
         u_row,
@@ -590,7 +631,7 @@ def window_match(
         (lr <= 1).astype(float),
         use_edge.astype(float),
         sim,
-        out.mean(axis=1) if nd else np.ones(n),
+        1.0 - wc.in_view / max(nd, 1),
     ]) if n else np.zeros((0, len(FEATURES)))
     conf = (model or DEFAULT_MODEL)(feats)
     conf = np.where(np.isfinite(disparity), conf, np.nan)
