@@ -556,6 +556,7 @@ def window_match(
     valid_right: NDArray[np.bool_] | None = None,
     census_left: NDArray[np.uint64] | None = None,
     census_right: NDArray[np.uint64] | None = None,
+    vertical: bool = True,
 ) -> WindowMatch:
     """Best disparity and calibrated confidence of every left edge point.
 
@@ -579,6 +580,8 @@ def window_match(
         Pixels that hold image data (see :func:`window_costs`).
     census_left, census_right : ndarray of uint64, optional
         :func:`census_transform` of the grey images, if already computed.
+    vertical : bool
+        Windows above and below too (see :func:`window_costs`).
 
     Returns
     -------
@@ -601,7 +604,7 @@ def window_match(
     wc = window_costs(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
                       gradient_truncation=gradient_truncation, valid_left=valid_left,
                       valid_right=valid_right, census_left=census_left,
-                      census_right=census_right)
+                      census_right=census_right, vertical=vertical)
     n, nd = len(left), wc.n_disparities
     k1 = wc.best.astype(np.intp)
     seen = k1 >= 0
