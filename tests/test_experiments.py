@@ -122,6 +122,10 @@ def test_pulley_matches_the_seed_figures(experiments):
     assert final.false_fraction <= 0.0165
     # relaxation earns its coverage: more matched than before it, no worse in truth
     assert final.matched > pulley.scores[0].matched
+    # robostereo's default matcher on the same capture: as many matched, as few false
+    win = pulley.default_score
+    assert win is not None and win.matched >= final.matched
+    assert win.false_fraction <= 0.0165
     assert pulley.n_left_edges >= 818 and pulley.n_right_edges >= 815
     # ground truth: the hub's top (1050 - 70 mm below the camera) has fx D / 980 px
     gt = pulley.gt_disparity
