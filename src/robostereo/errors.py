@@ -8,16 +8,20 @@ prints that line and exits with code 2.
 from __future__ import annotations
 
 import math
+import numbers
 import os
 from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
 __all__ = [
     "InputError",
     "UnreachablePoseError",
     "require_file",
     "require_finite",
+    "require_int",
     "require_positive",
+    "require_range",
 ]
 
 
@@ -42,9 +46,9 @@ def require_finite(name: str, value: float | Iterable[float]) -> None:
     ...
     robostereo.errors.InputError: pixel_pitch_mm must be finite, got [0.0172, nan]
     """
-    values = [value] if isinstance(value, int | float) else list(value)
-    if not all(isinstance(v, int | float) and math.isfinite(v) for v in values):
-        shown = value if isinstance(value, int | float) else values
+    values = [value] if isinstance(value, numbers.Real) else list(value)
+    if not all(isinstance(v, numbers.Real) and math.isfinite(v) for v in values):
+        shown = value if isinstance(value, numbers.Real) else values
         raise InputError(f"{name} must be finite, got {shown}")
 
 
@@ -57,7 +61,8 @@ def require_positive(name: str, value: float) -> None:
     ...
     robostereo.errors.InputError: baseline_mm must be a finite number > 0, got -20.0
     """
-    if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
+    if (isinstance(value, bool) or not isinstance(value, numbers.Real)
+            or not math.isfinite(value) or value <= 0):
         raise InputError(f"{name} must be a finite number > 0, got {value}")
 
 
@@ -75,3 +80,51 @@ def require_file(path: str | os.PathLike[str], what: str = "file") -> Path:
     if p.stat().st_size == 0:
         raise InputError(f"{p}: {what} is empty")
     return p
+
+
+def require_int(name: str, value: Any, *, minimum: int | None = None) -> int:
+    """``value`` as an ``int`` if it is a whole number (an integer type) >= `minimum`.
+
+    Floats, even whole ones like ``2.0``, and booleans are refused: a parameter that
+    counts something is an integer.
+
+    >>> require_int("row_step", 2, minimum=1)
+    2
+    >>> require_int("row_step", 2.0, minimum=1)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: row_step must be an integer >= 1, got 2.0
+    """
+    bound = "" if minimum is None else f" >= {minimum}"
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise InputError(f"{name} must be an integer{bound}, got {value!r}")
+    v = int(value)
+    if minimum is not None and v < minimum:
+        raise InputError(f"{name} must be an integer{bound}, got {v}")
+    return v
+
+
+def require_range(name: str, value: Any) -> tuple[float, float]:
+    """``(min, max)`` as two floats: a pair of finite real numbers with min <= max.
+
+    >>> require_range("disparity_range", (0, 12))
+    (0.0, 12.0)
+    >>> require_range("disparity_range", 5)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: disparity_range must be (min, max), two numbers, got 5
+    """
+    shown = repr(value) if len(repr(value)) <= 60 else repr(value)[:57] + "..."
+    if isinstance(value, str | bytes) or not isinstance(value, Iterable):
+        raise InputError(f"{name} must be (min, max), two numbers, got {shown}")
+    items = list(value)
+    if len(items) != 2 or not all(
+        isinstance(v, numbers.Real) and not isinstance(v, bool) for v in items
+    ):
+        raise InputError(f"{name} must be (min, max), two numbers, got {shown}")
+    lo, hi = float(items[0]), float(items[1])
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise InputError(f"{name} must be finite, got ({lo}, {hi})")
+    if lo > hi:
+        raise InputError(f"{name} is empty: min {lo} > max {hi}")
+    return lo, hi

@@ -81,6 +81,33 @@ class MatchScore:
         return d
 
 
+def _score_inputs(
+    rows: ArrayLike, x: ArrayLike, disparity: ArrayLike, gt_disparity: ArrayLike,
+    tolerance: float,
+) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Checked arrays of :func:`score_matches`; points off the map are refused."""
+    try:
+        arrays = [np.asarray(v, dtype=float) for v in (rows, x, disparity, gt_disparity)]
+    except (TypeError, ValueError):
+        raise InputError("rows, x, disparity and gt_disparity must be arrays of numbers") from None
+    r, xs, d, gt = arrays
+    if gt.ndim != 2 or gt.size == 0:
+        raise InputError(f"gt_disparity must be a non-empty (H, W) map, got shape {gt.shape}")
+    if not (r.ndim == xs.ndim == d.ndim == 1 and r.shape == xs.shape == d.shape):
+        raise InputError(f"rows, x and disparity must be 1-D arrays of one length, got shapes "
+                         f"{r.shape}, {xs.shape}, {d.shape}")
+    require_finite("tolerance", tolerance)
+    if tolerance < 0:
+        raise InputError(f"tolerance must be >= 0, got {tolerance}")
+    h, w = gt.shape
+    if not (np.isfinite(r).all() and (r == np.rint(r)).all() and (r >= 0).all()
+            and (r <= h - 1).all()):
+        raise InputError(f"rows must be whole numbers in 0..{h - 1} (the map's rows)")
+    if not (np.isfinite(xs).all() and (xs >= -0.5).all() and (xs < w - 0.5).all()):
+        raise InputError(f"x must be finite and inside the map: -0.5 <= x < {w - 0.5}")
+    return r.astype(np.intp), xs, d, gt
+
+
 def score_matches(
     rows: ArrayLike,
     x: ArrayLike,
@@ -108,21 +135,22 @@ def score_matches(
     -------
     MatchScore
 
+    Raises
+    ------
+    InputError
+        Arrays of different lengths, a map that is not (H, W), a point off the map (a
+        row outside ``0..H-1`` or ``x`` outside ``-0.5 .. W-0.5``): such points are
+        refused, not moved to the border.
+
     Examples
     --------
     >>> gt = np.full((1, 4), 5.0); gt[0, 3] = np.nan
     >>> score_matches([0, 0, 0, 0], [0.4, 1.6, 2.2, 3.0], [5.5, 7.0, np.nan, 5.0], gt)
     MatchScore(counted=3, matched=2, false=1, rms=0.5)
     """
-    r = np.asarray(rows, dtype=np.intp)
-    xs = np.asarray(x, dtype=float)
-    d = np.asarray(disparity, dtype=float)
-    gt = np.asarray(gt_disparity, dtype=float)
-    if gt.ndim != 2:
-        raise InputError(f"gt_disparity must be an (H, W) map, got shape {gt.shape}")
-    h, w = gt.shape
-    c = np.clip(np.rint(xs).astype(np.intp), 0, w - 1)
-    r = np.clip(r, 0, h - 1)
+    r, xs, d, gt = _score_inputs(rows, x, disparity, gt_disparity, tolerance)
+    w = gt.shape[1]
+    c = np.rint(xs).astype(np.intp)
     known = np.isfinite(gt[r, c])
     nb = np.stack([gt[r, np.clip(c + o, 0, w - 1)] for o in (-1, 0, 1)], axis=1)
     err = np.abs(nb - d[:, None])

@@ -17,7 +17,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.edges import EdgeSet, detect_edges, to_grey
-from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.errors import (
+    InputError,
+    require_finite,
+    require_int,
+    require_positive,
+    require_range,
+)
 from robostereo.matching import (
     Candidates,
     SimilarityWeights,
@@ -28,7 +34,7 @@ from robostereo.matching import (
 from robostereo.relaxation import RelaxationParameters, RelaxationResult, relax
 from robostereo.triangulation import StereoCamera, triangulate
 
-__all__ = ["MatchParameters", "MatchResult", "match_stereo"]
+__all__ = ["MatchParameters", "MatchResult", "match_stereo", "searched_range"]
 
 
 @dataclass(frozen=True)
@@ -79,8 +85,9 @@ class MatchParameters:
         require_finite("min_probability", self.min_probability)
         if not 0.0 <= self.min_probability <= 1.0:
             raise InputError(f"min_probability must be in 0..1, got {self.min_probability}")
-        if int(self.row_step) != self.row_step or self.row_step < 1:
-            raise InputError(f"row_step must be a whole number >= 1, got {self.row_step}")
+        require_int("row_step", self.row_step, minimum=1)
+        if self.bit_depth is not None:
+            require_int("bit_depth", self.bit_depth, minimum=1)
 
     @classmethod
     def seed(cls, **changes: object) -> MatchParameters:
@@ -186,23 +193,25 @@ class MatchResult:
         """Every left edge point with its features and its match (NaN where none)."""
         e = self.left_edges
         has = self.match >= 0
-        m = np.where(has, self.match, 0)
-        nan = np.full(len(e), np.nan)
-        x_right = np.where(has, self.right_edges.x[self.candidates.right[m]], nan)
+        m = self.match[has]
+        x_right, disparity, probability = (np.full(len(e), np.nan) for _ in range(3))
+        x_right[has] = self.right_edges.x[self.candidates.right[m]]
+        disparity[has] = self.candidates.disparity[m]
+        probability[has] = self.relaxation.probability[m]
         return {
             "row": e.row, "x": e.x, "sign": e.sign, "magnitude": e.magnitude,
             "pattern": e.pattern, "mean_grey": e.mean_grey, "x_right": x_right,
-            "disparity": np.where(has, self.candidates.disparity[m], nan),
-            "probability": np.where(has, self.relaxation.probability[m], nan),
+            "disparity": disparity, "probability": probability,
         }
 
     def matches_after(self, iteration: int) -> NDArray[np.intp]:
         """The matches accepted from the probabilities after ``iteration`` iterations.
 
         Returns an array like :attr:`match` (the seed's figure 4-4 shows these after
-        0, 1, 3 and 5 iterations).
+        0, 1, 3 and 5 iterations); beyond the iterations run, the final matches.
         """
-        k = min(int(iteration), len(self.relaxation.history) - 1)
+        k = min(require_int("iteration", iteration, minimum=0),
+                len(self.relaxation.history) - 1)
         return assign_matches(
             self.candidates, self.relaxation.history[k], self.relaxation.none_history[k],
             len(self.left_edges), min_probability=self.parameters.min_probability,
@@ -210,11 +219,22 @@ class MatchResult:
 
     def disparity_of(self, match: NDArray[np.intp]) -> NDArray[np.float64]:
         """Disparity per left edge point for a match array, NaN where unmatched."""
-        return np.where(match >= 0, self.candidates.disparity[np.maximum(match, 0)], np.nan)
+        m = np.asarray(match)
+        if m.shape != self.match.shape or m.dtype.kind not in "iu" or (
+                m.size and not -1 <= m.min() <= m.max() < len(self.candidates)):
+            raise InputError(f"match must be an array like MatchResult.match "
+                             f"({self.match.shape[0]} candidate indices or -1)")
+        out = np.full(m.shape, np.nan)
+        out[m >= 0] = self.candidates.disparity[m[m >= 0]]
+        return out
 
 
 def _check_pair(left: ArrayLike, right: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     a, b = np.asarray(left), np.asarray(right)
+    for name, im in (("left image", a), ("right image", b)):
+        if im.ndim not in (2, 3):
+            raise InputError(f"{name} must be a grey (H, W) or colour (H, W, 3|4) image, "
+                             f"got shape {im.shape}")
     if a.size == 0 or b.size == 0:
         raise InputError("images must not be empty")
     if a.shape[:2] != b.shape[:2]:
@@ -223,6 +243,27 @@ def _check_pair(left: ArrayLike, right: ArrayLike) -> tuple[np.ndarray, np.ndarr
             f"{b.shape[1]} x {b.shape[0]} pixels"
         )
     return a, b
+
+
+def searched_range(disparity_range: tuple[float, float], width: int) -> tuple[float, float]:
+    """The part of `disparity_range` that an image `width` pixels wide can hold.
+
+    No pair of pixels is more than ``width - 1`` apart, so the search is limited to
+    ``-(width - 1) .. width - 1``; a range entirely outside it is refused.
+
+    >>> searched_range((0, 1000), 200)
+    (0.0, 199.0)
+    >>> searched_range((300, 400), 200)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: disparity_range 300.0 .. 400.0 lies outside -199 .. 199, ...
+    """
+    lo, hi = require_range("disparity_range", disparity_range)
+    m = float(width - 1)
+    if hi < -m or lo > m:
+        raise InputError(f"disparity_range {lo} .. {hi} lies outside {-m:g} .. {m:g}, the "
+                         f"disparities of an image {width} pixels wide")
+    return max(lo, -m), min(hi, m)
 
 
 def match_stereo(
@@ -244,6 +285,8 @@ def match_stereo(
         Rectified images (epipolar lines are rows), grey or colour, 8 or 16 bit.
     disparity_range : tuple of float
         ``(min, max)`` of ``x_left - x_right`` in pixels: the matchable region (3.5).
+        The search is limited to ``-(W - 1) .. W - 1`` (:func:`searched_range`); the
+        result's ``disparity_range`` is the range searched.
     params : MatchParameters, optional
     camera : StereoCamera, optional
         With a camera the result also holds 3-D points and depth bounds.
@@ -258,6 +301,16 @@ def match_stereo(
     Returns
     -------
     MatchResult
+
+    Raises
+    ------
+    InputError
+        Images that are not (H, W) or (H, W, 3|4) real-valued arrays of one size, a
+        float image outside 0..1 without ``params.bit_depth`` (see
+        :func:`~robostereo.edges.to_grey`), NaN grey levels, a malformed or empty
+        `disparity_range` or one outside the image's (one line naming the parameter).
+    TypeError
+        `params` or `camera` of the wrong type.
 
     Notes
     -----
@@ -279,12 +332,13 @@ def match_stereo(
     >>> len(res) > 0, set(np.round(res.disparity).tolist())
     (True, {7.0})
     """
+    if params is not None and not isinstance(params, MatchParameters):
+        raise TypeError(f"params must be a MatchParameters, got {type(params).__name__}")
+    if camera is not None and not isinstance(camera, StereoCamera):
+        raise TypeError(f"camera must be a StereoCamera, got {type(camera).__name__}")
     p = params or MatchParameters()
     a, b = _check_pair(left, right)
-    lo, hi = disparity_range
-    require_finite("disparity_range", [lo, hi])
-    if lo > hi:
-        raise InputError(f"disparity range is empty: min {lo} > max {hi}")
+    lo, hi = searched_range(disparity_range, int(a.shape[1]))
     say = progress or (lambda _stage: None)
     t: dict[str, float] = {}
     t0 = time.perf_counter()

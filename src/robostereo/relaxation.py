@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.edges import EdgeSet
-from robostereo.errors import InputError, require_finite
+from robostereo.errors import InputError, require_finite, require_int
 from robostereo.matching import Candidates, group_sum
 
 __all__ = [
@@ -72,8 +72,7 @@ class RelaxationParameters:
     b_none: float = 0.0
 
     def __post_init__(self) -> None:
-        if int(self.iterations) != self.iterations or self.iterations < 0:
-            raise InputError(f"iterations must be a whole number >= 0, got {self.iterations}")
+        require_int("iterations", self.iterations, minimum=0)
         require_finite(
             "relaxation parameters",
             [self.tolerance, self.neighbour_radius, self.no_match_support,
@@ -311,7 +310,8 @@ def relax(
     has_nbr = n_nbr[cands.left] > 0
     it = 0
     for it in range(1, p.iterations + 1):  # noqa: B007 - `it` is reported
-        q = np.bincount(t_i, weights=prob[t_j] * t_r, minlength=m)
+        # float even when there are no terms (bincount of no weights gives int64)
+        q = np.bincount(t_i, weights=prob[t_j] * t_r, minlength=m).astype(float)
         q += np.bincount(u_i, weights=pnone[u_m] * c, minlength=m)
         q = np.where(has_nbr, q / nn, c)
         num = prob * q
