@@ -115,7 +115,7 @@ def slow_inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL])
+@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL], ids=["SIGTERM", "SIGKILL"])
 def test_killing_the_main_process_leaves_no_worker(slow_inputs: Path, tmp_path: Path,
                                                    sig: signal.Signals) -> None:
     proc = subprocess.Popen(

@@ -296,22 +296,32 @@ def _node_value(node: Any) -> Any:
 
 
 def _load_with_filestorage(path: Path, keys: tuple[str, ...]) -> dict[str, Any] | None:
-    """Read `keys` with cv2.FileStorage; None when OpenCV cannot parse the file."""
+    """Read `keys` with cv2.FileStorage; None when OpenCV cannot parse the file (its own
+    log lines silenced: the error reported is ours)."""
+    import cv2.utils.logging as cv_log
+
+    level = cv_log.getLogLevel()
+    cv_log.setLogLevel(cv_log.LOG_LEVEL_SILENT)
     try:
-        fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
-    except (cv2.error, SystemError):
-        return None
-    try:
-        if not fs.isOpened():
+        try:
+            fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
+        except (cv2.error, SystemError):
             return None
-        out: dict[str, Any] = {}
-        for k in keys:
-            node = fs.getNode(k)
-            if not node.empty():
-                out[k] = _node_value(node)
-        return out
+        try:
+            if not fs.isOpened():
+                return None
+            out: dict[str, Any] = {}
+            for k in keys:
+                node = fs.getNode(k)
+                if not node.empty():
+                    out[k] = _node_value(node)
+            return out
+        except (cv2.error, SystemError):  # e.g. a top level that is not a mapping
+            return None
+        finally:
+            fs.release()
     finally:
-        fs.release()
+        cv_log.setLogLevel(level)
 
 
 class _OpenCVYamlLoader(yaml.SafeLoader):

@@ -135,8 +135,8 @@ def load_image(path: PathLike) -> tuple[NDArray[Any], int]:
         img = cv2.cvtColor(img, code) if code is not None else img
     if img is None:
         try:
-            with warnings.catch_warnings():  # imageio's plugin deprecation notices
-                warnings.simplefilter("ignore", DeprecationWarning)
+            with warnings.catch_warnings():  # imageio's notices: the error is ours
+                warnings.simplefilter("ignore")
                 img = np.asarray(iio.imread(p))
         except Exception as e:  # imageio raises many types for bad files
             raise InputError(

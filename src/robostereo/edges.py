@@ -144,10 +144,12 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
     if arr.ndim == 3 and arr.shape[2] in (3, 4):
         if arr.shape[2] == 4:
             arr = arr[:, :, :3]
-        work = arr.astype(np.float32) if arr.dtype != np.float32 else arr
+        with np.errstate(over="ignore"):  # beyond float32: inf, refused below
+            work = arr.astype(np.float32) if arr.dtype != np.float32 else arr
         grey = cv2.cvtColor(np.ascontiguousarray(work), cv2.COLOR_RGB2GRAY)
     elif arr.ndim == 2:
-        grey = arr.astype(np.float32)
+        with np.errstate(over="ignore"):
+            grey = arr.astype(np.float32)
     else:
         raise InputError(
             f"{name} must be a grey (H, W) or colour (H, W, 3|4) image, got shape {arr.shape}"

@@ -29,12 +29,23 @@ class InputError(ValueError):
     """Bad input: a file, an image or a parameter that cannot be used.
 
     The message is a single line naming the problem, e.g.
-    ``baseline_mm must be a finite number > 0, got -20.0``.
+    ``baseline_mm must be a finite number > 0, got -20.0``.  Line breaks in a
+    message (from a value quoted in it) are shown as ``\\n``, so it stays one line.
     """
+
+    def __init__(self, message: object = "", *args: object) -> None:
+        text = str(message)
+        super().__init__(text.replace("\r", "\\r").replace("\n", "\\n"), *args)
 
 
 class UnreachablePoseError(InputError):
     """A pose that the robot cannot reach (outside its workspace or joint limits)."""
+
+
+def _show(value: object) -> str:
+    """A value for an error message: its repr, cut to 60 characters."""
+    r = repr(value)
+    return r if len(r) <= 60 else r[:57] + "..."
 
 
 def require_finite(name: str, value: float | Iterable[float]) -> None:
@@ -49,7 +60,7 @@ def require_finite(name: str, value: float | Iterable[float]) -> None:
     values = [value] if isinstance(value, numbers.Real) else list(value)
     if not all(isinstance(v, numbers.Real) and math.isfinite(v) for v in values):
         shown = value if isinstance(value, numbers.Real) else values
-        raise InputError(f"{name} must be finite, got {shown}")
+        raise InputError(f"{name} must be finite, got {_show(shown)}")
 
 
 def require_positive(name: str, value: float) -> None:
@@ -63,7 +74,7 @@ def require_positive(name: str, value: float) -> None:
     """
     if (isinstance(value, bool) or not isinstance(value, numbers.Real)
             or not math.isfinite(value) or value <= 0):
-        raise InputError(f"{name} must be a finite number > 0, got {value}")
+        raise InputError(f"{name} must be a finite number > 0, got {_show(value)}")
 
 
 def require_file(path: str | os.PathLike[str], what: str = "file") -> Path:
@@ -114,7 +125,7 @@ def require_range(name: str, value: Any) -> tuple[float, float]:
     ...
     robostereo.errors.InputError: disparity_range must be (min, max), two numbers, got 5
     """
-    shown = repr(value) if len(repr(value)) <= 60 else repr(value)[:57] + "..."
+    shown = _show(value)
     if isinstance(value, str | bytes) or not isinstance(value, Iterable):
         raise InputError(f"{name} must be (min, max), two numbers, got {shown}")
     items = list(value)

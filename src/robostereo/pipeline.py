@@ -88,6 +88,16 @@ class MatchParameters:
         require_int("row_step", self.row_step, minimum=1)
         if self.bit_depth is not None:
             require_int("bit_depth", self.bit_depth, minimum=1)
+        if self.profile_scale is not None:
+            require_positive("profile_scale", self.profile_scale)
+        if not isinstance(self.subpixel, bool):
+            raise InputError(f"subpixel must be True or False, got {self.subpixel!r}")
+        if not isinstance(self.weights, SimilarityWeights):
+            raise TypeError(f"weights must be a SimilarityWeights, got "
+                            f"{type(self.weights).__name__}")
+        if not isinstance(self.relaxation, RelaxationParameters):
+            raise TypeError(f"relaxation must be a RelaxationParameters, got "
+                            f"{type(self.relaxation).__name__}")
 
     @classmethod
     def seed(cls, **changes: object) -> MatchParameters:

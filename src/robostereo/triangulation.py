@@ -249,7 +249,8 @@ def triangulate(
         ``(X, Y, Z)`` in millimetres, origin mid-baseline, Z the depth.
     z_bound : ndarray, shape (N,)
         Depth error bound of eq. (9), millimetres.
-        Points with a disparity ``<= 0`` (or NaN input) get NaN coordinates and bound.
+        Points with a disparity ``<= 0`` or not finite (NaN or infinite input) get NaN
+        coordinates and bound.
 
     Raises
     ------
@@ -285,18 +286,19 @@ def triangulate(
     xrp = xr - cx - camera.doffs
     d = xlp - xrp
     b = camera.baseline_mm
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         z = b * camera.fx / d
         x = 0.5 * b * (xlp + xrp) / d
         yy = b * (camera.fx / camera.fy) * (y - cy) / d
     dd = camera.disparity_uncertainty_px if disparity_uncertainty_px is None else (
         disparity_uncertainty_px)
-    bound = depth_error_bound(
-        b, camera.fx, d, baseline_uncertainty=camera.baseline_uncertainty_mm,
-        focal_uncertainty=camera.focal_uncertainty_px, disparity_uncertainty=dd,
-    )
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # huge coordinates
+        bound = depth_error_bound(
+            b, camera.fx, d, baseline_uncertainty=camera.baseline_uncertainty_mm,
+            focal_uncertainty=camera.focal_uncertainty_px, disparity_uncertainty=dd,
+        )
     xyz = np.column_stack([x, yy, z])
-    bad = ~(d > 0)
+    bad = ~((d > 0) & np.isfinite(d))  # behind the cameras, or an infinite coordinate
     if bad.any():
         xyz[bad] = math.nan
         bound = np.where(bad, math.nan, bound)
