@@ -147,6 +147,48 @@ def test_outputs_are_all_or_nothing(pair, tmp_path: Path, capsys, monkeypatch) -
     assert _files(tmp_path) == before  # neither the CSV nor the edges, no temporary file
 
 
+def test_a_failed_write_leaves_no_output(pair, tmp_path: Path, capsys) -> None:
+    """/proc takes no new files, even for root: the PLY fails after the matching, and the
+    CSV, complete by then, is not renamed into place either."""
+    lp, rp, _, _ = pair
+    cam = tmp_path / "cam.yaml"
+    cam.write_text("fx: 800\nfy: 800\nbaseline_mm: 60\n")
+    before = _files(tmp_path)
+    assert main(["match", str(lp), str(rp), *RANGE, "--camera", str(cam), "-o",
+                 str(tmp_path / "m.csv"), "--ply", "/proc/robostereo-m.ply"]) == 2
+    _one_error(capsys, "/proc/robostereo-m.ply: cannot write")
+    assert _files(tmp_path) == before
+
+
+def test_rig_outputs_are_checked_and_all_or_nothing(pair, tmp_path: Path, capsys) -> None:
+    from robostereo.calibration import StereoCalibration, write_opencv_calibration
+
+    lp, rp, _, _ = pair
+    K = np.array([[800.0, 0, 99.5], [0, 800.0, 29.5], [0, 0, 1]])
+    cal = write_opencv_calibration(
+        StereoCalibration(K, None, K, None, np.eye(3), [-60, 0, 0], (200, 60)),
+        tmp_path / "rig.yml")
+    base = ["rig", str(lp), str(rp), "--calibration", str(cal), *RANGE]
+    before = _files(tmp_path)
+    assert main([*base, "-o", str(cal)]) == 2
+    _one_error(capsys, "is an input")
+    assert main([*base, "-o", str(tmp_path / "m.csv"), "--ply", "/proc/robostereo.ply"]) == 2
+    _one_error(capsys, "cannot write")
+    assert _files(tmp_path) == before
+    assert main([*base, "-o", str(tmp_path / "m.csv"), "--ply", str(tmp_path / "m.ply")]) == 0
+    assert (tmp_path / "m.ply").read_bytes().startswith(b"ply")
+
+
+def test_an_unwritable_output_folder_is_refused(tmp_path: Path, monkeypatch) -> None:
+    import os
+
+    real = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode: False if Path(p) == tmp_path
+                        else real(p, mode))  # as if read-only (root may write anyway)
+    with pytest.raises(InputError, match="is not writable"):
+        check_outputs({"-o": tmp_path / "m.csv"})
+
+
 def test_atomic_outputs_keeps_old_files_on_failure(tmp_path: Path) -> None:
     a, b = tmp_path / "a.txt", tmp_path / "b.txt"
     a.write_text("old")

@@ -55,6 +55,20 @@ def test_rerun_with_other_options_redoes(tmp_path: Path) -> None:
     assert rep.redone == ("a",) and rep.skipped == ("b",)
 
 
+def test_batch_ply_with_no_3d_points_is_finished(tmp_path: Path) -> None:
+    root, out = tmp_path / "in", tmp_path / "out"
+    d = root / "flat"
+    d.mkdir(parents=True)
+    cv2.imwrite(str(d / "left.png"), np.full((40, 60), 90, np.uint8))
+    cv2.imwrite(str(d / "right.png"), np.full((40, 60), 90, np.uint8))
+    (d / "camera.yaml").write_text("fx: 800\nfy: 800\nbaseline_mm: 60\n")
+    opts = BatchOptions(disparity_range=RANGE, ply=True)
+    rep = run_batch(root, out, options=opts, workers=1)
+    assert rep.failed == () and rep.rows[0]["points_3d"] == 0
+    assert b"element vertex 0" in (out / "flat.ply").read_bytes()
+    assert run_batch(root, out, options=opts, workers=1).skipped == ("flat",)
+
+
 def test_other_calibration_contents_redo(tmp_path: Path, capsys) -> None:
     from robostereo.calibration import StereoCalibration, write_opencv_calibration
 
@@ -104,6 +118,10 @@ def _alive(pid: int) -> bool:
     return state != "Z"  # a zombie has ended; only its parent's reaping is left
 
 
+def _outputs(out: Path) -> set[str]:
+    return {p.name for p in out.glob("*") if not p.name.startswith(".")}
+
+
 @pytest.fixture(scope="module")
 def slow_inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
     """Four large pairs: each takes a worker a second or more."""
@@ -115,7 +133,8 @@ def slow_inputs(tmp_path_factory: pytest.TempPathFactory) -> Path:
 
 
 @pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
-@pytest.mark.parametrize("sig", [signal.SIGTERM, signal.SIGKILL], ids=["SIGTERM", "SIGKILL"])
+@pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM, signal.SIGKILL],
+                         ids=["SIGINT", "SIGTERM", "SIGKILL"])
 def test_killing_the_main_process_leaves_no_worker(slow_inputs: Path, tmp_path: Path,
                                                    sig: signal.Signals) -> None:
     proc = subprocess.Popen(
@@ -136,6 +155,7 @@ def test_killing_the_main_process_leaves_no_worker(slow_inputs: Path, tmp_path: 
         time.sleep(0.2)  # let them take up their first inputs
         assert proc.poll() is None, "the batch ended before it could be killed"
         proc.send_signal(sig)
+        written = _outputs(tmp_path / "out")
         _, err = proc.communicate(timeout=60)
     finally:
         if proc.poll() is None:
@@ -145,8 +165,14 @@ def test_killing_the_main_process_leaves_no_worker(slow_inputs: Path, tmp_path: 
     while time.monotonic() < deadline and any(_alive(k) for k in kids):
         time.sleep(0.1)
     assert [k for k in kids if _alive(k)] == []
+    # a worker left running would finish its input and write it: nothing new may appear
+    # (files written before the signal are the batch's; it did not get to the summary)
+    assert _outputs(tmp_path / "out") == written
     assert not (tmp_path / "out" / "summary.csv").exists()
-    if sig == signal.SIGTERM:
+    if sig == signal.SIGINT:
+        assert proc.returncode == 130
+        assert err.strip() == "robostereo: interrupted"
+    elif sig == signal.SIGTERM:
         assert proc.returncode == 143
         assert err.strip() == "robostereo: terminated"
     else:
