@@ -326,6 +326,18 @@ def test_evaluate_names_a_corrupt_ground_truth(tmp_path: Path, capsys) -> None:
     assert "scale" not in err
 
 
+def test_evaluate_with_a_huge_range_bound(tmp_path: Path, capsys) -> None:
+    scene = tmp_path / "myscene"
+    scene.mkdir()
+    left, right, gt = synthetic_pair(np.random.default_rng(2), height=40, width=120)
+    cv2.imwrite(str(scene / "left.png"), left)
+    cv2.imwrite(str(scene / "right.png"), right)
+    cv2.imwrite(str(scene / "gt_disp_left.png"), np.nan_to_num(gt * 4, nan=0).astype(np.uint8))
+    (tmp_path / "scenes.json").write_text('{"scenes": {"myscene": {"scale": 4}}}')
+    assert main(["evaluate", str(scene), "--min-disparity=-1e18", "--max-disparity", "16"]) == 0
+    assert "disparity -119 .. 16 px" in capsys.readouterr().out  # SGBM searched it too
+
+
 def test_corrupt_png_gives_our_line_only(pair, tmp_path: Path) -> None:
     lp, rp, _, _ = pair
     bad = tmp_path / "cut.png"

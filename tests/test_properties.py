@@ -515,7 +515,8 @@ def argv(draw: st.DrawFn) -> list[str]:
     usual = {"match": ["--min-disparity", "4", "--max-disparity", "16", "-o", "o.csv"],
              "rig": ["--calibration", "rig.yml", "--min-disparity", "4", "--max-disparity", "16",
                      "-o", "o.csv"],
-             "evaluate": ["--no-sgbm"], "locate": [], "batch": ["--out", "bout"]}[cmd]
+             "evaluate": draw(st.sampled_from([["--no-sgbm"], []])), "locate": [],
+             "batch": ["--out", "bout"]}[cmd]
     if draw(st.integers(0, 9)) < 8:
         args += usual
     for opt in draw(st.lists(st.sampled_from(options), max_size=4)):
@@ -528,8 +529,10 @@ def argv(draw: st.DrawFn) -> list[str]:
             args += [opt, draw(inp)]
         elif opt == "--scheduler":
             args += [opt, draw(st.sampled_from(["notaurl", "", "tcp://", "::::"]))]
-        else:
+        elif draw(st.booleans()):
             args += [opt, draw(num)]
+        else:  # the form that takes negative numbers in exponent notation, -1e18
+            args.append(f"{opt}={draw(num)}")
     if cmd == "batch":
         args += ["--workers", "1"]
     return args

@@ -39,7 +39,7 @@ from robostereo.calibration import rectify_stereo
 from robostereo.datasets import StereoScene
 from robostereo.edges import to_grey
 from robostereo.errors import InputError, require_finite
-from robostereo.pipeline import MatchParameters, match_stereo
+from robostereo.pipeline import MatchParameters, match_stereo, searched_range
 from robostereo.triangulation import StereoCamera, triangulate
 
 __all__ = ["MatchScore", "sample_dense", "score_matches"]
@@ -425,10 +425,8 @@ def evaluate_scene(
        :class:`~robostereo.triangulation.StereoCamera` triangulates each correct match
        and its ground truth (:func:`errors_3d`).
     """
-    lo, hi = scene.disparity_range if disparity_range is None else disparity_range
-    require_finite("disparity_range", [lo, hi])
-    if lo > hi:
-        raise InputError(f"disparity range is empty: min {lo} > max {hi}")
+    lo, hi = searched_range(scene.disparity_range if disparity_range is None
+                            else disparity_range, scene.shape[1])  # both methods search it
     p = params if params is not None else MatchParameters(bit_depth=scene.bit_depth)
     if params is not None and params.bit_depth is None:
         p = replace(params, bit_depth=scene.bit_depth)
