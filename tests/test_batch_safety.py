@@ -55,6 +55,16 @@ def test_rerun_with_other_options_redoes(tmp_path: Path) -> None:
     assert rep.redone == ("a",) and rep.skipped == ("b",)
 
 
+def test_output_folder_that_is_an_input(tmp_path: Path) -> None:
+    from robostereo.errors import InputError
+
+    _pair(tmp_path / "in" / "a", 1)
+    with pytest.raises(InputError, match="the output folder is an input folder"):
+        run_batch(tmp_path / "in" / "a", tmp_path / "in" / "a", workers=1)
+    assert sorted(p.name for p in (tmp_path / "in" / "a").iterdir()) == [
+        "camera.yaml", "left.png", "right.png"]
+
+
 def test_batch_ply_with_no_3d_points_is_finished(tmp_path: Path) -> None:
     root, out = tmp_path / "in", tmp_path / "out"
     d = root / "flat"

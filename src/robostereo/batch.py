@@ -492,8 +492,8 @@ def run_batch(
     Raises
     ------
     InputError
-        No input folders, an output folder that cannot be made, a scheduler that cannot
-        be reached.
+        No input folders, an output folder that cannot be made or is an input folder, a
+        scheduler that cannot be reached.
 
     Notes
     -----
@@ -507,6 +507,8 @@ def run_batch(
     opts = options or BatchOptions()
     out = Path(out_dir)
     inputs = find_inputs(input_dir, exclude=out)  # no output folder unless there is input
+    if any(p.resolve() == out.resolve() for p in inputs):
+        raise InputError(f"{out}: the output folder is an input folder; give another one")
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:

@@ -402,6 +402,13 @@ def detect_edges(
     -------
     EdgeSet
 
+    Raises
+    ------
+    InputError
+        An image :func:`to_grey` refuses or smaller than 5 x 5 pixels, a threshold that
+        is not a finite number > 0, a `row_step` or `row_offset` that is not an integer
+        (>= 1, in ``0..H-1``), a `valid` mask of another shape.
+
     Notes
     -----
     1. Convert to grey on the 0..127 scale and smooth with the 5 x 5 filter of

@@ -219,6 +219,8 @@ class MatchResult:
 
         Returns an array like :attr:`match` (the seed's figure 4-4 shows these after
         0, 1, 3 and 5 iterations); beyond the iterations run, the final matches.
+        Raises :class:`~robostereo.errors.InputError` unless ``iteration`` is an
+        integer >= 0.
         """
         k = min(require_int("iteration", iteration, minimum=0),
                 len(self.relaxation.history) - 1)

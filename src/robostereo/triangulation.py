@@ -129,6 +129,13 @@ class StereoCamera:
     disparity_uncertainty_px : float
         ``d(disp)``: the seed used one pixel; sub-pixel edges warrant less.
 
+    Raises
+    ------
+    InputError
+        ``fx``, ``fy`` or ``baseline_mm`` not a finite number > 0, a NaN or infinite
+        value, a negative uncertainty, ``fx, fy, cx, cy, doffs`` beyond
+        :data:`MAX_PIXELS` or a baseline beyond :data:`MAX_BASELINE_MM`.
+
     Examples
     --------
     >>> cam = StereoCamera.from_physical()
