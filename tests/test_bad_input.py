@@ -264,6 +264,12 @@ def test_camera_yaml_with_absurd_principal_point(tmp_path: Path) -> None:
     cam.write_text("fx: 800\nfy: 800\nbaseline_mm: 60\ncx: 1e308\n")
     with pytest.raises(InputError, match=r"cam\.yaml: cx must be within"):
         load_stereo_camera(cam)
+    from robostereo.camera import camera_from_dict
+
+    with pytest.raises(InputError, match=r"cap\.yaml: principal_point must be within"):
+        camera_from_dict({"focal_length_mm": 25, "pixel_pitch_mm": [0.01, 0.01],
+                          "image_size": [640, 480], "principal_point": [1e308, 0]},
+                         source="cap.yaml")
 
 
 def test_huge_range_bounds_stay_in_the_range(pair) -> None:
