@@ -65,6 +65,18 @@ def test_output_folder_that_is_an_input(tmp_path: Path) -> None:
         "camera.yaml", "left.png", "right.png"]
 
 
+def test_unwritable_output_folder(tmp_path: Path, monkeypatch) -> None:
+    from robostereo.errors import InputError
+
+    _pair(tmp_path / "in" / "a", 1)
+    (tmp_path / "out").mkdir()
+    real = os.access
+    monkeypatch.setattr(os, "access", lambda p, mode: False if Path(p) == tmp_path / "out"
+                        else real(p, mode))  # as if read-only (root may write anyway)
+    with pytest.raises(InputError, match="output folder is not writable"):
+        run_batch(tmp_path / "in", tmp_path / "out", workers=1)
+
+
 def test_batch_ply_with_no_3d_points_is_finished(tmp_path: Path) -> None:
     root, out = tmp_path / "in", tmp_path / "out"
     d = root / "flat"

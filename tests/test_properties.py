@@ -369,6 +369,38 @@ def test_read_calibration(data, name, how) -> None:
         _expect(read_calibration, p)
 
 
+@given(data=st.data())
+def test_read_ros_calibration(data) -> None:
+    """A ROS camera_info pair (rectified, 60 mm baseline), one entry of one file altered."""
+    K = [800.0, 0.0, 99.5, 0.0, 800.0, 29.5, 0.0, 0.0, 1.0]
+    with tempfile.TemporaryDirectory() as d:
+        paths = []
+        for name, tx in (("left", 0.0), ("right", -800.0 * 0.06)):
+            info: dict[str, Any] = {
+                "image_width": 200, "image_height": 60, "camera_name": name,
+                "camera_matrix": {"rows": 3, "cols": 3, "data": K},
+                "distortion_model": "plumb_bob",
+                "distortion_coefficients": {"rows": 1, "cols": 5, "data": [0.0] * 5},
+                "rectification_matrix": {"rows": 3, "cols": 3,
+                                         "data": [1.0, 0, 0, 0, 1.0, 0, 0, 0, 1.0]},
+                "projection_matrix": {"rows": 3, "cols": 4,
+                                      "data": [800.0, 0, 99.5, tx, 0, 800.0, 29.5, 0, 0, 0, 1, 0]},
+            }  # fmt: skip
+            paths.append(Path(d) / f"{name}.yaml")
+            if data.draw(st.booleans()):
+                key = data.draw(st.sampled_from(sorted(info)))
+                if isinstance(info[key], dict) and data.draw(st.booleans()):
+                    sub = data.draw(st.sampled_from(["rows", "cols", "data"]))
+                    info[key] = {**info[key], sub: data.draw(st.one_of(
+                        values, st.lists(numbers, max_size=13)))}
+                elif data.draw(st.booleans()):
+                    del info[key]
+                else:
+                    info[key] = data.draw(values)
+            paths[-1].write_text(yaml.safe_dump(info))
+        _expect(read_calibration, paths[0], paths[1])
+
+
 @pytest.fixture(scope="module")
 def capture_images() -> tuple[bytes, bytes]:
     left, right, _ = synthetic_pair(np.random.default_rng(3), height=60, width=120)

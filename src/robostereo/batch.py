@@ -513,6 +513,8 @@ def run_batch(
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise InputError(f"{out}: cannot create output folder ({e.__class__.__name__})") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise InputError(f"{out}: output folder is not writable")
     names = [p.name for p in inputs]
     if len(set(names)) != len(names):
         raise InputError(f"{input_dir}: input folder names must be unique")
