@@ -49,6 +49,10 @@ def test_rerun_with_other_options_redoes(tmp_path: Path) -> None:
     # --ply dropped: the old PLY is removed with the redo
     rep = run_batch(root, out, options=BatchOptions(disparity_range=(4.0, 5.0)), workers=1)
     assert rep.redone == ("a", "b") and not (out / "a.ply").exists()
+    # a marker edited by hand (or from an older robostereo): redone, not a crash
+    (out / "b.json").write_text('{"status": "ok", "output": "b.csv", "signature": "x"}')
+    rep = run_batch(root, out, options=BatchOptions(disparity_range=(4.0, 5.0)), workers=1)
+    assert rep.redone == ("b",) and rep.skipped == ("a",)
     # an input file changed: that input is redone, the other skipped
     (root / "a" / "camera.yaml").write_text("fx: 900\nfy: 900\nbaseline_mm: 60\n")
     rep = run_batch(root, out, options=BatchOptions(disparity_range=(4.0, 5.0)), workers=1)

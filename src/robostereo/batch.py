@@ -438,8 +438,10 @@ def _finished(
         return None
     if signature is not None and row.get("signature") != signature:
         return None
-    if row.get("signature", {}).get("options", {}).get("ply") and not (
-            out / f"{name}.ply").is_file() and row.get("points_3d"):
+    sig = row.get("signature")
+    opts = sig.get("options") if isinstance(sig, dict) else None
+    if isinstance(opts, dict) and opts.get("ply") and row.get("points_3d") and not (
+            out / f"{name}.ply").is_file():
         return None  # its PLY file was removed
     return row
 

@@ -42,7 +42,7 @@ def _stage_reporter(enabled: bool) -> tuple[AbstractContextManager[Any], Callabl
     return status, say
 
 
-def _finite(name: str) -> Callable[[str], float]:
+def _finite(name: str, limit: float = math.inf) -> Callable[[str], float]:
     def parse(text: str) -> float:
         try:
             v = float(text)
@@ -50,6 +50,8 @@ def _finite(name: str) -> Callable[[str], float]:
             raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
         if not math.isfinite(v):
             raise argparse.ArgumentTypeError(f"{name} must be finite, got {text!r}")
+        if abs(v) > limit:
+            raise argparse.ArgumentTypeError(f"{name} must be within +-{limit:g}, got {text!r}")
         return v
 
     return parse
@@ -375,15 +377,15 @@ def add_capture_parser(sub: Any) -> None:
                    help="capture folder to create (must not exist, or be empty)")
     p.add_argument("--scene", choices=("block", "pulley"), default="block",
                    help="simulated object (block)")
-    p.add_argument("--lift", type=_finite("--lift"), default=0.0,
+    p.add_argument("--lift", type=_finite("--lift", 1e6), default=0.0,
                    help="block: raise of its top, mm (0; the seed's second set: 79.65)")
-    p.add_argument("--baseline", type=_finite("--baseline"), default=20.0,
+    p.add_argument("--baseline", type=_finite("--baseline", 1e6), default=20.0,
                    help="baseline D, mm (20)")
-    p.add_argument("--direction", type=_finite("--direction"), default=0.0,
+    p.add_argument("--direction", type=_finite("--direction", 1e6), default=0.0,
                    help="baseline direction from world X, degrees (0)")
-    p.add_argument("--roll", type=_finite("--roll"), default=0.0,
+    p.add_argument("--roll", type=_finite("--roll", 1e6), default=0.0,
                    help="camera yaw against the baseline at the centre, degrees (0)")
-    p.add_argument("--center", type=_finite("--center"), nargs=2, default=(400.0, 0.0),
+    p.add_argument("--center", type=_finite("--center", 1e6), nargs=2, default=(400.0, 0.0),
                    metavar=("X", "Y"), help="mid-baseline point, world mm (400 0)")
     p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
     p.set_defaults(handler=run_capture_command)
