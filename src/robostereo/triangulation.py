@@ -256,8 +256,8 @@ def triangulate(
         ``(X, Y, Z)`` in millimetres, origin mid-baseline, Z the depth.
     z_bound : ndarray, shape (N,)
         Depth error bound of eq. (9), millimetres.
-        Points with a disparity ``<= 0`` or not finite (NaN or infinite input) get NaN
-        coordinates and bound.
+        Points with a disparity ``<= 0`` or not finite (NaN or infinite input), or whose
+        depth under- or overflows (absurd coordinates), get NaN coordinates and bound.
 
     Raises
     ------
@@ -305,7 +305,8 @@ def triangulate(
             focal_uncertainty=camera.focal_uncertainty_px, disparity_uncertainty=dd,
         )
     xyz = np.column_stack([x, yy, z])
-    bad = ~((d > 0) & np.isfinite(d))  # behind the cameras, or an infinite coordinate
+    # behind the cameras, an infinite coordinate, or a depth that under- or overflows
+    bad = ~((d > 0) & np.isfinite(d) & (z > 0) & np.isfinite(z))
     if bad.any():
         xyz[bad] = math.nan
         bound = np.where(bad, math.nan, bound)
