@@ -359,9 +359,9 @@ def test_corrupt_png_gives_our_line_only(pair, tmp_path: Path) -> None:
 def test_triangulate_never_reports_a_depth_of_zero_or_inf() -> None:
     from robostereo import triangulate
 
-    cam = StereoCamera(1.0, 1.0, 5e-275)
-    xyz, zb = triangulate(cam, [0.0, 2e49, 1.0, 0.0], [0.0, 0.0, 0.0, -np.inf], [0, 0, 0, 0],
-                          (1, 1))
+    cam = StereoCamera(1.0, 1.0, 5.125652948320123e-275)  # found by hypothesis: z = 0.0
+    xyz, zb = triangulate(cam, [0.0, 2.0748874128225062e49, 1.0, 0.0],
+                          [0.0, 0.0, 0.0, -np.inf], [0, 0, 0, 0], (1, 1))
     assert np.isnan(xyz[[0, 1, 3]]).all() and np.isnan(zb[[0, 1, 3]]).all()
     assert xyz[2, 2] > 0
     with pytest.raises(InputError, match="one length"):
