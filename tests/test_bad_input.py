@@ -366,3 +366,24 @@ def test_triangulate_never_reports_a_depth_of_zero_or_inf() -> None:
     assert xyz[2, 2] > 0
     with pytest.raises(InputError, match="one length"):
         triangulate(cam, [1.0, 2.0], [0.0], [0, 0], (1, 1))
+
+
+def test_opencv_matrix_without_cols_does_not_abort(pair, tmp_path: Path) -> None:
+    """cv2.FileNode.mat() aborts the whole process on an opencv-matrix without ``cols``
+    (found by hypothesis); the matrix is now read from its data."""
+    from robostereo.calibration import StereoCalibration, write_opencv_calibration
+
+    lp, rp, _, _ = pair
+    K = np.array([[800.0, 0, 99.5], [0, 800.0, 29.5], [0, 0, 1]])
+    cal = write_opencv_calibration(
+        StereoCalibration(K, None, K, None, np.eye(3), [-60, 0, 0], (200, 60)),
+        tmp_path / "rig.yaml")
+    lines = cal.read_text().splitlines()
+    k1 = next(i for i, ln in enumerate(lines) if ln.startswith("K1:"))
+    del lines[k1 + 2]  # K1's "cols: 3"
+    assert "cols" not in lines[k1 + 2] and "rows" in lines[k1 + 1]
+    cal.write_text("\n".join(lines) + "\n")
+    r = subprocess.run([sys.executable, "-m", "robostereo.cli", "rig", str(lp), str(rp),
+                        "--calibration", str(cal), *RANGE, "-o", str(tmp_path / "m.csv")],
+                       capture_output=True, text=True, timeout=120, check=False)
+    assert r.returncode == 0, r.stderr
