@@ -342,6 +342,9 @@ def test_evaluate_with_a_huge_range_bound(tmp_path: Path, capsys) -> None:
     (tmp_path / "scenes.json").write_text('{"scenes": {"myscene": {"scale": 4}}}')
     assert main(["evaluate", str(scene), "--min-disparity=-1e18", "--max-disparity", "16"]) == 0
     assert "disparity -119 .. 16 px" in capsys.readouterr().out  # SGBM searched it too
+    # a range up to the image's width leaves SGBM too little room: it finds nothing
+    assert main(["evaluate", str(scene), "--min-disparity", "4", "--max-disparity=1e9"]) == 0
+    assert "disparity 4 .. 119 px" in capsys.readouterr().out
 
 
 def test_corrupt_png_gives_our_line_only(pair, tmp_path: Path) -> None:

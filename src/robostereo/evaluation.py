@@ -202,6 +202,8 @@ def sgbm_disparity(
     disparity_range : tuple of float
         ``(min, max)`` disparity; SGBM searches ``numDisparities`` rounded up to a
         multiple of 16 from ``floor(min)``, and values above ``max + 0.5`` are dropped.
+        ``numDisparities`` is cut to what the image width allows SGBM (all NaN when
+        not even 16 fit).
     block_size, uniqueness_ratio : int
         SGBM's ``blockSize`` (5) and ``uniquenessRatio`` (10); ``P1 = 8 * block_size**2``
         and ``P2 = 32 * block_size**2`` as OpenCV's documentation recommends for grey input.
@@ -217,6 +219,11 @@ def sgbm_disparity(
     g = [np.clip(np.rint(to_grey(im, bit_depth=bit_depth) * 2.0), 0, 255).astype(np.uint8)
          for im in (left, right)]
     n = int(np.ceil((np.floor(hi) - np.floor(lo) + 1) / 16.0) * 16)
+    # SGBM needs width - (minDisparity + numDisparities) > blockSize // 2
+    room = g[0].shape[1] - int(np.floor(lo)) - block_size // 2 - 1
+    n = min(n, room // 16 * 16)
+    if n < 16:  # the range leaves SGBM no room in this image: no disparity at all
+        return np.full(g[0].shape, np.nan)
     sgbm = cv2.StereoSGBM_create(
         minDisparity=int(np.floor(lo)), numDisparities=n, blockSize=block_size,
         uniquenessRatio=uniqueness_ratio, P1=8 * block_size**2, P2=32 * block_size**2,
