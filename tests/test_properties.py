@@ -498,7 +498,7 @@ def _inputs_of(args: list[str]) -> set[str]:
             skip = False
             continue
         if a.startswith("-"):
-            skip = a not in ("--seed-mode", "--json", "--no-sgbm") and not (
+            skip = "=" not in a and a not in ("--seed-mode", "--json", "--no-sgbm") and not (
                 a == "--ply" and args[0] in ("evaluate", "batch"))
             if a in ("--camera", "--calibration", "--calibration-right") and i + 1 < len(args):
                 names.add(args[i + 1])
