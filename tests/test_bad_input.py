@@ -390,3 +390,18 @@ def test_opencv_matrix_without_cols_does_not_abort(pair, tmp_path: Path) -> None
                         "--calibration", str(cal), *RANGE, "-o", str(tmp_path / "m.csv")],
                        capture_output=True, text=True, timeout=120, check=False)
     assert r.returncode == 0, r.stderr
+
+
+def test_relaxation_coefficients_that_break_the_arithmetic_are_refused() -> None:
+    from robostereo import RelaxationParameters
+
+    # a denormal no-match support made probabilities of 3 (found by hypothesis)
+    for kw in ({"no_match_support": 1.401298464324817e-45}, {"no_match_support": 1e300},
+               {"b_partial": -0.2}, {"neighbour_radius": -1.0}):
+        with pytest.raises(InputError, match="must be"):
+            RelaxationParameters(**kw)
+    img = np.random.default_rng(0).integers(0, 256, (9, 12)).astype(np.uint8)
+    res = match_stereo(img, img, (0, 0), params=MatchParameters(
+        relaxation=RelaxationParameters(iterations=1, no_match_support=1e-6)))
+    p = res.relaxation.probability
+    assert ((p >= 0) & (p <= 1 + 1e-9)).all()

@@ -58,9 +58,11 @@ class RelaxationParameters:
     neighbour_radius : float
         Case II neighbours: the nearest same-sign edge within this many pixels.
     no_match_support : float
-        Support of the no-match label from each neighbour (see module notes).
+        Support of the no-match label from each neighbour (see module notes): 0 or
+        1e-6 .. 1e6.
     b_connected, b_partial, b_none : float
-        The values 1, 0.2 and 0 of ``b_ij`` (seed 3.4.1).
+        The values 1, 0.2 and 0 of ``b_ij`` (seed 3.4.1), in 0 .. 1e6 (as are
+        ``tolerance`` and ``neighbour_radius``).
     """
 
     iterations: int = 5
@@ -78,8 +80,14 @@ class RelaxationParameters:
             [self.tolerance, self.neighbour_radius, self.no_match_support,
              self.b_connected, self.b_partial, self.b_none],
         )
-        if self.no_match_support < 0:
-            raise InputError(f"no_match_support must be >= 0, got {self.no_match_support}")
+        # bounded so that the products of eq. (5) neither underflow nor overflow
+        c = self.no_match_support
+        if not (c == 0 or 1e-6 <= c <= 1e6):
+            raise InputError(f"no_match_support must be 0 or in 1e-6 .. 1e6, got {c!r}")
+        for name in ("tolerance", "neighbour_radius", "b_connected", "b_partial", "b_none"):
+            v = getattr(self, name)
+            if not 0 <= v <= 1e6:
+                raise InputError(f"{name} must be in 0 .. 1e6, got {v!r}")
 
 
 @dataclass(frozen=True)
