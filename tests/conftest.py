@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import sys
 from pathlib import Path
 
@@ -32,3 +33,25 @@ def real_scenes(data_dir: Path) -> dict[str, StereoScene]:
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20261122)
+
+
+# -- hypothesis profiles (tests/test_properties.py) --------------------------------------
+# "fast" (default): a few cases per property, derandomised, in the normal test run.
+# "long": ROBOSTEREO_HYPOTHESIS=long python -m pytest tests/test_properties.py
+#         --hypothesis-show-statistics   (>= 10 000 cases; see README)
+try:
+    from datetime import timedelta
+
+    from hypothesis import HealthCheck, settings
+
+    _common = dict(
+        deadline=timedelta(seconds=30),  # a case that takes this long counts as a hang
+        suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large,
+                               HealthCheck.filter_too_much],
+    )
+    settings.register_profile("fast", max_examples=50, derandomize=True, database=None,
+                              **_common)
+    settings.register_profile("long", max_examples=1200, **_common)
+    settings.load_profile(os.environ.get("ROBOSTEREO_HYPOTHESIS", "fast"))
+except ImportError:  # pragma: no cover - hypothesis is in the test extra
+    pass

@@ -126,9 +126,8 @@ def test_failed_inputs_are_reported_and_the_rest_go_on(tmp_path: Path, capsys) -
     cap = capsys.readouterr()
     assert rc == 2
     errs = [ln for ln in cap.err.splitlines() if ln.startswith("robostereo: error:")]
-    assert len(errs) == 6
+    assert len(errs) == 5  # b_empty, an empty folder, is no input: left out
     expect = {
-        "b_empty": "b_empty: folder is empty",
         "c_unreadable": "right.png: cannot decode image",
         "d_size": "right.png: image is 190 x 60 (W x H), the left image 200 x 60",
         "e_camera": "camera.yaml: fx must be finite",
@@ -137,25 +136,25 @@ def test_failed_inputs_are_reported_and_the_rest_go_on(tmp_path: Path, capsys) -
     }
     for name, text in expect.items():
         assert any(name in e and text in e for e in errs), (name, errs)
-    assert "8 inputs: 2 processed, 0 already finished, 6 failed" in cap.out
+    assert "7 inputs: 2 processed, 0 already finished, 5 failed" in cap.out
     summary = (out / "summary.csv").read_text().splitlines()
     assert summary[0].startswith("input,status,kind")
-    assert [ln.split(",")[1] for ln in summary[1:]] == ["ok"] + ["error"] * 6 + ["ok"]
+    assert [ln.split(",")[1] for ln in summary[1:]] == ["ok"] + ["error"] * 5 + ["ok"]
+    assert "b_empty" not in "".join(summary)
     assert sorted(p.name for p in out.glob("*.csv")) == ["a_good.csv", "h_good.csv",
                                                          "summary.csv"]
     # a rerun retries the failed inputs only
     rc = main(["batch", str(root), "--out", str(out), "--workers", "1",
                "--min-disparity", "4", "--max-disparity", "16"])
     assert rc == 2
-    assert "8 inputs: 1 processed, 2 already finished, 5 failed" in capsys.readouterr().out
+    assert "7 inputs: 1 processed, 2 already finished, 4 failed" in capsys.readouterr().out
 
 
 def test_failed_input_on_dask(tmp_path: Path, cluster) -> None:
     root = tmp_path / "in"
     _bad_inputs(root)
     rep = run_batch(root, tmp_path / "out", scheduler=cluster.scheduler_address)
-    assert set(rep.failed) == {"b_empty", "c_unreadable", "d_size", "e_camera", "f_other",
-                               "g_norange"}
+    assert set(rep.failed) == {"c_unreadable", "d_size", "e_camera", "f_other", "g_norange"}
     assert "c_unreadable/right.png: cannot decode image" in rep.errors["c_unreadable"]
 
 

@@ -12,10 +12,17 @@ An input is a folder, one of
   ``robostereo capture`` writes it, processed by :func:`robostereo.robot.capture.locate_capture`.
 
 :func:`run_batch` processes every input folder of a directory and writes, per input
-``NAME``, ``OUT/NAME.csv`` (the matched points) and then ``OUT/NAME.json`` (its summary
-row and timings), both atomically; the JSON file marks the input as finished, so a
-second run skips it (resume).  A failed input is reported and the others go on; it
-leaves no output, so the next run retries it.  At the end ``OUT/summary.csv`` lists
+``NAME``, ``OUT/NAME.csv`` (the matched points) [and ``OUT/NAME.ply``] and then
+``OUT/NAME.json`` (its summary row and timings), all atomically; the JSON file marks the
+input as finished, so a second run skips it (resume).  The marker records what shaped
+the outputs -- the options (range, PLY, calibration and its contents, matcher
+parameters, robostereo's version) and the name, size and modification time of every
+file of the input folder -- and a rerun whose options or input files differ **redoes**
+that input (reported as *redone*), replacing its outputs; an old ``NAME.ply`` that the
+new options no longer ask for is removed.  A failed input is reported and the others go
+on; it leaves no output, so the next run retries it.  Empty subfolders are not inputs
+and are left out.  Local worker processes die with the main process, however it ends
+(Ctrl-C, SIGTERM, SIGKILL).  At the end ``OUT/summary.csv`` lists
 every input (its columns hold no timings, so runs on different machines give identical
 files).  The work runs in a local process pool, or with ``scheduler`` on an existing
 ``dask.distributed`` cluster, whose workers must see the same file system.
@@ -23,9 +30,13 @@ files).  The work runs in a local process pool, or with ``scheduler`` on an exis
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import os
+import signal
+import sys
+import threading
 import time
 from collections.abc import Callable, Mapping
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -46,6 +57,7 @@ __all__ = [
     "find_inputs",
     "process_input",
     "run_batch",
+    "run_signature",
 ]
 
 PathLike = str | os.PathLike[str]
@@ -93,6 +105,10 @@ class BatchReport:
         One summary row per input (see :data:`SUMMARY_COLUMNS`), sorted by name.
     processed, skipped, failed : tuple of str
         Inputs run now, inputs already finished (resumed), inputs that failed.
+    errors : dict
+        Input name to its one-line error, for the failed ones.
+    redone : tuple of str
+        Processed inputs that had finished with other options or input files.
     summary : Path
         ``OUT/summary.csv``.
     seconds : float
@@ -106,6 +122,7 @@ class BatchReport:
     summary: Path
     seconds: float
     errors: dict[str, str] = field(default_factory=dict)
+    redone: tuple[str, ...] = ()
 
 
 def _has_image(d: Path, stem: str) -> Path | None:
@@ -122,6 +139,13 @@ def _is_input(d: Path) -> bool:
     )
 
 
+def _is_empty(d: Path) -> bool:
+    try:
+        return next(d.iterdir(), None) is None
+    except OSError:
+        return False  # unreadable: processing it reports why
+
+
 def find_inputs(input_dir: PathLike, *, exclude: PathLike | None = None) -> list[Path]:
     """The input folders of `input_dir`: itself if it is an input, else its subfolders.
 
@@ -134,8 +158,8 @@ def find_inputs(input_dir: PathLike, *, exclude: PathLike | None = None) -> list
     Returns
     -------
     list of Path
-        Sorted by name; hidden folders are left out.  Subfolders that are not inputs
-        are kept: processing them reports why.
+        Sorted by name; hidden and empty folders are left out.  Other subfolders that
+        are not inputs are kept: processing them reports why.
 
     Raises
     ------
@@ -152,7 +176,7 @@ def find_inputs(input_dir: PathLike, *, exclude: PathLike | None = None) -> list
         subs = sorted(p for p in d.iterdir() if p.is_dir() and not p.name.startswith("."))
     except OSError as e:
         raise InputError(f"{d}: cannot list folder ({e.__class__.__name__})") from None
-    subs = [p for p in subs if ex is None or p.resolve() != ex]
+    subs = [p for p in subs if (ex is None or p.resolve() != ex) and not _is_empty(p)]
     if not subs:
         raise InputError(
             f"{d}: no input folders (pair folders with left.* and right.*, or capture "
@@ -180,13 +204,73 @@ def _read_range(path: Path) -> tuple[float, float]:
 def _write_outputs(
     out: Path, name: str, table: Mapping[str, Any], xyz: Any, ply: bool
 ) -> str:
-    from robostereo.io import write_csv, write_ply
+    from robostereo.io import atomic_outputs, write_csv, write_ply
 
-    csv_path = out / f"{name}.csv"
-    write_csv(csv_path, table)
+    csv_path, ply_path = out / f"{name}.csv", out / f"{name}.ply"
+    targets = {"csv": csv_path}
     if ply and xyz is not None:
-        write_ply(out / f"{name}.ply", xyz)
+        targets["ply"] = ply_path
+    with atomic_outputs(targets) as tmp:  # both or neither
+        write_csv(tmp["csv"], table)
+        if "ply" in tmp:
+            write_ply(tmp["ply"], xyz)
+    if "ply" not in targets and ply_path.is_file():
+        ply_path.unlink()  # left by a run with other options
     return csv_path.name
+
+
+def _file_digest(path: str | None) -> str | None:
+    if path is None:
+        return None
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return "unreadable"
+
+
+def run_signature(input_dir: PathLike, options: BatchOptions) -> dict[str, Any]:
+    """What shapes an input's outputs: the options and the input folder's files.
+
+    Stored in the finished marker ``NAME.json``; a rerun with another signature redoes
+    the input.
+
+    Returns
+    -------
+    dict
+        ``options`` (the batch-wide disparity range unless the folder has its own, ply,
+        matcher parameters, robostereo's version, for pair folders the calibration
+        paths and SHA-256 of their contents) and ``files`` (name, size and modification
+        time of every file of the input folder), JSON-serialisable.
+    """
+    from robostereo import __version__
+
+    d = Path(input_dir)
+    try:
+        files = sorted(
+            [p.name, st.st_size, st.st_mtime_ns]
+            for p in d.iterdir() if p.is_file() for st in (p.stat(),)
+        )
+    except OSError:
+        files = []
+    o = options
+    capture = (d / "capture.yaml").is_file()  # its own range and geometry
+    own_range = capture or (d / "disparity.yaml").is_file()
+    calibrated = o.calibration is not None and not capture
+    return {
+        "options": {
+            "version": __version__,
+            "disparity_range": None if own_range or o.disparity_range is None else
+            [float(v) for v in o.disparity_range],
+            "ply": bool(o.ply),
+            "params": repr(o.params),
+            "calibration": o.calibration if calibrated else None,
+            "calibration_sha256": _file_digest(o.calibration) if calibrated else None,
+            "calibration_right": o.calibration_right if calibrated else None,
+            "calibration_right_sha256": _file_digest(o.calibration_right) if calibrated
+            else None,
+        },
+        "files": files,
+    }  # fmt: skip
 
 
 def _run_pair(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
@@ -304,6 +388,7 @@ def process_input(
     opts = options or BatchOptions()
     row = _blank_row(d.name)
     t0 = time.perf_counter()
+    signature = run_signature(d, opts)
     try:
         if not d.is_dir():
             raise InputError(f"{d}: input folder not found")
@@ -328,14 +413,18 @@ def process_input(
     except Exception as e:  # keep the batch going; report the input as failed
         row.update(status="error", error=f"{d}: {e.__class__.__name__}: {e}".splitlines()[0])
     row["seconds"] = round(time.perf_counter() - t0, 4)
+    row["signature"] = signature
     if row["status"] == "ok":
         with atomic_path(out / f"{d.name}.json") as tmp:
             tmp.write_text(json.dumps(row, indent=1, sort_keys=True))
     return row
 
 
-def _finished(out: Path, name: str) -> dict[str, Any] | None:
-    """The stored row of a finished input, or None (missing, partial or failed)."""
+def _finished(
+    out: Path, name: str, signature: dict[str, Any] | None = None
+) -> dict[str, Any] | None:
+    """The stored row of a finished input, or None (missing, partial or failed, or
+    finished with another signature than `signature`)."""
     j = out / f"{name}.json"
     if not j.is_file():
         return None
@@ -347,7 +436,19 @@ def _finished(out: Path, name: str) -> dict[str, Any] | None:
         return None
     if not (out / str(row.get("output", ""))).is_file():
         return None
+    if signature is not None and row.get("signature") != signature:
+        return None
+    sig = row.get("signature")
+    opts = sig.get("options") if isinstance(sig, dict) else None
+    if isinstance(opts, dict) and opts.get("ply") and row.get("points_3d") and not (
+            out / f"{name}.ply").is_file():
+        return None  # its PLY file was removed
     return row
+
+
+def _was_finished(out: Path, name: str) -> bool:
+    """Whether `name` has a finished marker of any signature."""
+    return _finished(out, name) is not None
 
 
 def _write_summary(path: Path, rows: list[dict[str, Any]]) -> None:
@@ -393,8 +494,8 @@ def run_batch(
     Raises
     ------
     InputError
-        No input folders, an output folder that cannot be made, a scheduler that cannot
-        be reached.
+        No input folders, an output folder that cannot be made or is an input folder, a
+        scheduler that cannot be reached.
 
     Notes
     -----
@@ -408,20 +509,27 @@ def run_batch(
     opts = options or BatchOptions()
     out = Path(out_dir)
     inputs = find_inputs(input_dir, exclude=out)  # no output folder unless there is input
+    if any(p.resolve() == out.resolve() for p in inputs):
+        raise InputError(f"{out}: the output folder is an input folder; give another one")
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as e:
         raise InputError(f"{out}: cannot create output folder ({e.__class__.__name__})") from None
+    if not os.access(out, os.W_OK | os.X_OK):
+        raise InputError(f"{out}: output folder is not writable")
     names = [p.name for p in inputs]
     if len(set(names)) != len(names):
         raise InputError(f"{input_dir}: input folder names must be unique")
     rows: dict[str, dict[str, Any]] = {}
     skipped: list[str] = []
     todo: list[Path] = []
+    redone: list[str] = []
     for p in inputs:
-        row = _finished(out, p.name)
+        row = _finished(out, p.name, run_signature(p, opts))
         if row is None:
             todo.append(p)
+            if _was_finished(out, p.name):
+                redone.append(p.name)
         else:
             rows[p.name] = row
             skipped.append(p.name)
@@ -449,7 +557,8 @@ def run_batch(
 
             n = min(workers or os.cpu_count() or 1, len(todo))
             ctx = multiprocessing.get_context("spawn")  # safe beside threads (dask, BLAS)
-            with ProcessPoolExecutor(max_workers=n, mp_context=ctx) as pool:
+            with ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_die_with_parent,
+                                     initargs=(os.getpid(),)) as pool:
                 futs = [pool.submit(process_input, str(p), str(out), opts) for p in todo]
                 try:
                     for f in as_completed(futs):
@@ -457,6 +566,7 @@ def run_batch(
                 except BaseException:
                     for f in futs:
                         f.cancel()
+                    _stop_workers(pool)
                     raise
     ordered = [rows[n] for n in sorted(rows)]
     summary = out / "summary.csv"
@@ -467,7 +577,47 @@ def run_batch(
         skipped=tuple(sorted(skipped)), failed=failed, summary=summary,
         seconds=time.perf_counter() - t0,
         errors={r["input"]: r["error"] for r in ordered if r["status"] != "ok"},
+        redone=tuple(sorted(redone)),
     )  # fmt: skip
+
+
+def _die_with_parent(parent: int) -> None:
+    """Initializer of a local worker: end when the main process `parent` ends.
+
+    On Linux the kernel kills the worker when its parent dies (``PR_SET_PDEATHSIG``),
+    even by SIGKILL; elsewhere, and as a fallback, a thread checks twice a second that
+    the parent is still there.  SIGINT is left to the main process, which stops the
+    workers itself.
+    """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
+        except (OSError, AttributeError):
+            pass
+    if os.getppid() != parent:
+        os._exit(1)
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="robostereo-parent-watch", daemon=True).start()
+
+
+def _stop_workers(pool: ProcessPoolExecutor) -> None:
+    """Terminate a pool's worker processes now (an interrupted batch)."""
+    handles = list((getattr(pool, "_processes", None) or {}).values())
+    for proc in handles:
+        proc.terminate()
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in handles:
+        proc.join(timeout=5.0)
+        if proc.is_alive():
+            proc.kill()
 
 
 def _run_dask(
@@ -483,9 +633,11 @@ def _run_dask(
         ) from None
     try:
         client = Client(scheduler, timeout="10s")
-    except (OSError, TimeoutError) as e:
+    except Exception as e:  # OSError, TimeoutError, ValueError for a malformed address...
+        why = str(e).splitlines()[0] if str(e) else ""
         raise InputError(
-            f"cannot reach the Dask scheduler at {scheduler} ({e.__class__.__name__})"
+            f"cannot reach the Dask scheduler at {scheduler!r} ({e.__class__.__name__}"
+            f"{': ' + why if why else ''})"
         ) from None
     try:
         futs = [

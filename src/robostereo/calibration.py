@@ -280,13 +280,8 @@ def _node_value(node: Any) -> Any:
     """Python value of a cv2.FileNode: ndarray for matrices, list for sequences."""
     if node.isSeq():
         return [_node_value(node.at(i)) for i in range(node.size())]
-    if node.isMap():
-        try:
-            m = node.mat()
-        except cv2.error:  # a map that is not an opencv-matrix
-            m = None
-        if m is not None:
-            return np.asarray(m, dtype=float)
+    if node.isMap():  # an opencv-matrix is a map {rows, cols, dt, data}: see _as_array
+        # (never FileNode.mat(): a malformed matrix can abort the process in OpenCV)
         return {k: _node_value(node.getNode(k)) for k in node.keys()}
     if node.isInt() or node.isReal():
         return node.real()
@@ -296,22 +291,32 @@ def _node_value(node: Any) -> Any:
 
 
 def _load_with_filestorage(path: Path, keys: tuple[str, ...]) -> dict[str, Any] | None:
-    """Read `keys` with cv2.FileStorage; None when OpenCV cannot parse the file."""
+    """Read `keys` with cv2.FileStorage; None when OpenCV cannot parse the file (its own
+    log lines silenced: the error reported is ours)."""
+    import cv2.utils.logging as cv_log
+
+    level = cv_log.getLogLevel()
+    cv_log.setLogLevel(cv_log.LOG_LEVEL_SILENT)
     try:
-        fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
-    except (cv2.error, SystemError):
-        return None
-    try:
-        if not fs.isOpened():
+        try:
+            fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
+        except (cv2.error, SystemError):
             return None
-        out: dict[str, Any] = {}
-        for k in keys:
-            node = fs.getNode(k)
-            if not node.empty():
-                out[k] = _node_value(node)
-        return out
+        try:
+            if not fs.isOpened():
+                return None
+            out: dict[str, Any] = {}
+            for k in keys:
+                node = fs.getNode(k)
+                if not node.empty():
+                    out[k] = _node_value(node)
+            return out
+        except (cv2.error, SystemError):  # e.g. a top level that is not a mapping
+            return None
+        finally:
+            fs.release()
     finally:
-        fs.release()
+        cv_log.setLogLevel(level)
 
 
 class _OpenCVYamlLoader(yaml.SafeLoader):
@@ -356,6 +361,9 @@ def _as_array(path: Path, name: str, value: Any) -> NDArray[np.float64]:
             raise InputError(f"{path}: {name} data must be numbers") from None
         rows, cols = value.get("rows"), value.get("cols")
         if isinstance(rows, int | float) and isinstance(cols, int | float):
+            if not all(math.isfinite(v) and v == int(v) and v >= 0 for v in (rows, cols)):
+                raise InputError(f"{path}: {name} rows and cols must be whole numbers, got "
+                                 f"{rows!r}, {cols!r}")
             if int(rows) * int(cols) != data.size:
                 raise InputError(
                     f"{path}: {name} has {data.size} values, expected rows*cols = "

@@ -169,6 +169,8 @@ class Camera:
             object.__setattr__(self, "principal_point", ((w - 1) / 2.0, (h - 1) / 2.0))
         else:
             require_finite("principal_point", [cx, cy])
+            if max(abs(cx), abs(cy)) > 1e7:  # no real camera; triangulation would lose d
+                raise InputError(f"principal_point must be within +-1e7 pixels, got {cx, cy}")
             object.__setattr__(self, "principal_point", (float(cx), float(cy)))
         dist = tuple(float(v) for v in self.distortion)
         if len(dist) not in (0, 4, 5):

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import argparse
 import math
+import signal
 import sys
+import threading
 from collections.abc import Callable, Sequence
 from contextlib import AbstractContextManager, nullcontext
 from dataclasses import replace
@@ -40,7 +42,7 @@ def _stage_reporter(enabled: bool) -> tuple[AbstractContextManager[Any], Callabl
     return status, say
 
 
-def _finite(name: str) -> Callable[[str], float]:
+def _finite(name: str, limit: float = math.inf) -> Callable[[str], float]:
     def parse(text: str) -> float:
         try:
             v = float(text)
@@ -48,15 +50,11 @@ def _finite(name: str) -> Callable[[str], float]:
             raise argparse.ArgumentTypeError(f"{name} must be a number, got {text!r}") from None
         if not math.isfinite(v):
             raise argparse.ArgumentTypeError(f"{name} must be finite, got {text!r}")
+        if abs(v) > limit:
+            raise argparse.ArgumentTypeError(f"{name} must be within +-{limit:g}, got {text!r}")
         return v
 
     return parse
-
-
-def _check_outputs(*paths: Path | None) -> None:
-    for p in paths:
-        if p is not None and not p.parent.is_dir():
-            raise InputError(f"{p}: output folder {p.parent} does not exist")
 
 
 def add_match_parser(sub: Any) -> None:
@@ -124,12 +122,22 @@ def matcher_params(args: argparse.Namespace, base: Any) -> Any:
 
 
 def run_match(args: argparse.Namespace) -> int:
-    from robostereo.io import load_image, load_stereo_camera, write_csv, write_ply
+    from robostereo.io import (
+        atomic_outputs,
+        check_outputs,
+        load_image,
+        load_stereo_camera,
+        write_csv,
+        write_ply,
+    )
     from robostereo.pipeline import MatchParameters, match_stereo
 
     if args.ply is not None and args.camera is None:
         raise InputError("--ply needs --camera: 3-D points need the camera geometry")
-    _check_outputs(args.output, args.ply, args.edges, args.overlay)
+    outs = check_outputs(
+        {"-o": args.output, "--ply": args.ply, "--edges": args.edges, "--overlay": args.overlay},
+        inputs=(args.left, args.right, args.camera),
+    )
     left, bits_l = load_image(args.left)
     right, bits_r = load_image(args.right)
     if bits_l != bits_r:
@@ -148,17 +156,22 @@ def run_match(args: argparse.Namespace) -> int:
     if n_left == 0:
         print(f"robostereo: warning: no edge points in {args.left} above threshold "
               f"{args.threshold}; the result is empty", file=sys.stderr)
+    if result.disparity_range != (args.min_disparity, args.max_disparity):
+        lo, hi = result.disparity_range
+        print(f"robostereo: note: disparity range limited to {lo:g} .. {hi:g} (the image is "
+              f"{result.image_shape[1]} pixels wide)", file=sys.stderr)
     table = result.table()
-    write_csv(args.output, table)
-    if args.ply is not None:
-        write_ply(args.ply, np.column_stack([table["X"], table["Y"], table["Z"]]))
-    if args.edges is not None:
-        write_csv(args.edges, result.edge_table())
-    if args.overlay is not None:
-        from robostereo.plots import save_overlay
+    with atomic_outputs(outs) as tmp:  # all outputs or none
+        write_csv(tmp["-o"], table)
+        if "--ply" in tmp:
+            write_ply(tmp["--ply"], np.column_stack([table["X"], table["Y"], table["Z"]]))
+        if "--edges" in tmp:
+            write_csv(tmp["--edges"], result.edge_table())
+        if "--overlay" in tmp:
+            from robostereo.plots import save_overlay
 
-        save_overlay(args.overlay, left, table["x_left"], table["row"], table["disparity"],
-                     title=f"{n} matched edge points")
+            save_overlay(tmp["--overlay"], left, table["x_left"], table["row"],
+                         table["disparity"], title=f"{n} matched edge points")
     pct = 100.0 * n / n_left if n_left else 0.0
     print(f"{args.left.name}: {n_left} edge points left, {n_right} right, {n} matched "
           f"({pct:.1f}%) in {1000 * result.timings['total']:.1f} ms -> {args.output}")
@@ -202,7 +215,7 @@ def add_rig_parser(sub: Any) -> None:
 
 
 def run_rig(args: argparse.Namespace) -> int:
-    from robostereo.io import write_csv, write_ply
+    from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
     from robostereo.pipeline import MatchParameters
     from robostereo.rig import load_rig_pair, match_rig
 
@@ -213,7 +226,8 @@ def run_rig(args: argparse.Namespace) -> int:
     if (drange is None) == (depth is None):
         raise InputError("give a disparity range (--min/--max-disparity) or a depth range "
                          "(--min/--max-depth)")
-    _check_outputs(args.output, args.ply)
+    outs = check_outputs({"-o": args.output, "--ply": args.ply},
+                         inputs=(args.left, args.right, args.calibration, args.calibration_right))
     left, right, calib, bits = load_rig_pair(args.left, args.right, args.calibration,
                                              args.calibration_right)
     status, say = _stage_reporter(sys.stderr.isatty())
@@ -222,9 +236,10 @@ def run_rig(args: argparse.Namespace) -> int:
                         params=matcher_params(args, MatchParameters(bit_depth=bits)),
                         names=(str(args.left), str(args.right)), progress=say)
     table = res.table()
-    write_csv(args.output, table)
-    if args.ply is not None:
-        write_ply(args.ply, np.column_stack([table["X"], table["Y"], table["Z"]]))
+    with atomic_outputs(outs) as tmp:  # all outputs or none
+        write_csv(tmp["-o"], table)
+        if "--ply" in tmp:
+            write_ply(tmp["--ply"], np.column_stack([table["X"], table["Y"], table["Z"]]))
     n_left, n = len(res.match.left_edges), len(res)
     pct = 100.0 * n / n_left if n_left else 0.0
     lo, hi = res.match.disparity_range
@@ -355,6 +370,10 @@ def run_batch_command(args: argparse.Namespace) -> int:
                            workers=args.workers, progress=progress)
     for name in report.failed:
         print(f"robostereo: error: {report.errors[name]}", file=sys.stderr)
+    if report.redone:
+        k = len(report.redone)
+        print(f"robostereo: note: {k} finished input{' was' if k == 1 else 's were'} made "
+              "with other options or input files: redone", file=sys.stderr)
     n = len(report.rows)
     print(f"{n} inputs: {len(report.processed) - len(report.failed)} processed, "
           f"{len(report.skipped)} already finished, {len(report.failed)} failed, in "
@@ -422,15 +441,15 @@ def add_capture_parser(sub: Any) -> None:
                    help="capture folder to create (must not exist, or be empty)")
     p.add_argument("--scene", choices=("block", "pulley"), default="block",
                    help="simulated object (block)")
-    p.add_argument("--lift", type=_finite("--lift"), default=0.0,
+    p.add_argument("--lift", type=_finite("--lift", 1e6), default=0.0,
                    help="block: raise of its top, mm (0; the seed's second set: 79.65)")
-    p.add_argument("--baseline", type=_finite("--baseline"), default=20.0,
+    p.add_argument("--baseline", type=_finite("--baseline", 1e6), default=20.0,
                    help="baseline D, mm (20)")
-    p.add_argument("--direction", type=_finite("--direction"), default=0.0,
+    p.add_argument("--direction", type=_finite("--direction", 1e6), default=0.0,
                    help="baseline direction from world X, degrees (0)")
-    p.add_argument("--roll", type=_finite("--roll"), default=0.0,
+    p.add_argument("--roll", type=_finite("--roll", 1e6), default=0.0,
                    help="camera yaw against the baseline at the centre, degrees (0)")
-    p.add_argument("--center", type=_finite("--center"), nargs=2, default=(400.0, 0.0),
+    p.add_argument("--center", type=_finite("--center", 1e6), nargs=2, default=(400.0, 0.0),
                    metavar=("X", "Y"), help="mid-baseline point, world mm (400 0)")
     p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
     p.add_argument("--robot", choices=("adeptone", "six-axis"), default="adeptone",
@@ -493,7 +512,7 @@ def add_locate_parser(sub: Any) -> None:
 
 
 def run_locate_command(args: argparse.Namespace) -> int:
-    from robostereo.io import write_csv, write_ply
+    from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
     from robostereo.robot.capture import locate_capture
 
     if args.fuse is not None:
@@ -504,11 +523,13 @@ def run_locate_command(args: argparse.Namespace) -> int:
     if not args.capture.is_dir():
         raise InputError(f"{args.capture}: capture folder not found")
     output = args.output if args.output is not None else args.capture / "located.csv"
-    _check_outputs(output, args.ply)
+    inputs = [args.capture / n for n in ("capture.yaml", "left.png", "right.png")]
+    outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=inputs)
     located = locate_capture(args.capture)
-    write_csv(output, located.table())
-    if args.ply is not None:
-        write_ply(args.ply, located.world)
+    with atomic_outputs(outs) as tmp:  # all outputs or none
+        write_csv(tmp["-o"], located.table())
+        if "--ply" in tmp:
+            write_ply(tmp["--ply"], located.world)
     n_left, n = len(located.result.left_edges), len(located)
     lo, hi = located.disparity_range
     zb = located.z_bound
@@ -545,18 +566,42 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised in the main thread so that it unwinds like Ctrl-C (SIGINT)."""
+
+
+def _on_sigterm(signum: int, frame: Any) -> None:
+    raise Terminated
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; returns the exit code (0 ok, 2 bad input)."""
+    """Run the command line; returns the exit code (0 ok, 2 bad input, 130 SIGINT,
+    143 SIGTERM)."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
         return int(args.handler(args))
     except InputError as e:
-        print(f"robostereo: error: {e}", file=sys.stderr)
+        print(f"robostereo: error: {str(e).splitlines()[0] if str(e) else 'bad input'}",
+              file=sys.stderr)
         return 2
+    except OSError as e:  # the file system refused: a missing disk, a full one...
+        where = f"{e.filename}: " if e.filename else ""
+        print(f"robostereo: error: {where}{e.strerror or e.__class__.__name__}",
+              file=sys.stderr)
+        return 2
+    except Terminated:
+        print("robostereo: terminated", file=sys.stderr)
+        return 143
     except KeyboardInterrupt:
         print("robostereo: interrupted", file=sys.stderr)
         return 130
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -80,6 +80,20 @@ def _pnm_maxval(data: bytes) -> int | None:
     return int(m.group(3)) if m else None
 
 
+def _cv2_decode(raw: bytes) -> NDArray[Any] | None:
+    """``cv2.imdecode`` with OpenCV's log lines silenced; None where it cannot decode."""
+    import cv2.utils.logging as cv_log
+
+    level = cv_log.getLogLevel()
+    cv_log.setLogLevel(cv_log.LOG_LEVEL_SILENT)
+    try:
+        return cv2.imdecode(np.frombuffer(raw, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
+    except cv2.error:
+        return None
+    finally:
+        cv_log.setLogLevel(level)
+
+
 def load_image(path: PathLike) -> tuple[NDArray[Any], int]:
     """Read an image file (PPM/PGM/PNG/TIFF, 8 or 16 bit, grey, RGB or RGBA).
 
@@ -98,26 +112,31 @@ def load_image(path: PathLike) -> tuple[NDArray[Any], int]:
     Raises
     ------
     InputError
-        Missing, empty or undecodable file (one line naming the file).
+        Missing, empty or undecodable file (one line naming the file); a float image
+        with NaN or grey levels outside 0..1.
 
     Notes
     -----
     Decoded with OpenCV (``cv2.imdecode``, ``IMREAD_UNCHANGED``, BGR -> RGB), falling
-    back to imageio for formats OpenCV does not read.
+    back to imageio for formats OpenCV does not read; OpenCV's own log lines are
+    silenced, the error is ours.  A float image (e.g. a float32 TIFF) is read as
+    full scale 1.0 -- grey levels 0..1, the convention of image libraries -- and
+    returned as ``uint16`` (``round(v * 65535)``, bit depth 16), so it matches like
+    a 16-bit file; floats outside 0..1 are refused (convert them to integers first).
     """
     p = require_file(path, "image file")
     try:
         raw = p.read_bytes()
     except OSError as e:
         raise InputError(f"{p}: cannot read image file ({e.__class__.__name__})") from None
-    img = cv2.imdecode(np.frombuffer(raw, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
+    img = _cv2_decode(raw)
     if img is not None and img.ndim == 3:
         code = {3: cv2.COLOR_BGR2RGB, 4: cv2.COLOR_BGRA2RGBA}.get(img.shape[2])
         img = cv2.cvtColor(img, code) if code is not None else img
     if img is None:
         try:
-            with warnings.catch_warnings():  # imageio's plugin deprecation notices
-                warnings.simplefilter("ignore", DeprecationWarning)
+            with warnings.catch_warnings():  # imageio's notices: the error is ours
+                warnings.simplefilter("ignore")
                 img = np.asarray(iio.imread(p))
         except Exception as e:  # imageio raises many types for bad files
             raise InputError(
@@ -127,6 +146,18 @@ def load_image(path: PathLike) -> tuple[NDArray[Any], int]:
         img = img[:, :, 0]
     if img.ndim not in (2, 3) or img.size == 0:
         raise InputError(f"{p}: image must be (H, W) or (H, W, C) and non-empty, got {img.shape}")
+    if img.dtype.kind not in "uif":
+        raise InputError(f"{p}: image samples must be integers or floats, got {img.dtype}")
+    if img.dtype.kind == "f":
+        if not np.isfinite(img).all():
+            raise InputError(f"{p}: float image contains NaN or infinite grey levels")
+        lo, hi = float(img.min()), float(img.max())
+        if lo < 0.0 or hi > 1.0:
+            raise InputError(
+                f"{p}: float image has grey levels {lo:g} .. {hi:g}; float images are read "
+                "as full scale 1.0 (0..1): scale it to 0..1 or save it as 8/16-bit integers"
+            )
+        return np.rint(img * 65535.0).astype(np.uint16), 16
     maxval = _pnm_maxval(raw[:64])
     if maxval is not None and maxval > 0:
         depth = int(maxval).bit_length()
@@ -412,6 +443,7 @@ def load_scene(
             elif key in KNOWN_SCALES:
                 scale = float(KNOWN_SCALES[key])
             else:
+                load_image(gt_p)  # a corrupt file is the error to report, not the scale
                 raise InputError(
                     f"{gt_p}: disparity scale unknown (no scenes.json entry for "
                     f"{scene_name!r}); pass scale="
@@ -445,6 +477,7 @@ def load_scene(
         left_p, right_p, gt_p = _find(d, "view1"), _find(d, "view5"), _find(d, "disp1")
         right_gt_path = _find(d, "disp5")
         if scale is None:
+            load_image(gt_p)  # a corrupt file is the error to report, not the scale
             raise InputError(f"{gt_p}: disparity scale of 2005/2006 layout unknown, pass scale=")
         gt_loader = _integer_disparity
     else:

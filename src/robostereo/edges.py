@@ -22,7 +22,7 @@ import numba as nb
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.errors import InputError, require_positive
+from robostereo.errors import InputError, require_int, require_positive
 
 __all__ = [
     "SEED_KERNEL",
@@ -104,17 +104,27 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
     image : array_like, shape (H, W) or (H, W, 3) or (H, W, 4)
         Grey or colour (RGB or RGBA) image, integer or float.
     bit_depth : int, optional
-        Bits per grey level of the input.  Default: 8 for ``uint8``, 16 for
-        ``uint16``; float images are taken to be on the 0..127 scale already.
-        The simulated camera's 7-bit images use ``bit_depth=7``.
+        Bits per grey level of the input: its grey levels are on the scale
+        ``0 .. 2**bit_depth - 1``, integer or float.  Default: 8 for ``uint8``, 16 for
+        ``uint16``; a **float image without bit_depth has full scale 1.0** (grey
+        levels 0..1, as most image libraries write floats) and values outside 0..1
+        are refused.  The simulated camera's 7-bit images use ``bit_depth=7``.
     name : str
         Name used in error messages.
 
     Returns
     -------
     ndarray of float32, shape (H, W)
-        Grey levels scaled by ``127 / (2**bit_depth - 1)``: full scale at any bit depth
-        becomes the seed's 127.
+        Grey levels scaled by ``127 / (2**bit_depth - 1)`` (by 127 for floats of full
+        scale 1.0): full scale at any bit depth becomes the seed's 127.
+
+    Raises
+    ------
+    InputError
+        A shape other than (H, W) or (H, W, 3|4), an empty image, a dtype that is not
+        real integer or float (bool, complex, object), NaN or infinite grey levels,
+        other integer dtypes without `bit_depth`, a float image outside 0..1 without
+        `bit_depth`, a `bit_depth` outside 1..32.
 
     Examples
     --------
@@ -122,21 +132,32 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
     array([[  0., 127.]], dtype=float32)
     >>> to_grey(np.array([[0, 65535]], dtype=np.uint16))
     array([[  0., 127.]], dtype=float32)
+    >>> to_grey(np.array([[0.0, 1.0]])), to_grey(np.array([[0.0, 255.0]]), bit_depth=8)
+    (array([[  0., 127.]], dtype=float32), array([[  0., 127.]], dtype=float32))
     """
     arr = np.asarray(image)
+    if arr.dtype.kind not in "uif":
+        raise InputError(
+            f"{name} must hold real grey levels (an integer or float dtype), got {arr.dtype}"
+        )
+    if bit_depth is not None:
+        bit_depth = require_int("bit_depth", bit_depth, minimum=1)
     if arr.ndim == 3 and arr.shape[2] in (3, 4):
         if arr.shape[2] == 4:
             arr = arr[:, :, :3]
-        work = arr.astype(np.float32) if arr.dtype != np.float32 else arr
+        with np.errstate(over="ignore"):  # beyond float32: inf, refused below
+            work = arr.astype(np.float32) if arr.dtype != np.float32 else arr
         grey = cv2.cvtColor(np.ascontiguousarray(work), cv2.COLOR_RGB2GRAY)
     elif arr.ndim == 2:
-        grey = arr.astype(np.float32)
+        with np.errstate(over="ignore"):
+            grey = arr.astype(np.float32)
     else:
         raise InputError(
             f"{name} must be a grey (H, W) or colour (H, W, 3|4) image, got shape {arr.shape}"
         )
     if grey.size == 0:
         raise InputError(f"{name} is empty (shape {arr.shape})")
+    unit_float = bit_depth is None and arr.dtype.kind == "f"
     if bit_depth is None:
         if arr.dtype == np.uint8 or arr.dtype == np.int8:
             bit_depth = 8
@@ -150,7 +171,15 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
         raise InputError(f"bit_depth must be in 1..32, got {bit_depth}")
     if not np.isfinite(grey).all():
         raise InputError(f"{name} contains NaN or infinite grey levels")
-    if bit_depth != 7:
+    if unit_float:
+        lo, hi = float(arr.min()), float(arr.max())
+        if lo < 0.0 or hi > 1.0:
+            raise InputError(
+                f"{name}: a float image without bit_depth must have grey levels in 0..1 "
+                f"(full scale 1.0), got {lo:g} .. {hi:g}; pass bit_depth for 0..2**b-1 floats"
+            )
+        grey *= np.float32(SEED_GREY_LEVELS - 1)
+    elif bit_depth != 7:
         grey *= np.float32((SEED_GREY_LEVELS - 1) / (2.0**bit_depth - 1))
     return grey
 
@@ -418,6 +447,13 @@ def detect_edges(
     -------
     EdgeSet
 
+    Raises
+    ------
+    InputError
+        An image :func:`to_grey` refuses or smaller than 5 x 5 pixels, a threshold that
+        is not a finite number > 0, a `row_step` or `row_offset` that is not an integer
+        (>= 1, in ``0..H-1``), a `valid` mask of another shape.
+
     Notes
     -----
     1. Convert to grey on the 0..127 scale and smooth with the 5 x 5 filter of
@@ -446,9 +482,9 @@ def detect_edges(
     >>> len(e), e.x[:2].round(3).tolist(), e.sign[0].item(), e.pattern[[0, 4, 8]].tolist()
     (9, [9.5, 9.5], 1, [14, 5, 11])
     """
-    require_positive("threshold", float(threshold))
-    if int(row_step) != row_step or row_step < 1:
-        raise InputError(f"row_step must be a whole number >= 1, got {row_step}")
+    require_positive("threshold", threshold)
+    row_step = require_int("row_step", row_step, minimum=1)
+    row_offset = require_int("row_offset", row_offset, minimum=0)
     g0 = to_grey(image, bit_depth=bit_depth) if grey is None else grey
     h, w = g0.shape
     if h < 5 or w < 5:

@@ -8,16 +8,20 @@ prints that line and exits with code 2.
 from __future__ import annotations
 
 import math
+import numbers
 import os
 from collections.abc import Iterable
 from pathlib import Path
+from typing import Any
 
 __all__ = [
     "InputError",
     "UnreachablePoseError",
     "require_file",
     "require_finite",
+    "require_int",
     "require_positive",
+    "require_range",
 ]
 
 
@@ -25,12 +29,23 @@ class InputError(ValueError):
     """Bad input: a file, an image or a parameter that cannot be used.
 
     The message is a single line naming the problem, e.g.
-    ``baseline_mm must be a finite number > 0, got -20.0``.
+    ``baseline_mm must be a finite number > 0, got -20.0``.  Line breaks in a
+    message (from a value quoted in it) are shown as ``\\n``, so it stays one line.
     """
+
+    def __init__(self, message: object = "", *args: object) -> None:
+        text = str(message)
+        super().__init__(text.replace("\r", "\\r").replace("\n", "\\n"), *args)
 
 
 class UnreachablePoseError(InputError):
     """A pose that the robot cannot reach (outside its workspace or joint limits)."""
+
+
+def _show(value: object) -> str:
+    """A value for an error message: its repr, cut to 60 characters."""
+    r = repr(value)
+    return r if len(r) <= 60 else r[:57] + "..."
 
 
 def require_finite(name: str, value: float | Iterable[float]) -> None:
@@ -42,10 +57,10 @@ def require_finite(name: str, value: float | Iterable[float]) -> None:
     ...
     robostereo.errors.InputError: pixel_pitch_mm must be finite, got [0.0172, nan]
     """
-    values = [value] if isinstance(value, int | float) else list(value)
-    if not all(isinstance(v, int | float) and math.isfinite(v) for v in values):
-        shown = value if isinstance(value, int | float) else values
-        raise InputError(f"{name} must be finite, got {shown}")
+    values = [value] if isinstance(value, numbers.Real) else list(value)
+    if not all(isinstance(v, numbers.Real) and math.isfinite(v) for v in values):
+        shown = value if isinstance(value, numbers.Real) else values
+        raise InputError(f"{name} must be finite, got {_show(shown)}")
 
 
 def require_positive(name: str, value: float) -> None:
@@ -57,8 +72,9 @@ def require_positive(name: str, value: float) -> None:
     ...
     robostereo.errors.InputError: baseline_mm must be a finite number > 0, got -20.0
     """
-    if not isinstance(value, int | float) or not math.isfinite(value) or value <= 0:
-        raise InputError(f"{name} must be a finite number > 0, got {value}")
+    if (isinstance(value, bool) or not isinstance(value, numbers.Real)
+            or not math.isfinite(value) or value <= 0):
+        raise InputError(f"{name} must be a finite number > 0, got {_show(value)}")
 
 
 def require_file(path: str | os.PathLike[str], what: str = "file") -> Path:
@@ -75,3 +91,51 @@ def require_file(path: str | os.PathLike[str], what: str = "file") -> Path:
     if p.stat().st_size == 0:
         raise InputError(f"{p}: {what} is empty")
     return p
+
+
+def require_int(name: str, value: Any, *, minimum: int | None = None) -> int:
+    """``value`` as an ``int`` if it is a whole number (an integer type) >= `minimum`.
+
+    Floats, even whole ones like ``2.0``, and booleans are refused: a parameter that
+    counts something is an integer.
+
+    >>> require_int("row_step", 2, minimum=1)
+    2
+    >>> require_int("row_step", 2.0, minimum=1)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: row_step must be an integer >= 1, got 2.0
+    """
+    bound = "" if minimum is None else f" >= {minimum}"
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise InputError(f"{name} must be an integer{bound}, got {value!r}")
+    v = int(value)
+    if minimum is not None and v < minimum:
+        raise InputError(f"{name} must be an integer{bound}, got {v}")
+    return v
+
+
+def require_range(name: str, value: Any) -> tuple[float, float]:
+    """``(min, max)`` as two floats: a pair of finite real numbers with min <= max.
+
+    >>> require_range("disparity_range", (0, 12))
+    (0.0, 12.0)
+    >>> require_range("disparity_range", 5)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: disparity_range must be (min, max), two numbers, got 5
+    """
+    shown = _show(value)
+    if isinstance(value, str | bytes) or not isinstance(value, Iterable):
+        raise InputError(f"{name} must be (min, max), two numbers, got {shown}")
+    items = list(value)
+    if len(items) != 2 or not all(
+        isinstance(v, numbers.Real) and not isinstance(v, bool) for v in items
+    ):
+        raise InputError(f"{name} must be (min, max), two numbers, got {shown}")
+    lo, hi = float(items[0]), float(items[1])
+    if not (math.isfinite(lo) and math.isfinite(hi)):
+        raise InputError(f"{name} must be finite, got ({lo}, {hi})")
+    if lo > hi:
+        raise InputError(f"{name} is empty: min {lo} > max {hi}")
+    return lo, hi

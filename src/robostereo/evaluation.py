@@ -39,7 +39,7 @@ from robostereo.calibration import rectify_stereo
 from robostereo.datasets import StereoScene
 from robostereo.edges import to_grey
 from robostereo.errors import InputError, require_finite
-from robostereo.pipeline import MatchParameters, match_stereo
+from robostereo.pipeline import MatchParameters, match_stereo, searched_range
 from robostereo.triangulation import StereoCamera, triangulate
 
 __all__ = [
@@ -91,6 +91,33 @@ class MatchScore:
         return d
 
 
+def _score_inputs(
+    rows: ArrayLike, x: ArrayLike, disparity: ArrayLike, gt_disparity: ArrayLike,
+    tolerance: float,
+) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Checked arrays of :func:`score_matches`; points off the map are refused."""
+    try:
+        arrays = [np.asarray(v, dtype=float) for v in (rows, x, disparity, gt_disparity)]
+    except (TypeError, ValueError):
+        raise InputError("rows, x, disparity and gt_disparity must be arrays of numbers") from None
+    r, xs, d, gt = arrays
+    if gt.ndim != 2 or gt.size == 0:
+        raise InputError(f"gt_disparity must be a non-empty (H, W) map, got shape {gt.shape}")
+    if not (r.ndim == xs.ndim == d.ndim == 1 and r.shape == xs.shape == d.shape):
+        raise InputError(f"rows, x and disparity must be 1-D arrays of one length, got shapes "
+                         f"{r.shape}, {xs.shape}, {d.shape}")
+    require_finite("tolerance", tolerance)
+    if tolerance < 0:
+        raise InputError(f"tolerance must be >= 0, got {tolerance}")
+    h, w = gt.shape
+    if not (np.isfinite(r).all() and (r == np.rint(r)).all() and (r >= 0).all()
+            and (r <= h - 1).all()):
+        raise InputError(f"rows must be whole numbers in 0..{h - 1} (the map's rows)")
+    if not (np.isfinite(xs).all() and (xs >= -0.5).all() and (xs < w - 0.5).all()):
+        raise InputError(f"x must be finite and inside the map: -0.5 <= x < {w - 0.5}")
+    return r.astype(np.intp), xs, d, gt
+
+
 def score_matches(
     rows: ArrayLike,
     x: ArrayLike,
@@ -118,12 +145,20 @@ def score_matches(
     -------
     MatchScore
 
+    Raises
+    ------
+    InputError
+        Arrays of different lengths, a map that is not (H, W), a point off the map (a
+        row outside ``0..H-1`` or ``x`` outside ``-0.5 .. W-0.5``): such points are
+        refused, not moved to the border.
+
     Examples
     --------
     >>> gt = np.full((1, 4), 5.0); gt[0, 3] = np.nan
     >>> score_matches([0, 0, 0, 0], [0.4, 1.6, 2.2, 3.0], [5.5, 7.0, np.nan, 5.0], gt)
     MatchScore(counted=3, matched=2, false=1, rms=0.5)
     """
+    _score_inputs(rows, x, disparity, gt_disparity, tolerance)
     known, err = match_errors(rows, x, disparity, gt_disparity)
     matched = known & np.isfinite(err)
     false = matched & (err > tolerance)
@@ -161,15 +196,9 @@ def match_errors(
     >>> k.tolist(), e.tolist()
     ([True, True, False], [0.5, nan, nan])
     """
-    r = np.asarray(rows, dtype=np.intp)
-    xs = np.asarray(x, dtype=float)
-    d = np.asarray(disparity, dtype=float)
-    gt = np.asarray(gt_disparity, dtype=float)
-    if gt.ndim != 2:
-        raise InputError(f"gt_disparity must be an (H, W) map, got shape {gt.shape}")
-    h, w = gt.shape
-    c = np.clip(np.rint(xs).astype(np.intp), 0, w - 1)
-    r = np.clip(r, 0, h - 1)
+    r, xs, d, gt = _score_inputs(rows, x, disparity, gt_disparity, 0.0)
+    w = gt.shape[1]
+    c = np.rint(xs).astype(np.intp)
     known = np.isfinite(gt[r, c])
     nb = np.stack([gt[r, np.clip(c + o, 0, w - 1)] for o in (-1, 0, 1)], axis=1)
     err = np.abs(nb - d[:, None])
@@ -280,6 +309,8 @@ def sgbm_disparity(
     disparity_range : tuple of float
         ``(min, max)`` disparity; SGBM searches ``numDisparities`` rounded up to a
         multiple of 16 from ``floor(min)``, and values above ``max + 0.5`` are dropped.
+        ``numDisparities`` is cut to what the image width allows SGBM (all NaN when
+        not even 16 fit).
     block_size, uniqueness_ratio : int
         SGBM's ``blockSize`` (5) and ``uniquenessRatio`` (10); ``P1 = 8 * block_size**2``
         and ``P2 = 32 * block_size**2`` as OpenCV's documentation recommends for grey input.
@@ -296,6 +327,11 @@ def sgbm_disparity(
     lo, hi = disparity_range
     g = [sgbm_input(im, bit_depth=bit_depth) for im in (left, right)]
     n = int(np.ceil((np.floor(hi) - np.floor(lo) + 1) / 16.0) * 16)
+    # SGBM needs width - (minDisparity + numDisparities) > blockSize // 2
+    room = g[0].shape[1] - int(np.floor(lo)) - block_size // 2 - 1
+    n = min(n, room // 16 * 16)
+    if n < 16:  # the range leaves SGBM no room in this image: no disparity at all
+        return np.full(g[0].shape, np.nan)
     sgbm = cv2.StereoSGBM_create(
         minDisparity=int(np.floor(lo)), numDisparities=n, blockSize=block_size,
         uniquenessRatio=uniqueness_ratio, P1=8 * block_size**2, P2=32 * block_size**2,
@@ -553,10 +589,8 @@ def evaluate_scene(
        :class:`~robostereo.triangulation.StereoCamera` triangulates each correct match
        and its ground truth (:func:`errors_3d`).
     """
-    lo, hi = scene.disparity_range if disparity_range is None else disparity_range
-    require_finite("disparity_range", [lo, hi])
-    if lo > hi:
-        raise InputError(f"disparity range is empty: min {lo} > max {hi}")
+    lo, hi = searched_range(scene.disparity_range if disparity_range is None
+                            else disparity_range, scene.shape[1])  # both methods search it
     p = params if params is not None else MatchParameters(bit_depth=scene.bit_depth)
     if params is not None and params.bit_depth is None:
         p = replace(params, bit_depth=scene.bit_depth)

@@ -2,7 +2,11 @@
 
 Every writer is atomic: it writes a temporary file beside the target and renames it
 into place only when the whole file is written, so a failure never leaves a partial
-output file.  Images are read by :func:`robostereo.datasets.load_image`.
+output file.  A command with several outputs is all or nothing too:
+:func:`check_outputs` refuses, before any work, an output path that is a folder, lies
+in a missing or unwritable folder, or names an input or another output;
+:func:`atomic_outputs` gives every output a temporary name and renames them into place
+only when all are written.  Images are read by :func:`robostereo.datasets.load_image`.
 """
 
 from __future__ import annotations
@@ -11,7 +15,7 @@ import contextlib
 import math
 import os
 import tempfile
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
 
@@ -24,7 +28,9 @@ from robostereo.errors import InputError, require_file
 from robostereo.triangulation import StereoCamera
 
 __all__ = [
+    "atomic_outputs",
     "atomic_path",
+    "check_outputs",
     "load_image",
     "load_stereo_camera",
     "stereo_camera_from_dict",
@@ -46,7 +52,12 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
         raise InputError(f"{target}: output folder {parent} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=parent)
+    if target.is_dir():
+        raise InputError(f"{target}: is a folder, not an output file name")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=parent)
+    except OSError as e:
+        raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
     os.close(fd)
     tmp_path = Path(tmp)
     umask = os.umask(0)
@@ -55,6 +66,130 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
         yield tmp_path
         os.chmod(tmp_path, 0o666 & ~umask)
         os.replace(tmp_path, target)
+    except OSError as e:
+        raise InputError(f"{target}: cannot write output ({_why(e)})") from None
+    finally:
+        if tmp_path.exists():
+            tmp_path.unlink()
+
+
+def _why(e: OSError) -> str:
+    return f"{e.__class__.__name__}: {e.strerror}" if e.strerror else e.__class__.__name__
+
+
+def _same_file(a: Path, b: Path) -> bool:
+    try:
+        if a.exists() and b.exists():
+            return os.path.samefile(a, b)
+    except OSError:
+        pass
+    return a.resolve() == b.resolve()
+
+
+def check_outputs(
+    outputs: Mapping[str, PathLike | None], *, inputs: Iterable[PathLike | None] = ()
+) -> dict[str, Path]:
+    """Check a command's output paths before any work is done.
+
+    Parameters
+    ----------
+    outputs : mapping
+        Option name (e.g. ``"-o"``, ``"--ply"``) to path; None entries are left out.
+    inputs : iterable of path
+        The command's input files (None entries are left out).
+
+    Returns
+    -------
+    dict
+        Option name to :class:`~pathlib.Path`, the outputs to write.
+
+    Raises
+    ------
+    InputError
+        An output that is an existing folder or other non-file, lies in a missing or
+        unwritable folder, is the same file as an input, or the same as another output.
+
+    Examples
+    --------
+    >>> check_outputs({"-o": "m.csv", "--edges": "./m.csv"})
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: --edges m.csv is the same file as -o m.csv; give each ...
+    """
+    outs = {k: Path(v) for k, v in outputs.items() if v is not None}
+    ins = [Path(v) for v in inputs if v is not None]
+    seen: list[tuple[str, Path]] = []
+    for opt, p in outs.items():
+        if p.is_dir():
+            raise InputError(f"{opt} {p}: is a folder; give an output file name")
+        if p.exists() and not p.is_file():
+            raise InputError(f"{opt} {p}: exists and is not a regular file")
+        parent = p.parent if str(p.parent) else Path(".")
+        if not parent.is_dir():
+            raise InputError(f"{opt} {p}: output folder {parent} does not exist")
+        if not os.access(parent, os.W_OK | os.X_OK):
+            raise InputError(f"{opt} {p}: output folder {parent} is not writable")
+        for q in ins:
+            if _same_file(p, q):
+                raise InputError(f"{opt} {p} is an input of the command; refusing to "
+                                 "overwrite it")
+        for other, q in seen:
+            if _same_file(p, q):
+                raise InputError(f"{opt} {p} is the same file as {other} {q}; give each "
+                                 "output its own name")
+        seen.append((opt, p))
+    return outs
+
+
+@contextlib.contextmanager
+def atomic_outputs(outputs: Mapping[str, Path]) -> Iterator[dict[str, Path]]:
+    """Temporary paths for all of a command's outputs, renamed into place together.
+
+    Yields a mapping like `outputs` of temporary files beside the targets.  When the
+    block completes, every temporary file is renamed to its target; when it raises,
+    every temporary file is removed and no target is touched.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> with atomic_outputs({"a": d / "a.txt", "b": d / "b.txt"}) as tmp:
+    ...     _ = tmp["a"].write_text("A"); _ = tmp["b"].write_text("B")
+    >>> sorted(p.name for p in d.iterdir())
+    ['a.txt', 'b.txt']
+    """
+    with contextlib.ExitStack() as stack:
+        temps: dict[str, Path] = {}
+        for key, target in outputs.items():
+            temps[key] = stack.enter_context(_temp_beside(Path(target)))
+        yield temps
+        for key, target in outputs.items():
+            try:
+                os.replace(temps[key], target)
+            except OSError as e:
+                raise InputError(f"{target}: cannot write output ({_why(e)})") from None
+
+
+@contextlib.contextmanager
+def _temp_beside(target: Path) -> Iterator[Path]:
+    """A temporary file beside `target` with the umask's permissions, removed on exit
+    unless renamed."""
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{target}: output folder {parent} does not exist")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=parent)
+    except OSError as e:
+        raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
+    os.close(fd)
+    tmp_path = Path(tmp)
+    umask = os.umask(0)
+    os.umask(umask)
+    try:
+        os.chmod(tmp_path, 0o666 & ~umask)
+        yield tmp_path
+    except OSError as e:
+        raise InputError(f"{target}: cannot write output ({_why(e)})") from None
     finally:
         if tmp_path.exists():
             tmp_path.unlink()
@@ -95,17 +230,32 @@ def write_ply(
 ) -> Path:
     """Write 3-D points (``(N, 3)``, millimetres) as a binary PLY point cloud (trimesh).
 
-    Points with a NaN coordinate are left out.
+    Points with a NaN coordinate are left out; with none left the file is a valid PLY
+    with zero vertices.
+
+    >>> import tempfile, pathlib
+    >>> p = pathlib.Path(tempfile.mkdtemp()) / "empty.ply"
+    >>> b"element vertex 0" in write_ply(p, np.full((2, 3), np.nan)).read_bytes()
+    True
     """
     import trimesh
 
-    pts = np.asarray(xyz, dtype=float).reshape(-1, 3)
+    pts = np.asarray(xyz, dtype=float)
+    if pts.ndim != 2 or pts.shape[1] != 3:
+        raise InputError(f"3-D points must have shape (N, 3), got {pts.shape}")
     good = np.isfinite(pts).all(axis=1)
-    cloud = trimesh.PointCloud(
-        pts[good], colors=None if colors is None else np.asarray(colors)[good]
-    )
-    with atomic_path(path) as tmp:
+    if not good.any():  # trimesh cannot export an empty cloud
+        header = ["ply", "format binary_little_endian 1.0", "comment robostereo: no points",
+                  "element vertex 0", *(f"property float {c}" for c in "xyz")]
+        if colors is not None:
+            header += [f"property uchar {c}" for c in ("red", "green", "blue", "alpha")]
+        data: Any = ("\n".join([*header, "end_header"]) + "\n").encode()
+    else:
+        cloud = trimesh.PointCloud(
+            pts[good], colors=None if colors is None else np.asarray(colors)[good]
+        )
         data = cloud.export(file_type="ply")
+    with atomic_path(path) as tmp:
         tmp.write_bytes(data if isinstance(data, bytes) else str(data).encode())
     return Path(path)
 

@@ -208,6 +208,8 @@ def find_candidates(
         raise InputError("left and right edges must be found on the same rows (row_step)")
     _check_profile_scale(profile_scale)
     span = float(max(np.max(left.x, initial=0.0), np.max(right.x, initial=0.0)))
+    # no pair is more than `span` apart: a wider bound (-1e18) would only cost precision
+    lo_d, hi_d = max(lo_d, -span - 1.0), min(hi_d, span + 1.0)
     big = span + abs(lo_d) + abs(hi_d) + 10.0
     key_r = right.line * big + right.x
     key_l = left.line * big + left.x

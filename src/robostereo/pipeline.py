@@ -17,7 +17,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.edges import EdgeSet, detect_edges, to_grey
-from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.errors import (
+    InputError,
+    require_finite,
+    require_int,
+    require_positive,
+    require_range,
+)
 from robostereo.matching import (
     Candidates,
     SimilarityWeights,
@@ -30,7 +36,14 @@ from robostereo.relaxation import RelaxationParameters, RelaxationResult, relax
 from robostereo.triangulation import StereoCamera, triangulate
 from robostereo.window import WindowMatch, census_transform, window_match
 
-__all__ = ["DEFAULT_MIN_CONFIDENCE", "METHODS", "MatchParameters", "MatchResult", "match_stereo"]
+__all__ = [
+    "DEFAULT_MIN_CONFIDENCE",
+    "METHODS",
+    "MatchParameters",
+    "MatchResult",
+    "match_stereo",
+    "searched_range",
+]
 
 
 #: the matchers of :func:`match_stereo`
@@ -108,14 +121,23 @@ class MatchParameters:
             require_finite("min_confidence", self.min_confidence)
             if not 0.0 <= self.min_confidence <= 1.0:
                 raise InputError(f"min_confidence must be in 0..1, got {self.min_confidence}")
-        if isinstance(self.row_step, bool) or int(self.row_step) != self.row_step \
-                or self.row_step < 1:
-            raise InputError(f"row_step must be a whole number >= 1, got {self.row_step}")
-        if isinstance(self.gradient_truncation, bool) \
-                or int(self.gradient_truncation) != self.gradient_truncation \
-                or not 0 <= self.gradient_truncation <= 300:
-            raise InputError(f"gradient_truncation must be a whole number in 0..300, got "
+        require_int("row_step", self.row_step, minimum=1)
+        require_int("gradient_truncation", self.gradient_truncation, minimum=0)
+        if self.gradient_truncation > 300:
+            raise InputError(f"gradient_truncation must be in 0..300, got "
                              f"{self.gradient_truncation}")
+        if self.bit_depth is not None:
+            require_int("bit_depth", self.bit_depth, minimum=1)
+        if self.profile_scale is not None:
+            require_positive("profile_scale", self.profile_scale)
+        if not isinstance(self.subpixel, bool):
+            raise InputError(f"subpixel must be True or False, got {self.subpixel!r}")
+        if not isinstance(self.weights, SimilarityWeights):
+            raise TypeError(f"weights must be a SimilarityWeights, got "
+                            f"{type(self.weights).__name__}")
+        if not isinstance(self.relaxation, RelaxationParameters):
+            raise TypeError(f"relaxation must be a RelaxationParameters, got "
+                            f"{type(self.relaxation).__name__}")
 
     @property
     def acceptance(self) -> float:
@@ -300,10 +322,12 @@ class MatchResult:
         """The matches accepted from the probabilities after ``iteration`` iterations.
 
         Relaxation method only.  Returns an array like :attr:`match` (the seed's
-        figure 4-4 shows these after 0, 1, 3 and 5 iterations).
+        figure 4-4 shows these after 0, 1, 3 and 5 iterations); beyond the iterations
+        run, the final matches.  Raises :class:`~robostereo.errors.InputError` unless
+        ``iteration`` is an integer >= 0.
         """
         cands, rel = self._relaxation_only("matches_after")
-        k = min(int(iteration), len(rel.history) - 1)
+        k = min(require_int("iteration", iteration, minimum=0), len(rel.history) - 1)
         return assign_matches(
             cands, rel.history[k], rel.none_history[k],
             len(self.left_edges), min_probability=self.parameters.acceptance,
@@ -312,11 +336,23 @@ class MatchResult:
     def disparity_of(self, match: NDArray[np.intp]) -> NDArray[np.float64]:
         """Disparity per left edge point for a relaxation match array, NaN where unmatched."""
         cands, _ = self._relaxation_only("disparity_of")
-        return np.where(match >= 0, cands.disparity[np.maximum(match, 0)], np.nan)
+        m = np.asarray(match)
+        assert self.match is not None
+        if m.shape != self.match.shape or m.dtype.kind not in "iu" or (
+                m.size and not -1 <= m.min() <= m.max() < len(cands)):
+            raise InputError(f"match must be an array like MatchResult.match "
+                             f"({self.match.shape[0]} candidate indices or -1)")
+        out = np.full(m.shape, np.nan)
+        out[m >= 0] = cands.disparity[m[m >= 0]]
+        return out
 
 
 def _check_pair(left: ArrayLike, right: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
     a, b = np.asarray(left), np.asarray(right)
+    for name, im in (("left image", a), ("right image", b)):
+        if im.ndim not in (2, 3):
+            raise InputError(f"{name} must be a grey (H, W) or colour (H, W, 3|4) image, "
+                             f"got shape {im.shape}")
     if a.size == 0 or b.size == 0:
         raise InputError("images must not be empty")
     if a.shape[:2] != b.shape[:2]:
@@ -325,6 +361,27 @@ def _check_pair(left: ArrayLike, right: ArrayLike) -> tuple[np.ndarray, np.ndarr
             f"{b.shape[1]} x {b.shape[0]} pixels"
         )
     return a, b
+
+
+def searched_range(disparity_range: tuple[float, float], width: int) -> tuple[float, float]:
+    """The part of `disparity_range` that an image `width` pixels wide can hold.
+
+    No pair of pixels is more than ``width - 1`` apart, so the search is limited to
+    ``-(width - 1) .. width - 1``; a range entirely outside it is refused.
+
+    >>> searched_range((0, 1000), 200)
+    (0.0, 199.0)
+    >>> searched_range((300, 400), 200)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: disparity_range 300.0 .. 400.0 lies outside -199 .. 199, ...
+    """
+    lo, hi = require_range("disparity_range", disparity_range)
+    m = float(width - 1)
+    if hi < -m or lo > m:
+        raise InputError(f"disparity_range {lo} .. {hi} lies outside {-m:g} .. {m:g}, the "
+                         f"disparities of an image {width} pixels wide")
+    return max(lo, -m), min(hi, m)
 
 
 def match_stereo(
@@ -346,6 +403,8 @@ def match_stereo(
         Rectified images (epipolar lines are rows), grey or colour, 8 or 16 bit.
     disparity_range : tuple of float
         ``(min, max)`` of ``x_left - x_right`` in pixels: the matchable region (3.5).
+        The search is limited to ``-(W - 1) .. W - 1`` (:func:`searched_range`); the
+        result's ``disparity_range`` is the range searched.
     params : MatchParameters, optional
     camera : StereoCamera, optional
         With a camera the result also holds 3-D points and depth bounds.
@@ -360,6 +419,16 @@ def match_stereo(
     Returns
     -------
     MatchResult
+
+    Raises
+    ------
+    InputError
+        Images that are not (H, W) or (H, W, 3|4) real-valued arrays of one size, a
+        float image outside 0..1 without ``params.bit_depth`` (see
+        :func:`~robostereo.edges.to_grey`), NaN grey levels, a malformed or empty
+        `disparity_range` or one outside the image's (one line naming the parameter).
+    TypeError
+        `params` or `camera` of the wrong type.
 
     Notes
     -----
@@ -393,12 +462,13 @@ def match_stereo(
     >>> len(res) > 0, set(np.round(res.disparity).tolist())
     (True, {7.0})
     """
+    if params is not None and not isinstance(params, MatchParameters):
+        raise TypeError(f"params must be a MatchParameters, got {type(params).__name__}")
+    if camera is not None and not isinstance(camera, StereoCamera):
+        raise TypeError(f"camera must be a StereoCamera, got {type(camera).__name__}")
     p = params or MatchParameters()
     a, b = _check_pair(left, right)
-    lo, hi = disparity_range
-    require_finite("disparity_range", [lo, hi])
-    if lo > hi:
-        raise InputError(f"disparity range is empty: min {lo} > max {hi}")
+    lo, hi = searched_range(disparity_range, int(a.shape[1]))
     say = progress or (lambda _stage: None)
     t: dict[str, float] = {}
     t0 = time.perf_counter()

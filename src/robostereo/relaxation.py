@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.edges import EdgeSet
-from robostereo.errors import InputError, require_finite
+from robostereo.errors import InputError, require_finite, require_int
 from robostereo.matching import Candidates, group_sum
 
 __all__ = [
@@ -58,9 +58,11 @@ class RelaxationParameters:
     neighbour_radius : float
         Case II neighbours: the nearest same-sign edge within this many pixels.
     no_match_support : float
-        Support of the no-match label from each neighbour (see module notes).
+        Support of the no-match label from each neighbour (see module notes): 0 or
+        1e-6 .. 1e6.
     b_connected, b_partial, b_none : float
-        The values 1, 0.2 and 0 of ``b_ij`` (seed 3.4.1).
+        The values 1, 0.2 and 0 of ``b_ij`` (seed 3.4.1), in 0 .. 1e6 (as are
+        ``tolerance`` and ``neighbour_radius``).
     """
 
     iterations: int = 5
@@ -72,15 +74,20 @@ class RelaxationParameters:
     b_none: float = 0.0
 
     def __post_init__(self) -> None:
-        if int(self.iterations) != self.iterations or self.iterations < 0:
-            raise InputError(f"iterations must be a whole number >= 0, got {self.iterations}")
+        require_int("iterations", self.iterations, minimum=0)
         require_finite(
             "relaxation parameters",
             [self.tolerance, self.neighbour_radius, self.no_match_support,
              self.b_connected, self.b_partial, self.b_none],
         )
-        if self.no_match_support < 0:
-            raise InputError(f"no_match_support must be >= 0, got {self.no_match_support}")
+        # bounded so that the products of eq. (5) neither underflow nor overflow
+        c = self.no_match_support
+        if not (c == 0 or 1e-6 <= c <= 1e6):
+            raise InputError(f"no_match_support must be 0 or in 1e-6 .. 1e6, got {c!r}")
+        for name in ("tolerance", "neighbour_radius", "b_connected", "b_partial", "b_none"):
+            v = getattr(self, name)
+            if not 0 <= v <= 1e6:
+                raise InputError(f"{name} must be in 0 .. 1e6, got {v!r}")
 
 
 @dataclass(frozen=True)
@@ -311,7 +318,8 @@ def relax(
     has_nbr = n_nbr[cands.left] > 0
     it = 0
     for it in range(1, p.iterations + 1):  # noqa: B007 - `it` is reported
-        q = np.bincount(t_i, weights=prob[t_j] * t_r, minlength=m)
+        # float even when there are no terms (bincount of no weights gives int64)
+        q = np.bincount(t_i, weights=prob[t_j] * t_r, minlength=m).astype(float)
         q += np.bincount(u_i, weights=pnone[u_m] * c, minlength=m)
         q = np.where(has_nbr, q / nn, c)
         num = prob * q

@@ -29,6 +29,8 @@ from numpy.typing import ArrayLike, NDArray
 from robostereo.errors import InputError, require_finite, require_positive
 
 __all__ = [
+    "MAX_BASELINE_MM",
+    "MAX_PIXELS",
     "StereoCamera",
     "depth_error_bound",
     "depth_from_disparity",
@@ -94,6 +96,15 @@ def depth_error_bound(
         )
 
 
+MAX_PIXELS = 1e7
+"""Largest focal length, principal point or ``doffs`` of a :class:`StereoCamera`, in
+pixels: beyond it no real camera, and the arithmetic of triangulation loses the
+disparity."""
+
+MAX_BASELINE_MM = 1e9
+"""Largest baseline of a :class:`StereoCamera` (1000 km)."""
+
+
 @dataclass(frozen=True)
 class StereoCamera:
     """Geometry of a rectified stereo pair, for triangulation (seed 3.6-3.7).
@@ -117,6 +128,13 @@ class StereoCamera:
         ``dD``.
     disparity_uncertainty_px : float
         ``d(disp)``: the seed used one pixel; sub-pixel edges warrant less.
+
+    Raises
+    ------
+    InputError
+        ``fx``, ``fy`` or ``baseline_mm`` not a finite number > 0, a NaN or infinite
+        value, a negative uncertainty, ``fx, fy, cx, cy, doffs`` beyond
+        :data:`MAX_PIXELS` or a baseline beyond :data:`MAX_BASELINE_MM`.
 
     Examples
     --------
@@ -144,6 +162,14 @@ class StereoCamera:
             if v is not None:
                 require_finite(name, v)
         require_finite("doffs", self.doffs)
+        for name in ("fx", "fy", "cx", "cy", "doffs"):
+            v = getattr(self, name)
+            if v is not None and abs(v) > MAX_PIXELS:
+                raise InputError(f"{name} must be within +-{MAX_PIXELS:g} pixels, got {v:g}")
+        if self.baseline_mm > MAX_BASELINE_MM:
+            raise InputError(
+                f"baseline_mm must be at most {MAX_BASELINE_MM:g}, got {self.baseline_mm:g}"
+            )
         for name in ("focal_uncertainty_px", "baseline_uncertainty_mm",
                      "disparity_uncertainty_px"):
             v = getattr(self, name)
@@ -191,6 +217,16 @@ class StereoCamera:
         return cx, cy
 
 
+def _coordinates(name: str, values: ArrayLike) -> NDArray[np.float64]:
+    try:
+        a = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{name} must be a 1-D array of numbers") from None
+    if a.ndim != 1:
+        raise InputError(f"{name} must be a 1-D array of numbers, got shape {a.shape}")
+    return a
+
+
 def triangulate(
     camera: StereoCamera,
     x_left: ArrayLike,
@@ -220,6 +256,15 @@ def triangulate(
         ``(X, Y, Z)`` in millimetres, origin mid-baseline, Z the depth.
     z_bound : ndarray, shape (N,)
         Depth error bound of eq. (9), millimetres.
+        Points with a disparity ``<= 0`` or not finite (NaN or infinite input), or whose
+        depth under- or overflows (absurd coordinates), get NaN coordinates and bound.
+
+    Raises
+    ------
+    InputError
+        Coordinates that are not 1-D arrays of one length, a bad `image_shape`.
+    TypeError
+        `camera` not a :class:`StereoCamera`.
 
     Examples
     --------
@@ -232,26 +277,36 @@ def triangulate(
     >>> xyz.round(6).tolist(), round(float(zb[0]), 1)
     ([[0.0, 0.0, 1000.0]], 35.3)
     """
-    xl = np.asarray(x_left, float)
-    xr = np.asarray(x_right, float)
-    y = np.asarray(rows, float)
+    if not isinstance(camera, StereoCamera):
+        raise TypeError(f"camera must be a StereoCamera, got {type(camera).__name__}")
+    xl, xr, y = (_coordinates(n, v) for n, v in
+                 (("x_left", x_left), ("x_right", x_right), ("rows", rows)))
+    if not xl.shape == xr.shape == y.shape:
+        raise InputError(f"x_left, x_right and rows must have one length, got "
+                         f"{xl.shape[0]}, {xr.shape[0]}, {y.shape[0]}")
+    if (not isinstance(image_shape, tuple | list) or len(image_shape) < 2
+            or not all(isinstance(v, int | np.integer) and not isinstance(v, bool) and v > 0
+                       for v in image_shape[:2])):
+        raise InputError(f"image_shape must be (H, W) of positive integers, got {image_shape!r}")
     cx, cy = camera.principal_point(image_shape)
     xlp = xl - cx
     xrp = xr - cx - camera.doffs
     d = xlp - xrp
     b = camera.baseline_mm
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         z = b * camera.fx / d
         x = 0.5 * b * (xlp + xrp) / d
         yy = b * (camera.fx / camera.fy) * (y - cy) / d
     dd = camera.disparity_uncertainty_px if disparity_uncertainty_px is None else (
         disparity_uncertainty_px)
-    bound = depth_error_bound(
-        b, camera.fx, d, baseline_uncertainty=camera.baseline_uncertainty_mm,
-        focal_uncertainty=camera.focal_uncertainty_px, disparity_uncertainty=dd,
-    )
+    with np.errstate(over="ignore", divide="ignore", invalid="ignore"):  # huge coordinates
+        bound = depth_error_bound(
+            b, camera.fx, d, baseline_uncertainty=camera.baseline_uncertainty_mm,
+            focal_uncertainty=camera.focal_uncertainty_px, disparity_uncertainty=dd,
+        )
     xyz = np.column_stack([x, yy, z])
-    bad = ~(d > 0)
+    # behind the cameras, an infinite coordinate, or a depth that under- or overflows
+    bad = ~((d > 0) & np.isfinite(d) & (z > 0) & np.isfinite(z))
     if bad.any():
         xyz[bad] = math.nan
         bound = np.where(bad, math.nan, bound)
