@@ -11,16 +11,17 @@ another partner (the left-right check).
 
 Per pixel pair the cost is the census Hamming distance [1]_ of a ``7 x 5``
 neighbourhood plus the truncated absolute difference of the horizontal Sobel
-gradients; it is summed over a ``9 x 9`` window placed three ways (centred on the
-edge, and shifted half a window left and right) and the lowest of the three is kept:
-at a depth boundary only the window on the occluding surface sees one disparity
+gradients; it is summed over a ``9 x 9`` window placed five ways (centred on the
+edge, and shifted half a window left, right, up and down) and the lowest is kept: at
+a depth boundary only the window on the occluding surface sees one disparity
 (side-aware windows, as in multiple-window matching [2]_).
 
 The work is done in one pass down the image (a numba kernel): pixel costs of a row
 for all disparities, vertical column sums kept running over a ring of the last nine
-rows, and at each row the windows of that row's edge points read from the column
-sums.  Cost is therefore linear in the disparity range and the image size, per-image
-work (census, gradients) is done once, and memory is a few rows of costs.
+rows, window sums of nine columns, and at each row the windows of that row's edge
+points read from the window sums of it and of the rows half a window above and below.
+Cost is therefore linear in the disparity range and the image size, per-image work
+(census, gradients) is done once, and memory is a few rows of costs.
 
 References
 ----------

@@ -1,0 +1,136 @@
+"""The window matcher's kernels against brute force, and the confidence model."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from synthetic import layered_pair
+
+from robostereo.confidence import (
+    DEFAULT_MODEL,
+    FEATURES,
+    ConfidenceModel,
+    calibration_table,
+    fit_confidence,
+    isotonic,
+)
+from robostereo.errors import InputError
+from robostereo.evaluation import coverage_curve, match_errors
+from robostereo.pipeline import match_stereo
+from robostereo.window import OUT_OF_VIEW, census_transform, sobel_x, window_costs
+
+
+def _brute(left, right, rows, cols, d_lo, d_hi, vertical, trunc=64):
+    """Every window cost by plain numpy: pixel costs, 9 x 9 sums, the placements."""
+    h, w = left.shape
+    cl, cr = census_transform(left), census_transform(right)
+    sl, sr = sobel_x(left).astype(int), sobel_x(right).astype(int)
+    popcount = np.vectorize(lambda v: bin(int(v)).count("1"))
+    nd = d_hi - d_lo + 1
+    pix = np.full((nd, h, w), 34 + trunc)
+    for k, d in enumerate(range(d_lo, d_hi + 1)):
+        x = np.arange(max(d, 0), min(w, w + d))
+        pix[k][:, x] = popcount(cl[:, x] ^ cr[:, x - d]) + np.minimum(
+            np.abs(sl[:, x] - sr[:, x - d]), trunc)
+
+    def box(k, y, x):
+        ys = np.clip(np.arange(y - 4, y + 5), 0, h - 1)
+        return sum(pix[k][ys, xx].sum() if 0 <= xx < w else 9 * (34 + trunc)
+                   for xx in range(x - 4, x + 5))
+
+    offs = [(0, -4), (0, 0), (0, 4)] + ([(-4, 0), (4, 0)] if vertical else [])
+    out = np.full((len(rows), nd), OUT_OF_VIEW)
+    for i, (y, c) in enumerate(zip(rows, cols, strict=True)):
+        for k in range(nd):
+            if 0 <= c - d_lo - k < w:
+                out[i, k] = min(box(k, y + dy, c + dx) for dy, dx in offs)
+    return out
+
+
+@pytest.mark.parametrize("vertical", [False, True])
+def test_window_costs_equal_brute_force(vertical):
+    rng = np.random.default_rng(3)
+    left = rng.uniform(0, 127, (40, 70)).astype(np.float32)
+    right = np.roll(left, -5, axis=1) + rng.normal(0, 3, left.shape).astype(np.float32)
+    rows, cols = np.array([2, 10, 10, 20, 37]), np.array([15, 20, 40, 33, 50])
+    wc = window_costs(left, right, rows, cols, (0, 12), vertical=vertical)
+    ref = _brute(left, right, rows, cols, 0, 12, vertical)
+    k1 = np.argmin(ref, axis=1)
+    assert np.array_equal(wc.best, k1)
+    assert np.array_equal(wc.cost, ref[np.arange(5), k1])
+    far = np.abs(np.arange(13)[None] - k1[:, None]) > 1
+    assert np.array_equal(wc.second, np.where(far, ref, OUT_OF_VIEW).min(axis=1))
+    assert np.array_equal(wc.before, ref[np.arange(5), k1 - 1])
+    row = _brute(left, right, rows, cols, 0, 12, False)
+    assert np.array_equal(wc.best_row, np.argmin(row, axis=1))
+    assert np.all(wc.in_view == (ref < OUT_OF_VIEW).sum(axis=1))
+
+
+def test_bands_on_threads_give_the_same_costs():
+    """One band or two: the kernel's output is the same (bands repeat a few rows)."""
+    import numba
+
+    left, right, _ = layered_pair(np.random.default_rng(5), height=200, width=200)
+    res = match_stereo(left, right, (4.0, 27.0))
+    e = res.left_edges
+    g = [np.asarray(im, np.float32) * np.float32(127 / 255) for im in (left, right)]
+    old = numba.get_num_threads()
+    try:
+        numba.set_num_threads(1)
+        one = window_costs(*g, e.row, e.column, (4, 27))
+    finally:
+        numba.set_num_threads(old)
+    two = window_costs(*g, e.row, e.column, (4, 27))
+    for name in ("best", "cost", "second", "best_row", "right_best"):
+        assert np.array_equal(getattr(one, name), getattr(two, name)), name
+
+
+def test_census_and_out_of_view():
+    g = np.arange(35, dtype=np.float32).reshape(5, 7)
+    c = census_transform(g)
+    # the centre pixel (2, 3): the 17 neighbours before it in raster order are darker
+    assert bin(int(c[2, 3])).count("1") == 17
+    with pytest.raises(InputError, match="census size"):
+        census_transform(g, size=(8, 5))
+    # a point whose every right pixel is outside the image has no best disparity
+    wc = window_costs(g, g, np.array([2]), np.array([1]), (5, 6))
+    assert wc.best[0] == -1 and wc.in_view[0] == 0
+
+
+def test_isotonic_and_the_model():
+    _, ky = isotonic([0, 1, 2, 3, 4], [0.0, 1.0, 0.0, 1.0, 1.0])
+    assert np.all(np.diff(ky) >= 0) and ky[-1] == 1.0
+    with pytest.raises(InputError, match="non-decreasing"):
+        ConfidenceModel((0.0, 1.0), (0.9, 0.1))
+    with pytest.raises(InputError, match="features"):
+        DEFAULT_MODEL(np.zeros((3, 2)))
+    # more evidence never lowers the confidence
+    f = np.zeros((50, len(FEATURES)))
+    f[:, 0] = f[:, 1] = np.linspace(0, 1, 50)
+    f[:, 3] = 1.0
+    p = DEFAULT_MODEL(f)
+    assert np.all(np.diff(p) >= 0) and 0.0 <= p[0] < p[-1] <= 1.0
+
+
+def test_confidence_on_synthetic_occlusions_is_calibrated_and_informative():
+    """Layered pairs the model was not fitted on: the confidence curve fitted on two
+    pairs is calibrated on a third, and the most confident matches are the cleanest."""
+    rng = np.random.default_rng(77)
+    sets = []
+    for _ in range(3):
+        left, right, gt = layered_pair(rng, height=160, width=300)
+        res = match_stereo(left, right, (4.0, 27.0))
+        e = res.left_edges
+        known, err = match_errors(e.row, e.x, res.edge_disparity, gt)
+        take = known & np.isfinite(err)
+        sets.append((res.window.features[take], err[take] <= 1.0, res, gt))
+    x = np.concatenate([s[0] for s in sets[:2]])
+    y = np.concatenate([s[1] for s in sets[:2]])
+    model = fit_confidence(x, y)
+    f, ok, res, gt = sets[2]
+    c, frac, n = calibration_table(model(f), ok)
+    ece = np.sum(n[n > 0] * np.abs(c[n > 0] - frac[n > 0])) / n.sum()
+    assert ece < 0.1
+    e = res.left_edges
+    curve = coverage_curve(e.row, e.x, res.edge_disparity, res.edge_confidence, gt)
+    assert curve.false_rate[len(curve.false_rate) // 2] < curve.false_rate[-1]
