@@ -198,6 +198,17 @@ def _box(col, out, t2, t4):  # type: ignore[no-untyped-def]
         out[x + 4] = t2[x] + col[x + 8]
 
 
+@nb.njit(cache=True, fastmath=True)
+def _least(bu, bm, bd, k, x, hw, vertical):  # type: ignore[no-untyped-def]
+    """Least window sum at column ``x``, disparity ``k``: centred and half a window left
+    and right on the row's box sums ``bm`` (returned second), and with ``vertical``
+    also centred on the rows half a window above (``bu``) and below (``bd``)."""
+    row = np.int32(min(bm[k, x - hw], min(bm[k, x], bm[k, x + hw])))
+    if vertical:
+        return min(row, np.int32(min(bu[k, x], bd[k, x]))), row
+    return row, row
+
+
 @nb.njit(cache=True, fastmath=True, parallel=True)
 def _stream(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
             n_strips, out):  # type: ignore[no-untyped-def]
@@ -275,10 +286,7 @@ def _stream_rows(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vert
                     s3[k] = big
                     continue
                 n_in += 1
-                v3 = np.int32(min(bm[k, xc - hw], min(bm[k, xc], bm[k, xc + hw])))
-                v5 = v3
-                if vertical:
-                    v5 = min(v5, np.int32(min(bu[k, xc], bd[k, xc])))
+                v5, v3 = _least(bu, bm, bd, k, xc, hw, vertical)
                 s5[k] = v5
                 s3[k] = v3
                 if v5 < c5:
@@ -315,10 +323,7 @@ def _stream_rows(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vert
                 xl = xr + dlo + k
                 if xl < 0 or xl >= w:
                     continue
-                x2 = xl + m
-                v = np.int32(min(bm[k, x2 - hw], min(bm[k, x2], bm[k, x2 + hw])))
-                if vertical:
-                    v = min(v, np.int32(min(bu[k, x2], bd[k, x2])))
+                v, _ = _least(bu, bm, bd, k, xl + m, hw, vertical)
                 if v < cb:
                     cb = v
                     kr = k
