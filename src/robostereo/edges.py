@@ -341,27 +341,45 @@ def connectivity(
     up_offset, down_offset : ndarray of int8, shape (N,)
         Its column offset -1, 0 or +1 (0 where none).
     """
+    up, down, up_off, down_off = _connect(
+        np.ascontiguousarray(line, dtype=np.int64), np.ascontiguousarray(column, dtype=np.int64),
+        np.ascontiguousarray(sign, dtype=np.int8), int(n_lines), int(width))
+    return up.astype(np.intp), down.astype(np.intp), up_off, down_off
+
+
+@nb.njit(cache=True)
+def _connect(line, column, sign, n_lines, width):  # type: ignore[no-untyped-def]
     n = line.shape[0]
     stride = width + 2
-    grid = np.full((n_lines + 2) * stride, -1, dtype=np.int32)
-    flat = (line + 1) * stride + (column + 1)
-    grid[flat] = np.arange(n, dtype=np.int32)
-    signs = np.append(sign, np.int8(0))  # index -1 -> sign 0, never equal to +-1
-
-    def look(dl: int) -> tuple[NDArray[np.intp], NDArray[np.int8]]:
-        best = np.full(n, -1, dtype=np.int32)
-        off = np.zeros(n, dtype=np.int8)
-        base = flat + dl * stride
-        for o in (1, -1, 0):  # later offsets overwrite: 0 wins, then -1, then +1
-            cand = grid.take(base + o)
-            ok = signs.take(cand) == sign
-            best[ok] = cand[ok]
-            off[ok] = o
-        return best.astype(np.intp), off
-
-    up, up_off = look(-1)
-    down, down_off = look(+1)
+    grid = np.full((n_lines + 2) * stride, -1, dtype=np.int64)
+    for i in range(n):
+        grid[(line[i] + 1) * stride + column[i] + 1] = i
+    up = np.full(n, -1, dtype=np.int64)
+    down = np.full(n, -1, dtype=np.int64)
+    up_off = np.zeros(n, dtype=np.int8)
+    down_off = np.zeros(n, dtype=np.int8)
+    for i in range(n):
+        base = (line[i] + 1) * stride + column[i] + 1
+        for dl in (-1, 1):
+            for o in (0, -1, 1):  # straight above (below) first, then -1, then +1
+                c = grid[base + dl * stride + o]
+                if c >= 0 and sign[c] == sign[i]:
+                    if dl < 0:
+                        up[i] = c
+                        up_off[i] = o
+                    else:
+                        down[i] = c
+                        down_off[i] = o
+                    break
     return up, down, up_off, down_off
+
+
+@nb.njit(cache=True)
+def _abs_gradient(s, out):  # type: ignore[no-untyped-def]
+    """``out[x] = |(s[x + 1] - s[x - 1]) / 2|`` for 1 <= x <= w - 2 (float32)."""
+    half = np.float32(0.5)
+    for x in range(1, s.shape[0] - 1):
+        out[x] = abs((s[x + 1] - s[x - 1]) * half)
 
 
 @nb.njit(cache=True)
@@ -372,40 +390,34 @@ def _peaks(sr, threshold, m):  # type: ignore[no-untyped-def]
     column and its neighbours, and ``g`` at the column (float32 arithmetic, as NumPy's
     on the same arrays)."""
     n_rows, w = sr.shape
-    half = np.float32(0.5)
+    a = np.zeros((n_rows, w), np.float32)
     count = 0
     for r in range(n_rows):
-        s = sr[r]
+        ar = a[r]
+        _abs_gradient(sr[r], ar)
         for x in range(m, w - m):
-            a0 = abs((s[x + 1] - s[x - 1]) * half)
-            if a0 >= threshold and a0 > abs((s[x] - s[x - 2]) * half) \
-                    and a0 >= abs((s[x + 2] - s[x]) * half):
+            if ar[x] >= threshold and ar[x] > ar[x - 1] and ar[x] >= ar[x + 1]:
                 count += 1
     k = np.empty(count, np.int64)
     j = np.empty(count, np.int64)
     am = np.empty(count, np.float32)
-    a0s = np.empty(count, np.float32)
+    a0 = np.empty(count, np.float32)
     ap = np.empty(count, np.float32)
     gp = np.empty(count, np.float32)
     i = 0
+    half = np.float32(0.5)
     for r in range(n_rows):
-        s = sr[r]
+        ar = a[r]
         for x in range(m, w - m):
-            g0 = (s[x + 1] - s[x - 1]) * half
-            a0 = abs(g0)
-            if a0 < threshold:
-                continue
-            a_m = abs((s[x] - s[x - 2]) * half)
-            a_p = abs((s[x + 2] - s[x]) * half)
-            if a0 > a_m and a0 >= a_p:
+            if ar[x] >= threshold and ar[x] > ar[x - 1] and ar[x] >= ar[x + 1]:
                 k[i] = r
                 j[i] = x
-                am[i] = a_m
-                a0s[i] = a0
-                ap[i] = a_p
-                gp[i] = g0
+                am[i] = ar[x - 1]
+                a0[i] = ar[x]
+                ap[i] = ar[x + 1]
+                gp[i] = (sr[r, x + 1] - sr[r, x - 1]) * half
                 i += 1
-    return k, j, am, a0s, ap, gp
+    return k, j, am, a0, ap, gp
 
 
 def detect_edges(
