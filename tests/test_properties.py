@@ -57,6 +57,9 @@ from robostereo.datasets import load_image  # noqa: E402
 from robostereo.io import load_stereo_camera  # noqa: E402
 
 EXTS = (".png", ".ppm", ".pgm", ".pnm", ".tif", ".tiff", ".bmp", ".jpg", ".jpeg")
+
+# a NumPy warning printed to the user is a fault too: overflow, division by zero...
+pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
 OK = (InputError, TypeError)
 
 

@@ -455,7 +455,8 @@ def detect_edges(
     a = np.abs(g)
     m = BORDER
     c = a[:, m:-m]
-    peak = (c > a[:, m - 1:-m - 1]) & (c >= a[:, m + 1:w - m + 1]) & (c >= threshold)
+    thr = np.float32(min(float(threshold), float(np.finfo(np.float32).max)))  # no overflow
+    peak = (c > a[:, m - 1:-m - 1]) & (c >= a[:, m + 1:w - m + 1]) & (c >= thr)
     k, j = np.nonzero(peak)
     j = j + m
     if valid is not None:
