@@ -409,3 +409,37 @@ def test_relaxation_coefficients_that_break_the_arithmetic_are_refused() -> None
         relaxation=RelaxationParameters(iterations=1, no_match_support=1e-6)))
     p = res.relaxation.probability
     assert ((p >= 0) & (p <= 1 + 1e-9)).all()
+
+
+def test_calibration_that_hung_opencv(pair, tmp_path: Path) -> None:
+    """cv2.FileStorage loops forever on this damaged YAML header (found by fuzzing); the
+    calibration files are now parsed in Python."""
+    from robostereo.calibration import StereoCalibration, write_opencv_calibration
+
+    lp, rp, _, _ = pair
+    K = np.array([[800.0, 0, 99.5], [0, 800.0, 29.5], [0, 0, 1]])
+    cal = write_opencv_calibration(
+        StereoCalibration(K, None, K, None, np.eye(3), [-60, 0, 0], (200, 60)),
+        tmp_path / "rig.yml")
+    text = cal.read_text()
+    cal.write_text("%YA." + text[text.index("ncv-matrix"):])
+    r = subprocess.run([sys.executable, "-m", "robostereo.cli", "rig", str(lp), str(rp),
+                        "--calibration", str(cal), *RANGE, "-o", str(tmp_path / "m.csv")],
+                       capture_output=True, text=True, timeout=60, check=False)
+    assert r.returncode == 2 and "rig.yml: cannot parse calibration file" in r.stderr
+    assert len(r.stderr.splitlines()) == 1
+
+
+def test_opencv_nan_and_inf_spellings_are_read(tmp_path: Path) -> None:
+    from robostereo.calibration import read_calibration
+
+    K = np.array([[800.0, 0, 99.5], [0, 800.0, 29.5], [0, 0, 1]])
+    for ext in ("yml", "json", "xml"):
+        fs = cv2.FileStorage(str(tmp_path / f"c.{ext}"), cv2.FILE_STORAGE_WRITE)
+        for key, v in (("K1", K), ("D1", np.zeros(5)), ("K2", K), ("D2", np.zeros(5)),
+                       ("R", np.eye(3)), ("T", np.array([[np.nan], [0.0], [0.0]]))):
+            fs.write(key, v)
+        fs.write("image_size", np.array([[200, 60]]))
+        fs.release()
+        with pytest.raises(InputError, match=rf"c\.{ext}: T must be finite"):
+            read_calibration(tmp_path / f"c.{ext}")

@@ -14,9 +14,11 @@ input and never leaves a partial output.  The profiles are set in ``conftest.py`
 from __future__ import annotations
 
 import contextlib
+import faulthandler
 import io
 import math
 import shutil
+import sys
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -57,6 +59,9 @@ from robostereo.datasets import load_image  # noqa: E402
 from robostereo.io import load_stereo_camera  # noqa: E402
 
 EXTS = (".png", ".ppm", ".pgm", ".pnm", ".tif", ".tiff", ".bmp", ".jpg", ".jpeg")
+
+# a NumPy warning printed to the user is a fault too: overflow, division by zero...
+pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
 OK = (InputError, TypeError)
 
 
@@ -65,10 +70,25 @@ def _one_line(e: BaseException) -> None:
     assert msg and "\n" not in msg, repr(msg)
 
 
+HANG_SECONDS = 60
+"""A call stuck this long -- e.g. looping in native code, where no deadline can stop it
+-- ends the whole run with a traceback of where it hangs (exit code 1)."""
+
+
+@contextlib.contextmanager
+def _no_hang() -> Any:
+    faulthandler.dump_traceback_later(HANG_SECONDS, exit=True, file=sys.__stderr__)
+    try:
+        yield
+    finally:
+        faulthandler.cancel_dump_traceback_later()
+
+
 def _expect(call: Any, *args: Any, **kwargs: Any) -> Any:
     """The call's result, or None after checking that its error is a one-line one of ours."""
     try:
-        return call(*args, **kwargs)
+        with _no_hang():
+            return call(*args, **kwargs)
     except OK as e:
         _one_line(e)
         return None
@@ -590,7 +610,8 @@ def test_command_line(workdir: Path, args: list[str]) -> None:
     try:
         with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
             try:
-                rc = main(args)
+                with _no_hang():
+                    rc = main(args)
             except SystemExit as e:  # argparse: usage and one error line
                 rc = e.code
                 hypothesis.event(f"{args[0]}: argparse exit {rc}")

@@ -276,47 +276,63 @@ def _require_file(path: PathLike) -> Path:
     return require_file(path, "calibration file")
 
 
-def _node_value(node: Any) -> Any:
-    """Python value of a cv2.FileNode: ndarray for matrices, list for sequences."""
-    if node.isSeq():
-        return [_node_value(node.at(i)) for i in range(node.size())]
-    if node.isMap():  # an opencv-matrix is a map {rows, cols, dt, data}: see _as_array
-        # (never FileNode.mat(): a malformed matrix can abort the process in OpenCV)
-        return {k: _node_value(node.getNode(k)) for k in node.keys()}
-    if node.isInt() or node.isReal():
-        return node.real()
-    if node.isString():
-        return node.string()
-    return None
+_SPECIAL = {".nan": "nan", ".inf": "inf", "-.inf": "-inf", "+.inf": "inf"}
+"""OpenCV's spelling of NaN and infinities in FileStorage files (``.Nan``, ``-.Inf``)."""
 
 
-def _load_with_filestorage(path: Path, keys: tuple[str, ...]) -> dict[str, Any] | None:
-    """Read `keys` with cv2.FileStorage; None when OpenCV cannot parse the file (its own
-    log lines silenced: the error reported is ours)."""
-    import cv2.utils.logging as cv_log
+def _opencv_specials(text: str, *, json_text: bool) -> str:
+    """``.Nan``/``.Inf`` as written by OpenCV, in the spelling of JSON or YAML 1.1."""
+    def repl(m: re.Match[str]) -> str:
+        sign, word = m.group(1), m.group(2).lower()
+        if json_text:
+            return "NaN" if word == "nan" else f"{sign}Infinity"
+        return f"{sign}.{word}"
 
-    level = cv_log.getLogLevel()
-    cv_log.setLogLevel(cv_log.LOG_LEVEL_SILENT)
+    return re.sub(r"(?<![\w.])([-+]?)\.(Nan|NaN|NAN|nan|Inf|INF|inf)\b", repl, text)
+
+
+def _is_xml(path: Path) -> bool:
     try:
-        try:
-            fs = cv2.FileStorage(str(path), cv2.FILE_STORAGE_READ)
-        except (cv2.error, SystemError):
-            return None
-        try:
-            if not fs.isOpened():
-                return None
-            out: dict[str, Any] = {}
-            for k in keys:
-                node = fs.getNode(k)
-                if not node.empty():
-                    out[k] = _node_value(node)
-            return out
-        except (cv2.error, SystemError):  # e.g. a top level that is not a mapping
-            return None
-        finally:
-            fs.release()
-    finally:
-        cv_log.setLogLevel(level)
+        with open(path, "rb") as fh:
+            head = fh.read(256)
+    except OSError:
+        return False
+    return head.lstrip(b"\xef\xbb\xbf \t\r\n").startswith(b"<")
+
+
+def _xml_value(el: Any, path: Path, depth: int = 0) -> Any:
+    """The value of an element of an OpenCV FileStorage XML file: a dict of its children,
+    a list for ``<_>`` items, numbers (a list for ``data`` or several) or text."""
+    if depth > 20:
+        raise InputError(f"{path}: calibration XML nested too deeply")
+    kids = list(el)
+    if kids:
+        if all(k.tag == "_" for k in kids):
+            return [_xml_value(k, path, depth + 1) for k in kids]
+        return {k.tag: _xml_value(k, path, depth + 1) for k in kids}
+    text = el.text or ""
+    try:
+        nums = [float(_SPECIAL.get(t.lower(), t)) for t in text.split()]
+    except ValueError:
+        return text.strip()
+    return nums if el.tag == "data" or len(nums) != 1 else nums[0]
+
+
+def _load_xml(path: Path) -> dict[str, Any]:
+    """Parse an OpenCV FileStorage XML file (``<opencv_storage>``) into a dict.
+
+    Read in Python, not with ``cv2.FileStorage``: OpenCV's parser can abort the process
+    or loop forever on a malformed file.
+    """
+    import xml.etree.ElementTree as ET
+
+    try:
+        root = ET.fromstring(path.read_bytes())
+    except (OSError, ValueError, ET.ParseError) as e:
+        raise InputError(f"{path}: cannot parse calibration XML ({e.__class__.__name__})") from None
+    if root.tag != "opencv_storage":
+        raise InputError(f"{path}: expected an OpenCV <opencv_storage> XML file, got <{root.tag}>")
+    return {child.tag: _xml_value(child, path) for child in root}
 
 
 class _OpenCVYamlLoader(yaml.SafeLoader):
@@ -328,6 +344,7 @@ def _opencv_matrix(loader: yaml.SafeLoader, node: yaml.Node) -> dict[str, Any]:
 
 
 _OpenCVYamlLoader.add_constructor("tag:yaml.org,2002:opencv-matrix", _opencv_matrix)
+_OpenCVYamlLoader.add_constructor("tag:yaml.org,2002:opencv-nd-matrix", _opencv_matrix)
 
 
 def _load_plain(path: Path) -> dict[str, Any]:
@@ -338,8 +355,9 @@ def _load_plain(path: Path) -> dict[str, Any]:
         raise InputError(f"{path}: cannot read calibration file ({e.__class__.__name__})") from None
     try:
         if path.suffix.lower() == ".json" or text.lstrip().startswith("{"):
-            data = json.loads(text)
+            data = json.loads(_opencv_specials(text, json_text=True))
         else:
+            text = _opencv_specials(text, json_text=False)
             text = re.sub(r"^%YAML[: ]?[0-9.]*\s*$", "", text, count=1, flags=re.MULTILINE)
             data = yaml.load(text, Loader=_OpenCVYamlLoader)  # a SafeLoader subclass
     except (json.JSONDecodeError, yaml.YAMLError) as e:
@@ -428,9 +446,10 @@ def read_opencv_calibration(
 
     Notes
     -----
-    1. Parse each file with ``cv2.FileStorage``; if OpenCV cannot parse it, fall back to
-       :mod:`json` or PyYAML (``!!opencv-matrix`` understood, ``{rows, cols, data}`` or
-       plain nested lists accepted).
+    1. Parse each file in Python -- XML with :mod:`xml.etree.ElementTree`, JSON with
+       :mod:`json`, YAML with PyYAML (``!!opencv-matrix`` and ``!!opencv-nd-matrix``
+       understood; ``{rows, cols, data}`` or plain nested lists accepted) -- not with
+       ``cv2.FileStorage``, which can abort the process or hang on a malformed file.
     2. Merge the keys (the first file wins), pick the aliases, scale ``T``.
     3. Validate (see :class:`StereoCalibration`).
     """
@@ -441,10 +460,7 @@ def read_opencv_calibration(
         files.append(_require_file(extrinsics_path))
     data: dict[str, Any] = {}
     for f in reversed(files):
-        d = _load_with_filestorage(f, _OPENCV_KEYS)
-        if not d:  # OpenCV failed, or parsed nothing it recognised: try plain JSON/YAML
-            d = _load_plain(f)
-        data.update(d)
+        data.update(_load_xml(f) if _is_xml(f) else _load_plain(f))
     src = " + ".join(str(f) for f in files)
     p0 = files[0] if len(files) == 1 else Path(src)
     K1 = _as_array(p0, "K1", _pick(p0, data, "K1", "M1"))

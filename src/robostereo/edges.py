@@ -506,7 +506,8 @@ def detect_edges(
     s = smooth(g0)
     rows = np.arange(row_offset, h, row_step)
     sr = s[row_offset::row_step]  # a view: no copy of the image
-    k, j, am, a0, ap, g_peak = _peaks(np.ascontiguousarray(sr), np.float32(threshold), BORDER)
+    thr = np.float32(min(float(threshold), float(np.finfo(np.float32).max)))  # no overflow
+    k, j, am, a0, ap, g_peak = _peaks(np.ascontiguousarray(sr), thr, BORDER)
     if valid is not None:
         vm = np.asarray(valid, dtype=bool)
         if vm.shape != (h, w):
