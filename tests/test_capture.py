@@ -101,7 +101,7 @@ def test_locate_capture_equals_the_demo_run(block_sim, capture_dir):
     assert len(a) == len(b) > 250
     ta, tb = a.table(), b.table()
     assert list(tb) == ["X_w", "Y_w", "Z_w", "X", "Y", "Z", "z_bound", "row", "x_left",
-                        "x_right", "u_left", "v_left", "disparity", "probability"]
+                        "x_right", "u_left", "v_left", "disparity", "confidence"]
     for k in ta:
         assert np.allclose(ta[k], tb[k], atol=1e-6, rtol=0), k
 

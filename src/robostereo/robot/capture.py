@@ -746,7 +746,8 @@ class Located:
 
         ``X_w, Y_w, Z_w`` (world, mm), ``X, Y, Z`` (epipolar frame, mm), ``z_bound``
         (eq. 9, mm), ``row, x_left, x_right`` (rectified pixels), ``u_left, v_left``
-        (pixel position in the grabbed left image), ``disparity`` (px), ``probability``.
+        (pixel position in the grabbed left image), ``disparity`` (px), ``confidence``
+        (the match's probability of being right).
         """
         return {
             "X_w": self.world[:, 0], "Y_w": self.world[:, 1], "Z_w": self.world[:, 2],
@@ -754,7 +755,7 @@ class Located:
             "Z": self.epipolar_xyz[:, 2], "z_bound": self.z_bound,
             "row": self.row, "x_left": self.x_left, "x_right": self.x_right,
             "u_left": self.left_pixel[:, 0], "v_left": self.left_pixel[:, 1],
-            "disparity": self.disparity, "probability": self.probability,
+            "disparity": self.disparity, "confidence": self.probability,
         }
 
 
