@@ -167,3 +167,24 @@ def test_bad_input():
         simulate_capture("block", setup=RigSetup(center_xy=(900.0, 0.0)))
     with pytest.raises(InputError, match="lifts_mm"):
         run_block_experiment(lifts_mm=(0.0,))
+
+
+def test_demo_figures_are_all_or_nothing(experiments, tmp_path, monkeypatch):
+    """A failure while writing the figures leaves none of them behind."""
+    from matplotlib.figure import Figure
+
+    _, block, pulley = experiments
+    result = DemoResult(block=block, pulley=pulley, timings={"total": 1.0})
+    calls = {"n": 0}
+    real = Figure.savefig
+
+    def failing(self, *args, **kwargs):
+        calls["n"] += 1
+        if calls["n"] == 3:
+            raise OSError("disk full")
+        return real(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", failing)
+    with pytest.raises(InputError, match=r"points_3d\.png: cannot write output"):
+        save_demo_figures(result, tmp_path)
+    assert list(tmp_path.iterdir()) == []

@@ -642,15 +642,18 @@ def save_demo_figures(result: DemoResult, out_dir: str | Path) -> list[Path]:
       coloured by disparity;
     * ``points_3d.png``: the located points in the world frame (block at both heights,
       hub-pulley).
+
+    All figures are drawn first and written together: all three files or none.
     """
     from matplotlib.figure import Figure
 
-    from robostereo.plots import plot_matches, plot_points_3d, save_figure
+    from robostereo.io import atomic_outputs
+    from robostereo.plots import plot_matches, plot_points_3d
 
     out = Path(out_dir)
     if not out.is_dir():
         raise InputError(f"{out}: output folder does not exist")
-    paths = []
+    figures: dict[str, Any] = {}
     panels = (("block", result.block.heights[0].located), ("pulley", result.pulley.located))
     for name, loc in panels:
         fig = Figure(figsize=(13, 3.6))
@@ -668,9 +671,7 @@ def save_demo_figures(result: DemoResult, out_dir: str | Path) -> list[Path]:
         if fig.axes and fig.axes[-1].collections:
             fig.colorbar(fig.axes[-1].collections[-1], ax=fig.axes, shrink=0.8,
                          label="disparity (px)")
-        path = out / f"{name}_iterations.png"
-        save_figure(fig, path)
-        paths.append(path)
+        figures[f"{name}_iterations.png"] = fig
     fig = Figure(figsize=(11, 5))
     ax = fig.add_subplot(1, 2, 1, projection="3d")
     pts = np.concatenate([h.located.world[h.block_points] for h in result.block.heights])
@@ -679,7 +680,9 @@ def save_demo_figures(result: DemoResult, out_dir: str | Path) -> list[Path]:
     ax = fig.add_subplot(1, 2, 2, projection="3d")
     plot_points_3d(ax, result.pulley.located.world)
     ax.set_title("hub-pulley points (world mm)", fontsize=9)
-    path = out / "points_3d.png"
-    save_figure(fig, path)
-    paths.append(path)
-    return paths
+    figures["points_3d.png"] = fig
+    paths = {name: out / name for name in figures}
+    with atomic_outputs(paths) as tmp:
+        for name, f in figures.items():
+            f.savefig(tmp[name], format="png", dpi=110, bbox_inches="tight")
+    return list(paths.values())
