@@ -154,18 +154,34 @@ def run_capture_six_axis(args: argparse.Namespace) -> int:
 
 
 def _replace_capture(target: Path, capture: Any) -> None:
+    """Write a capture folder beside `target` and rename it into place."""
+    _replace_captures({target: capture})
+
+
+def _replace_captures(captures: dict[Path, Any], then: Any = None) -> None:
+    """Write every capture folder beside its target first (and run `then`, the last
+    output, inside an atomic block), then rename them all into place: all or none."""
     from robostereo.robot.capture import write_capture
 
-    tmp = target.with_name(f".{target.name}.new")
-    if tmp.exists():
-        shutil.rmtree(tmp)
-    write_capture(tmp, capture)
-    if target.exists():
-        if not (target / "capture.yaml").is_file():
-            shutil.rmtree(tmp)
-            raise InputError(f"{target}: exists and is not a capture folder")
-        shutil.rmtree(target)
-    tmp.rename(target)
+    temps = {t: t.with_name(f".{t.name}.new") for t in captures}
+    try:
+        for target, capture in captures.items():
+            tmp = temps[target]
+            if tmp.exists():
+                shutil.rmtree(tmp)
+            write_capture(tmp, capture)
+            if target.exists() and not (target / "capture.yaml").is_file():
+                raise InputError(f"{target}: exists and is not a capture folder")
+        if then is not None:
+            then()
+    except BaseException:
+        for tmp in temps.values():
+            shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    for target, tmp in temps.items():
+        if target.exists():
+            shutil.rmtree(target)
+        tmp.rename(target)
 
 
 def run_demo_six_axis(args: argparse.Namespace) -> int:
@@ -182,9 +198,11 @@ def run_demo_six_axis(args: argparse.Namespace) -> int:
             raise InputError(f"{d}: exists and is not a capture folder")
     res = run_six_axis_block(seed=args.seed)
     args.out.mkdir(parents=True, exist_ok=True)
-    _replace_capture(args.out / "capture-low", res.heights[0].sim.capture)
-    _replace_capture(args.out / "capture-high", res.heights[1].sim.capture)
-    save_handeye_yaml(args.out / "handeye.yaml", res.calibration)
+    # the two capture folders and handeye.yaml: all written, or none
+    _replace_captures({args.out / "capture-low": res.heights[0].sim.capture,
+                       args.out / "capture-high": res.heights[1].sim.capture},
+                      then=lambda: save_handeye_yaml(args.out / "handeye.yaml",
+                                                     res.calibration))
     s = res.summary()
     if args.json:
         print(json.dumps(s))
