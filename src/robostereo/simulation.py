@@ -460,8 +460,41 @@ class Box:
         return self.albedo * self.texture.factor(x, y)
 
 
+class _FlatPatch:
+    """A flat rectangle at height ``z``, turned by ``yaw`` about ``origin``: its local
+    frame, bounds and ray hits; a subclass gives its ``_extent`` in that frame."""
+
+    origin: tuple[float, float]
+    yaw: float
+    z: float
+
+    def _extent(self) -> tuple[float, float, float, float]:
+        raise NotImplementedError
+
+    def _local(self, x: _Arr, y: _Arr) -> tuple[_Arr, _Arr]:
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        px, py = x - self.origin[0], y - self.origin[1]
+        return c * px + s * py, s * px - c * py
+
+    def _bounds(self) -> _Arr | None:
+        x0, x1, y0, y1 = self._extent()
+        c, s = math.cos(self.yaw), math.sin(self.yaw)
+        pts = np.array([[bx, by] for bx in (x0, x1) for by in (y0, y1)])
+        wx = self.origin[0] + c * pts[:, 0] + s * pts[:, 1]
+        wy = self.origin[1] + s * pts[:, 0] - c * pts[:, 1]
+        return np.array([[wx.min(), wy.min(), self.z], [wx.max(), wy.max(), self.z]])
+
+    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = (self.z - o[2]) / dz
+        bx, by = self._local(o[0] + t * dx, o[1] + t * dy)
+        x0, x1, y0, y1 = self._extent()
+        ok = (t > _EPS) & (bx >= x0) & (bx <= x1) & (by >= y0) & (by <= y1)
+        return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
+
+
 @dataclass(frozen=True)
-class Checkerboard:
+class Checkerboard(_FlatPatch):
     """A flat chessboard calibration target lying on a horizontal plane.
 
     The board's inner corners are ``(i * square_mm, j * square_mm)`` in the board
@@ -503,31 +536,10 @@ class Checkerboard:
         _require_albedo(self.dark)
         _require_albedo(self.light)
 
-    def _local(self, x: _Arr, y: _Arr) -> tuple[_Arr, _Arr]:
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        px, py = x - self.origin[0], y - self.origin[1]
-        return c * px + s * py, s * px - c * py
-
     def _extent(self) -> tuple[float, float, float, float]:
         q = self.square_mm
         c, r = self.inner_corners
         return -2 * q, c * q + q, -2 * q, r * q + q
-
-    def _bounds(self) -> _Arr | None:
-        x0, x1, y0, y1 = self._extent()
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        pts = np.array([[bx, by] for bx in (x0, x1) for by in (y0, y1)])
-        wx = self.origin[0] + c * pts[:, 0] + s * pts[:, 1]
-        wy = self.origin[1] + s * pts[:, 0] - c * pts[:, 1]
-        return np.array([[wx.min(), wy.min(), self.z], [wx.max(), wy.max(), self.z]])
-
-    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (self.z - o[2]) / dz
-        bx, by = self._local(o[0] + t * dx, o[1] + t * dy)
-        x0, x1, y0, y1 = self._extent()
-        ok = (t > _EPS) & (bx >= x0) & (bx <= x1) & (by >= y0) & (by <= y1)
-        return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
 
     def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
         bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
@@ -547,7 +559,7 @@ class Checkerboard:
 
 
 @dataclass(frozen=True, eq=False)
-class ImagePlane:
+class ImagePlane(_FlatPatch):
     """A flat printed target (e.g. a ChArUco board) lying on a horizontal plane.
 
     The grey image is printed with its top-left corner at `origin`, image x at `yaw`
@@ -589,31 +601,10 @@ class ImagePlane:
         require_finite("yaw", self.yaw)
         _require_albedo(self.margin_albedo)
 
-    def _local(self, x: _Arr, y: _Arr) -> tuple[_Arr, _Arr]:
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        px, py = x - self.origin[0], y - self.origin[1]
-        return c * px + s * py, s * px - c * py
-
     def _extent(self) -> tuple[float, float, float, float]:
         h, w = self.image.shape
         m = self.margin_mm
         return -m, w * self.mm_per_px + m, -m, h * self.mm_per_px + m
-
-    def _bounds(self) -> _Arr | None:
-        x0, x1, y0, y1 = self._extent()
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        pts = np.array([[bx, by] for bx in (x0, x1) for by in (y0, y1)])
-        wx = self.origin[0] + c * pts[:, 0] + s * pts[:, 1]
-        wy = self.origin[1] + s * pts[:, 0] - c * pts[:, 1]
-        return np.array([[wx.min(), wy.min(), self.z], [wx.max(), wy.max(), self.z]])
-
-    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (self.z - o[2]) / dz
-        bx, by = self._local(o[0] + t * dx, o[1] + t * dy)
-        x0, x1, y0, y1 = self._extent()
-        ok = (t > _EPS) & (bx >= x0) & (bx <= x1) & (by >= y0) & (by <= y1)
-        return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
 
     def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
         bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
