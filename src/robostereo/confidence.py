@@ -45,7 +45,7 @@ __all__ = [
 FEATURES: tuple[str, ...] = (
     "uniqueness",      # (c2 - c1) / c2: best cost c1, best c2 more than 1 px away
     "uniqueness_row",  # the same with the three windows along the row, where they agree
-    "row_agree",       # those windows give the same disparity (or one pixel off)
+    "row_agree",       # uniqueness_row > 0: the row windows agree, with some uniqueness
     "left_right",      # the right pixel's best disparity is the same (or one off)
     "right_edge",      # a right edge point of the same sign lies there
     "similarity",      # the seed's w (3.3) of that edge pair, 0 without one

@@ -600,9 +600,9 @@ def window_match(
        away; uniqueness ``(c2 - c1) / c2`` (0 when no such disparity is in view).
     3. Left-right check: the right pixel ``x - d1`` scored against every left pixel;
        its best disparity should be ``d1`` (or one pixel off).
-    4. Sub-pixel disparity from the right edge point within one pixel of ``x - d``
-       (same contrast sign), else from the parabola of the costs.
-    5. Confidence from the features by the calibrated logistic model
+    4. Sub-pixel disparity from the right edge point within half a pixel of
+       ``x - d`` (same contrast sign), else from the parabola of the costs.
+    5. Confidence from the evidence by the calibrated model
        (:mod:`robostereo.confidence`).
     """
     lo, hi = float(disparity_range[0]), float(disparity_range[1])
@@ -627,9 +627,8 @@ def window_match(
     agree = seen & (np.abs(wc.best_row - k1) <= 1)
     u_row = np.where(agree, _uniqueness(wc.cost_row.astype(np.float64), wc.second_row), 0.0)
     idx, dist = _nearest_right_edge(left, right, left.x - d_par)
-    has = dist <= 1.0
     d_edge = left.x - right.x[np.maximum(idx, 0)] if len(right) else d_par
-    use_edge = has & (np.abs(d_edge - d_par) <= 0.5)
+    use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel
     disparity = np.where(use_edge, d_edge, d_par)
     in_range = (disparity >= lo - 0.5) & (disparity <= hi + 0.5) & seen
     disparity = np.where(in_range, disparity, np.nan)
