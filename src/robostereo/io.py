@@ -33,6 +33,7 @@ __all__ = [
     "check_outputs",
     "load_image",
     "load_stereo_camera",
+    "read_folder_yaml",
     "stereo_camera_from_dict",
     "stereo_camera_to_dict",
     "write_csv",
@@ -49,28 +50,43 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
     On an exception the temporary file is removed and ``path`` is left untouched.
     """
     target = Path(path)
-    parent = target.parent if str(target.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{target}: output folder {parent} does not exist")
     if target.is_dir():
         raise InputError(f"{target}: is a folder, not an output file name")
+    with atomic_outputs({"path": target}) as tmp:
+        yield tmp["path"]
+
+
+def read_folder_yaml(directory: PathLike, filename: str, *, folder: str) -> tuple[Any, Path]:
+    """Parse ``directory/filename`` (YAML) with one-line errors naming what is wrong.
+
+    Parameters
+    ----------
+    directory : path
+    filename : str
+        E.g. ``capture.yaml``.
+    folder : str
+        What the folder is, for the messages (``"capture"``, ``"views"``).
+
+    Returns
+    -------
+    data, path
+        The parsed document and the file's path.
+
+    Raises
+    ------
+    InputError
+        The folder or the file is missing, or the file is not readable YAML.
+    """
+    d = Path(directory)
+    if not d.is_dir():
+        raise InputError(f"{d}: {folder} folder not found")
+    path = d / filename
+    if not path.is_file():
+        raise InputError(f"{path}: missing {folder} file (expected {filename} in {d})")
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=parent)
-    except OSError as e:
-        raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
-    os.close(fd)
-    tmp_path = Path(tmp)
-    umask = os.umask(0)
-    os.umask(umask)
-    try:
-        yield tmp_path
-        os.chmod(tmp_path, 0o666 & ~umask)
-        os.replace(tmp_path, target)
-    except OSError as e:
-        raise InputError(f"{target}: cannot write output ({_why(e)})") from None
-    finally:
-        if tmp_path.exists():
-            tmp_path.unlink()
+        return yaml.safe_load(path.read_text(encoding="utf-8")), path
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise InputError(f"{path}: not a readable YAML file ({exc.__class__.__name__})") from None
 
 
 def _why(e: OSError) -> str:

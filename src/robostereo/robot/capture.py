@@ -460,17 +460,10 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
         coinciding or unequal-height poses.
     """
     from robostereo.datasets import load_image
+    from robostereo.io import read_folder_yaml
 
-    d = Path(directory)
-    if not d.is_dir():
-        raise InputError(f"{d}: capture folder not found")
-    ypath = d / CAPTURE_YAML
-    if not ypath.is_file():
-        raise InputError(f"{ypath}: missing capture file (expected {CAPTURE_YAML} in {d})")
-    try:
-        data = yaml.safe_load(ypath.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
-        raise InputError(f"{ypath}: not a readable YAML file ({exc.__class__.__name__})") from None
+    data, ypath = read_folder_yaml(directory, CAPTURE_YAML, folder="capture")
+    d = ypath.parent
     src = str(ypath)
     if not isinstance(data, Mapping):
         raise InputError(f"{src}: expected a mapping with keys {list(_KEYS[:3])}")

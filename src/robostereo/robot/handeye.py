@@ -733,23 +733,14 @@ def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | 
 
 def read_views(directory: Any) -> HandEyeViews:
     """Read a views folder (:class:`HandEyeViews`); one-line InputError on bad input."""
-    from pathlib import Path
 
-    import yaml
 
     from robostereo.datasets import load_image
+    from robostereo.io import read_folder_yaml
     from robostereo.robot.poses import as_se3, pose_from_dict
 
-    d = Path(directory)
-    if not d.is_dir():
-        raise InputError(f"{d}: views folder not found")
-    ypath = d / VIEWS_YAML
-    if not ypath.is_file():
-        raise InputError(f"{ypath}: missing views file (expected {VIEWS_YAML} in {d})")
-    try:
-        data = yaml.safe_load(ypath.read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
-        raise InputError(f"{ypath}: not a readable YAML file ({exc.__class__.__name__})") from None
+    data, ypath = read_folder_yaml(directory, VIEWS_YAML, folder="views")
+    d = ypath.parent
     src = str(ypath)
     if not isinstance(data, dict) or "board" not in data or "views" not in data:
         raise InputError(f"{src}: expected a mapping with keys board, pixel_pitch_mm, views")
