@@ -66,23 +66,39 @@ def test_window_costs_equal_brute_force(vertical):
     assert np.all(wc.in_view == (ref < OUT_OF_VIEW).sum(axis=1))
 
 
-def test_bands_on_threads_give_the_same_costs():
-    """One band or two: the kernel's output is the same (bands repeat a few rows)."""
-    import numba
-
+@pytest.mark.parametrize("threads", ["2", "3"])
+def test_bands_on_threads_give_the_same_costs(monkeypatch, threads):
+    """One band or several: the kernel's output is the same (bands repeat a few rows),
+    and so is the whole match."""
     left, right, _ = layered_pair(np.random.default_rng(5), height=200, width=200)
-    res = match_stereo(left, right, (4.0, 27.0))
-    e = res.left_edges
     g = [np.asarray(im, np.float32) * np.float32(127 / 255) for im in (left, right)]
-    old = numba.get_num_threads()
-    try:
-        numba.set_num_threads(1)
-        one = window_costs(*g, e.row, e.column, (4, 27))
-    finally:
-        numba.set_num_threads(old)
+    monkeypatch.setenv("ROBOSTEREO_THREADS", "1")
+    res1 = match_stereo(left, right, (4.0, 27.0))
+    e = res1.left_edges
+    one = window_costs(*g, e.row, e.column, (4, 27))
+    monkeypatch.setenv("ROBOSTEREO_THREADS", threads)
+    res2 = match_stereo(left, right, (4.0, 27.0))
     two = window_costs(*g, e.row, e.column, (4, 27))
     for name in ("best", "cost", "second", "best_row", "right_best"):
         assert np.array_equal(getattr(one, name), getattr(two, name)), name
+    assert np.array_equal(res1.edge_disparity, res2.edge_disparity, equal_nan=True)
+    assert np.array_equal(res1.edge_confidence, res2.edge_confidence, equal_nan=True)
+
+
+def test_thread_count_is_validated(monkeypatch):
+    from robostereo.parallel import n_threads, run_all
+
+    monkeypatch.setenv("ROBOSTEREO_THREADS", "zero")
+    with pytest.raises(InputError, match="ROBOSTEREO_THREADS"):
+        n_threads()
+    monkeypatch.setenv("ROBOSTEREO_THREADS", "2")
+
+    def boom() -> int:
+        raise ValueError("second call failed")
+
+    # an error on a pool thread reaches the caller, after the other calls have ended
+    with pytest.raises(ValueError, match="second call"):
+        run_all([lambda: 1, boom])
 
 
 def test_census_and_out_of_view():

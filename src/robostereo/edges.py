@@ -94,6 +94,27 @@ def usable_pixels(valid: ArrayLike) -> NDArray[np.bool_]:
                      borderValue=1).astype(bool)
 
 
+#: rows of a colour image converted at a time (one small float buffer, not a float copy
+#: of the whole image)
+_GREY_BLOCK_ROWS = 32
+
+
+def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
+    """``cv2.cvtColor(rgb as float32, RGB2GRAY)`` a block of rows at a time."""
+    h, w = rgb.shape[:2]
+    if rgb.dtype == np.float32:
+        return cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2GRAY)
+    grey = np.empty((h, w), np.float32)
+    buf = np.empty((min(h, _GREY_BLOCK_ROWS), w, 3), np.float32)
+    with np.errstate(over="ignore"):  # beyond float32: inf, refused by the caller
+        for y0 in range(0, h, _GREY_BLOCK_ROWS):
+            y1 = min(h, y0 + _GREY_BLOCK_ROWS)
+            part = buf[:y1 - y0]
+            np.copyto(part, rgb[y0:y1], casting="unsafe")
+            cv2.cvtColor(part, cv2.COLOR_RGB2GRAY, dst=grey[y0:y1])
+    return grey
+
+
 def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "image") -> NDArray[
     np.float32
 ]:
@@ -145,9 +166,7 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
     if arr.ndim == 3 and arr.shape[2] in (3, 4):
         if arr.shape[2] == 4:
             arr = arr[:, :, :3]
-        with np.errstate(over="ignore"):  # beyond float32: inf, refused below
-            work = arr.astype(np.float32) if arr.dtype != np.float32 else arr
-        grey = cv2.cvtColor(np.ascontiguousarray(work), cv2.COLOR_RGB2GRAY)
+        grey = _colour_to_grey(arr)
     elif arr.ndim == 2:
         with np.errstate(over="ignore"):
             grey = arr.astype(np.float32)
@@ -347,7 +366,7 @@ def connectivity(
     return up.astype(np.intp), down.astype(np.intp), up_off, down_off
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _connect(line, column, sign, n_lines, width):  # type: ignore[no-untyped-def]
     n = line.shape[0]
     stride = width + 2
@@ -374,7 +393,7 @@ def _connect(line, column, sign, n_lines, width):  # type: ignore[no-untyped-def
     return up, down, up_off, down_off
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _abs_gradient(s, out):  # type: ignore[no-untyped-def]
     """``out[x] = |(s[x + 1] - s[x - 1]) / 2|`` for 1 <= x <= w - 2 (float32)."""
     half = np.float32(0.5)
@@ -382,7 +401,7 @@ def _abs_gradient(s, out):  # type: ignore[no-untyped-def]
         out[x] = abs((s[x + 1] - s[x - 1]) * half)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, nogil=True)
 def _peaks(sr, threshold, m):  # type: ignore[no-untyped-def]
     """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of ``sr``:
     strictly above the left neighbour, at least the right one and ``threshold``, at
@@ -390,10 +409,9 @@ def _peaks(sr, threshold, m):  # type: ignore[no-untyped-def]
     column and its neighbours, and ``g`` at the column (float32 arithmetic, as NumPy's
     on the same arrays)."""
     n_rows, w = sr.shape
-    a = np.zeros((n_rows, w), np.float32)
+    ar = np.zeros(w, np.float32)  # |g| of one row: computed again in the second pass
     count = 0
     for r in range(n_rows):
-        ar = a[r]
         _abs_gradient(sr[r], ar)
         for x in range(m, w - m):
             if ar[x] >= threshold and ar[x] > ar[x - 1] and ar[x] >= ar[x + 1]:
@@ -407,7 +425,7 @@ def _peaks(sr, threshold, m):  # type: ignore[no-untyped-def]
     i = 0
     half = np.float32(0.5)
     for r in range(n_rows):
-        ar = a[r]
+        _abs_gradient(sr[r], ar)
         for x in range(m, w - m):
             if ar[x] >= threshold and ar[x] > ar[x - 1] and ar[x] >= ar[x + 1]:
                 k[i] = r
@@ -418,6 +436,27 @@ def _peaks(sr, threshold, m):  # type: ignore[no-untyped-def]
                 gp[i] = (sr[r, x + 1] - sr[r, x - 1]) * half
                 i += 1
     return k, j, am, a0, ap, gp
+
+
+@nb.njit(cache=True, nogil=True)
+def _mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
+    """Mean of the 5 x 5 grey levels around each pixel, the border reflected
+    (``cv2.BORDER_REFLECT_101``), summed in float64."""
+    h, w = g.shape
+    out = np.empty(rows.shape[0], np.float64)
+    for i in range(rows.shape[0]):
+        acc = 0.0
+        for dy in range(-2, 3):
+            y = rows[i] + dy
+            y = -y if y < 0 else (2 * (h - 1) - y if y > h - 1 else y)
+            y = min(max(y, 0), h - 1)  # images under 3 rows: reflect once, then clamp
+            for dx in range(-2, 3):
+                x = cols[i] + dx
+                x = -x if x < 0 else (2 * (w - 1) - x if x > w - 1 else x)
+                x = min(max(x, 0), w - 1)
+                acc += g[y, x]
+        out[i] = acc / 25.0
+    return out
 
 
 def detect_edges(
@@ -528,15 +567,15 @@ def detect_edges(
     n_lines = rows.shape[0]
     up, down, up_off, down_off = connectivity(k, j, sign, n_lines, w)
     pattern = pattern_type(up_off, down_off, up >= 0, down >= 0)
-    mean5 = cv2.blur(g0, (5, 5), borderType=cv2.BORDER_REFLECT_101)
     r = rows[k]
+    mean5 = _mean5_at(g0, r.astype(np.int64), j)
     before = sr[k, np.clip(j - SIDE_OFFSET, 0, w - 1)]
     after = sr[k, np.clip(j + SIDE_OFFSET, 0, w - 1)]
     return EdgeSet(
         line=k.astype(np.intp), row=r.astype(np.intp), x=x.astype(float),
         column=j.astype(np.intp), sign=sign, magnitude=mag.astype(float), pattern=pattern,
         up=up, down=down, up_offset=up_off, down_offset=down_off,
-        mean_grey=mean5[r, j].astype(float), grey_before=before.astype(float),
+        mean_grey=mean5, grey_before=before.astype(float),
         grey_after=after.astype(float), row_step=int(row_step), row_offset=int(row_offset),
         n_lines=int(n_lines),
     )

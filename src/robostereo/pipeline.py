@@ -32,6 +32,7 @@ from robostereo.matching import (
     group_argmax,
     initial_probabilities,
 )
+from robostereo.parallel import run_all
 from robostereo.relaxation import RelaxationParameters, RelaxationResult, relax
 from robostereo.triangulation import StereoCamera, triangulate
 from robostereo.window import WindowMatch, census_transform, window_match
@@ -483,8 +484,11 @@ def match_stereo(
                              subpixel=p.subpixel, grey=grey, valid=valid)
         return grey, edges, census_transform(grey) if window else None
 
-    ga, el, ca = per_image(a, "left", p.threshold, valid_left)
-    gb, er, cb = per_image(b, "right", p.threshold * p.right_threshold_ratio, valid_right)
+    # the two images side by side, on two threads where there are two cores
+    (ga, el, ca), (gb, er, cb) = run_all([
+        lambda: per_image(a, "left", p.threshold, valid_left),
+        lambda: per_image(b, "right", p.threshold * p.right_threshold_ratio, valid_right),
+    ])
     t1 = time.perf_counter()
     t["edges"] = t1 - t0
     n = len(el)

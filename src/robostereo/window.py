@@ -33,7 +33,6 @@ References
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 
 import cv2
@@ -44,14 +43,11 @@ from numba import types
 from numba.extending import intrinsic
 from numpy.typing import NDArray
 
-# numba's OpenMP threads wait passively: a busy second core then costs nothing (spinning
-# threads made a loaded machine twice as slow); a value the user set is kept
-os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
-
 from robostereo.confidence import DEFAULT_MODEL, FEATURES, ConfidenceModel
 from robostereo.edges import EdgeSet
 from robostereo.errors import InputError
 from robostereo.matching import SimilarityWeights, pair_similarity
+from robostereo.parallel import n_threads, run_all
 
 __all__ = [
     "WindowCosts",
@@ -83,16 +79,16 @@ def _popcount(typingctx, x):  # type: ignore[no-untyped-def]
     return sig, codegen
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _census_bits(acc, nbr, centre):  # type: ignore[no-untyped-def]
     for x in range(acc.shape[0]):
         acc[x] = (acc[x] << np.uint64(1)) | np.uint64(nbr[x] < centre[x])
 
 
-@nb.njit(cache=True, parallel=True)
+@nb.njit(cache=True, nogil=True)
 def _census(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
     out = np.zeros((h, w), np.uint64)
-    for y in nb.prange(h):
+    for y in range(h):
         centre = padded[y + hh, hw:hw + w]
         for dy in range(-hh, hh + 1):
             for dx in range(-hw, hw + 1):
@@ -144,7 +140,7 @@ def sobel_x(grey: NDArray[np.floating]) -> NDArray[np.int16]:
     return np.clip(np.rint(s), -32767, 32767).astype(np.int16)
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _pixel_update(colsum, ring, cl, cr, gl, gr, trunc):  # type: ignore[no-untyped-def]
     """Replace one ring row of pixel costs and update the column sums, for 1-D rows:
     ``p[x] = H(cl[x], cr[x]) + min(|gl[x] - gr[x]|, trunc)``."""
@@ -155,14 +151,14 @@ def _pixel_update(colsum, ring, cl, cr, gl, gr, trunc):  # type: ignore[no-untyp
         ring[x] = p
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _constant_update(colsum, ring, value):  # type: ignore[no-untyped-def]
     for x in range(colsum.shape[0]):
         colsum[x] += value - ring[x]
         ring[x] = value
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _row_update(cl, cr, gl, gr, d0, nd, trunc, pmax, m, colsum, ring,
                 compute):  # type: ignore[no-untyped-def]
     """Pixel costs of one row for every disparity into a ring slot, with the column
@@ -184,7 +180,7 @@ def _row_update(cl, cr, gl, gr, d0, nd, trunc, pmax, m, colsum, ring,
                           gl[x0:x1], gr[x0 - d:x1 - d], trunc)
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _box(col, out, t2, t4):  # type: ignore[no-untyped-def]
     """``out[x] = col[x - 4] + ... + col[x + 4]`` (nine columns) by pair sums."""
     n = col.shape[0]
@@ -198,7 +194,7 @@ def _box(col, out, t2, t4):  # type: ignore[no-untyped-def]
         out[x + 4] = t2[x] + col[x + 8]
 
 
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _least(bu, bm, bd, k, x, hw, vertical):  # type: ignore[no-untyped-def]
     """Least window sum at column ``x``, disparity ``k``: centred and half a window left
     and right on the row's box sums ``bm`` (returned second), and with ``vertical``
@@ -209,21 +205,7 @@ def _least(bu, bm, bd, k, x, hw, vertical):  # type: ignore[no-untyped-def]
     return row, row
 
 
-@nb.njit(cache=True, fastmath=True, parallel=True)
-def _stream(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
-            n_strips, out):  # type: ignore[no-untyped-def]
-    """The rows cut into ``n_strips`` bands, each streamed on its own thread."""
-    h = cl.shape[0]
-    step = (h + n_strips - 1) // n_strips
-    for s in nb.prange(n_strips):
-        y0 = s * step
-        y1 = min(h, y0 + step)
-        if y0 < y1:
-            _stream_rows(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
-                         y0, y1, out)
-
-
-@nb.njit(cache=True, fastmath=True)
+@nb.njit(cache=True, fastmath=True, nogil=True)
 def _stream_rows(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
                  y_first, y_last, out):  # type: ignore[no-untyped-def]
     """One pass down rows ``y_first .. y_last - 1``; ``out[i]`` receives the summary
@@ -452,9 +434,10 @@ def window_costs(
     if r.size and (np.any(np.diff(r) < 0) or r.min() < 0 or r.max() >= h or c.min() < 0
                    or c.max() >= w):
         raise InputError("edge pixels must lie in the image and be sorted by row")
-    cl = census_transform(gl) if census_left is None else census_left
-    cr = census_transform(gr) if census_right is None else census_right
-    sl, sr = sobel_x(gl), sobel_x(gr)
+    (cl, sl), (cr, sr) = run_all([
+        lambda: (census_transform(gl) if census_left is None else census_left, sobel_x(gl)),
+        lambda: (census_transform(gr) if census_right is None else census_right, sobel_x(gr)),
+    ])
     # invalid pixels: a gradient that differs from any by more than the truncation and
     # a census of alternating bits, so that any pair with one costs nearly the most
     for valid, sob, cen, sign in ((valid_left, sl, cl, -1), (valid_right, sr, cr, 1)):
@@ -478,9 +461,15 @@ def window_costs(
         row_start = np.searchsorted(r, np.arange(h + 1)).astype(np.int64)
         trunc = int(gradient_truncation)
         # bands of at least 64 rows, one per thread: a band repeats 2 * HALF_WINDOW rows
-        n_strips = max(1, min(nb.get_num_threads(), h // 64))
-        _stream(cl, cr, sl, sr, row_start, c, d_lo, nd, np.int16(trunc), np.int16(34 + trunc),
-                HALF_WINDOW, bool(vertical), n_strips, out)
+        n_bands = max(1, min(n_threads(), h // 64))
+        step = -(-h // n_bands)
+
+        def band(y0: int) -> None:
+            _stream_rows(cl, cr, sl, sr, row_start, c, d_lo, nd, np.int16(trunc),
+                         np.int16(34 + trunc), HALF_WINDOW, bool(vertical), y0,
+                         min(h, y0 + step), out)
+
+        run_all([lambda y0=y0: band(y0) for y0 in range(0, h, step)])
     cols = dict(zip(("best", "cost", "second", "before", "after", "best_row", "cost_row",
                      "second_row", "in_view", "right_best"), out.T, strict=True))
     return WindowCosts(d_min=d_lo, n_disparities=nd, **cols)
