@@ -101,6 +101,14 @@ def test_thread_count_is_validated(monkeypatch):
         run_all([lambda: 1, boom])
 
 
+def test_the_unrolled_census_is_the_generic_one():
+    from robostereo.window import _census
+
+    g = np.random.default_rng(3).integers(0, 4, (23, 31)).astype(np.float32)  # many ties
+    padded = np.pad(g, ((2, 2), (3, 3)), mode="edge")
+    assert np.array_equal(census_transform(g), _census(padded, 23, 31, 3, 2))
+
+
 def test_census_and_out_of_view():
     g = np.arange(35, dtype=np.float32).reshape(5, 7)
     c = census_transform(g)

@@ -97,6 +97,25 @@ def _census(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
     return out
 
 
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _census_7x5(padded, h, w):  # type: ignore[no-untyped-def]
+    """:func:`_census` for the default 7 x 5 neighbourhood: constant bounds let the
+    compiler unroll the 34 comparisons of a pixel (a quarter faster, the same bits)."""
+    out = np.empty((h, w), np.uint64)
+    for y in range(h):
+        o = out[y]
+        for x in range(w):
+            c = padded[y + 2, x + 3]
+            v = np.uint64(0)
+            for dy in range(5):
+                row = padded[y + dy]
+                for dx in range(7):
+                    if dy != 2 or dx != 3:
+                        v = (v << np.uint64(1)) | np.uint64(row[x + dx] < c)
+            o[x] = v
+    return out
+
+
 def census_transform(grey: NDArray[np.floating], *, size: tuple[int, int] = CENSUS_SIZE
                      ) -> NDArray[np.uint64]:
     """Census transform: one bit per neighbour, set where it is darker than the centre.
@@ -125,6 +144,8 @@ def census_transform(grey: NDArray[np.floating], *, size: tuple[int, int] = CENS
     hw, hh = wd // 2, ht // 2
     g = np.asarray(grey, dtype=np.float32)
     padded = np.pad(g, ((hh, hh), (hw, hw)), mode="edge")
+    if (wd, ht) == (7, 5):
+        return _census_7x5(padded, g.shape[0], g.shape[1])
     return _census(padded, g.shape[0], g.shape[1], hw, hh)
 
 
