@@ -10,8 +10,9 @@ costs, confidence, acceptance: the default window method) and ``cv2.StereoSGBM``
 of each, their ratio (SGBM time / robostereo time: above 1 means robostereo is
 faster) and the peak memory each adds to a process: a fresh child process per method
 and pair, the growth of its peak resident set over what it held after a warm-up on
-a small random pair (Linux: the peak is reset through ``/proc/self/clear_refs``, so
-imports and numba's compiled code are not counted, OpenCV's own buffers are).
+a small random pair (Linux: free heap memory is given back with ``malloc_trim`` and the
+peak is reset through ``/proc/self/clear_refs``, so imports and numba's compiled code
+are not counted, every page either method touches is, OpenCV's own buffers too).
 Speed goals live here, never in the tests.
 """
 
@@ -86,6 +87,9 @@ def status(key):
     for line in open("/proc/self/status"):
         if line.startswith(key):
             return int(line.split()[1])
+import ctypes, gc
+gc.collect()
+ctypes.CDLL("libc.so.6").malloc_trim(0)  # free heap back to the system: new pages count
 open("/proc/self/clear_refs", "w").write("5")  # peak resident set := current
 base = status("VmRSS:")
 fn(left, right, rng)

@@ -35,7 +35,7 @@ from robostereo.matching import (
 from robostereo.parallel import run_all
 from robostereo.relaxation import RelaxationParameters, RelaxationResult, relax
 from robostereo.triangulation import StereoCamera, triangulate
-from robostereo.window import WindowMatch, census_transform, window_match
+from robostereo.window import WindowMatch, window_match
 
 __all__ = [
     "DEFAULT_MIN_CONFIDENCE",
@@ -474,18 +474,17 @@ def match_stereo(
     t: dict[str, float] = {}
     t0 = time.perf_counter()
     say("edges")
-    window = p.method == "window"
 
     def per_image(img: np.ndarray, side: str, threshold: float, valid: ArrayLike | None
-                  ) -> tuple[NDArray[np.float32], EdgeSet, NDArray[np.uint64] | None]:
-        """Grey levels, edge points and (window method) census of one image."""
+                  ) -> tuple[NDArray[np.float32], EdgeSet]:
+        """Grey levels and edge points of one image."""
         grey = to_grey(img, bit_depth=p.bit_depth, name=f"{side} image")
         edges = detect_edges(img, threshold=threshold, row_step=p.row_step,
                              subpixel=p.subpixel, grey=grey, valid=valid)
-        return grey, edges, census_transform(grey) if window else None
+        return grey, edges
 
     # the two images side by side, on two threads where there are two cores
-    (ga, el, ca), (gb, er, cb) = run_all([
+    (ga, el), (gb, er) = run_all([
         lambda: per_image(a, "left", p.threshold, valid_left),
         lambda: per_image(b, "right", p.threshold * p.right_threshold_ratio, valid_right),
     ])
@@ -499,7 +498,7 @@ def match_stereo(
                           profile_scale=p.profile_scale,
                           valid_left=None if valid_left is None else np.asarray(valid_left, bool),
                           valid_right=None if valid_right is None
-                          else np.asarray(valid_right, bool), census_left=ca, census_right=cb)
+                          else np.asarray(valid_right, bool))
         conf = wm.confidence
         accepted = np.nan_to_num(conf, nan=-1.0) >= p.acceptance
         fields = dict(edge_disparity=wm.disparity, edge_confidence=conf,

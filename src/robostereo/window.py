@@ -35,7 +35,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import cv2
 import numba as nb
 import numpy as np
 from llvmlite import ir
@@ -98,22 +97,83 @@ def _census(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _census_7x5(padded, h, w):  # type: ignore[no-untyped-def]
-    """:func:`_census` for the default 7 x 5 neighbourhood: constant bounds let the
-    compiler unroll the 34 comparisons of a pixel (a quarter faster, the same bits)."""
+def _census_row(g, y, out):  # type: ignore[no-untyped-def]
+    """Row ``y`` of the default 7 x 5 census of ``g`` into ``out`` (W,), the borders
+    replicated.  Constant bounds let the compiler unroll a pixel's 34 comparisons."""
+    h, w = g.shape
+    rows = np.empty(5, np.int64)
+    for dy in range(5):
+        rows[dy] = min(max(y + dy - 2, 0), h - 1)
+    x_in = min(max(w - 3, 3), w)
+    for x in range(3, x_in):  # inside: no clamping
+        c = g[y, x]
+        v = np.uint64(0)
+        for dy in range(5):
+            row = g[rows[dy]]
+            for dx in range(7):
+                if dy != 2 or dx != 3:
+                    v = (v << np.uint64(1)) | np.uint64(row[x + dx - 3] < c)
+        out[x] = v
+    for x in range(w):
+        if 3 <= x < x_in:
+            continue
+        c = g[y, x]
+        v = np.uint64(0)
+        for dy in range(5):
+            row = g[rows[dy]]
+            for dx in range(7):
+                if dy != 2 or dx != 3:
+                    xx = min(max(x + dx - 3, 0), w - 1)
+                    v = (v << np.uint64(1)) | np.uint64(row[xx] < c)
+        out[x] = v
+
+
+@nb.njit(cache=True, nogil=True)
+def _census_7x5(g):  # type: ignore[no-untyped-def]
+    h, w = g.shape
     out = np.empty((h, w), np.uint64)
     for y in range(h):
-        o = out[y]
-        for x in range(w):
-            c = padded[y + 2, x + 3]
-            v = np.uint64(0)
-            for dy in range(5):
-                row = padded[y + dy]
-                for dx in range(7):
-                    if dy != 2 or dx != 3:
-                        v = (v << np.uint64(1)) | np.uint64(row[x + dx] < c)
-            o[x] = v
+        _census_row(g, y, out[y])
     return out
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _sobel_row(g, y, out):  # type: ignore[no-untyped-def]
+    """Row ``y`` of the horizontal 3 x 3 Sobel derivative of ``g``, rounded to int16,
+    the border reflected without repeating the edge pixel (``BORDER_REFLECT_101``)."""
+    h, w = g.shape
+    ya = (1 if h > 1 else 0) if y == 0 else y - 1
+    yb = (h - 2 if h > 1 else 0) if y == h - 1 else y + 1
+    a, b, c = g[ya], g[y], g[yb]
+    two = np.float32(2.0)
+    for x in range(w):
+        xl = (1 if w > 1 else 0) if x == 0 else x - 1
+        xr = (w - 2 if w > 1 else 0) if x == w - 1 else x + 1
+        v = (a[xr] - a[xl]) + two * (b[xr] - b[xl]) + (c[xr] - c[xl])
+        out[x] = np.int16(min(max(np.rint(v), -32767.0), 32767.0))
+
+
+@nb.njit(cache=True, nogil=True)
+def _sobel(g):  # type: ignore[no-untyped-def]
+    h, w = g.shape
+    out = np.empty((h, w), np.int16)
+    for y in range(h):
+        _sobel_row(g, y, out[y])
+    return out
+
+
+@nb.njit(cache=True, nogil=True)
+def _pixel_row(g, y, valid, check, census_bad, sobel_bad, cen, sob):  # type: ignore[no-untyped-def]
+    """Census and Sobel of row ``y``; pixels outside ``valid`` (where ``check``) get
+    the values that make every pair with them cost nearly the most."""
+    _census_row(g, y, cen)
+    _sobel_row(g, y, sob)
+    if check:
+        v = valid[y]
+        for x in range(cen.shape[0]):
+            if not v[x]:
+                cen[x] = census_bad
+                sob[x] = sobel_bad
 
 
 def census_transform(grey: NDArray[np.floating], *, size: tuple[int, int] = CENSUS_SIZE
@@ -142,23 +202,24 @@ def census_transform(grey: NDArray[np.floating], *, size: tuple[int, int] = CENS
         raise InputError(f"census size must be odd (width, height) with at most 65 cells, "
                          f"got {size}")
     hw, hh = wd // 2, ht // 2
-    g = np.asarray(grey, dtype=np.float32)
-    padded = np.pad(g, ((hh, hh), (hw, hw)), mode="edge")
+    g = np.ascontiguousarray(grey, dtype=np.float32)
     if (wd, ht) == (7, 5):
-        return _census_7x5(padded, g.shape[0], g.shape[1])
+        return _census_7x5(g)
+    padded = np.pad(g, ((hh, hh), (hw, hw)), mode="edge")
     return _census(padded, g.shape[0], g.shape[1], hw, hh)
 
 
 def sobel_x(grey: NDArray[np.floating]) -> NDArray[np.int16]:
     """Horizontal 3 x 3 Sobel derivative, rounded to whole grey levels (int16).
 
+    The border is reflected without repeating the edge pixel (OpenCV's
+    ``BORDER_REFLECT_101``).
+
     >>> g = np.tile(np.arange(6, dtype=np.float32), (3, 1))
     >>> sobel_x(g)[1, 2:4].tolist()
     [8, 8]
     """
-    s = cv2.Sobel(np.asarray(grey, dtype=np.float32), cv2.CV_32F, 1, 0, ksize=3,
-                  borderType=cv2.BORDER_REFLECT_101)
-    return np.clip(np.rint(s), -32767, 32767).astype(np.int16)
+    return _sobel(np.ascontiguousarray(grey, dtype=np.float32))
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
@@ -226,12 +287,25 @@ def _least(bu, bm, bd, k, x, hw, vertical):  # type: ignore[no-untyped-def]
     return row, row
 
 
+@nb.njit(cache=True, nogil=True)
+def _load_row(ga, gb, va, vb, check_a, check_b, yc, cen_a, cen_b, sob_a, sob_b,
+              loaded):  # type: ignore[no-untyped-def]
+    """Census and Sobel rows ``yc`` of both images into the buffers (once per row)."""
+    if loaded[0] != yc:
+        _pixel_row(ga, yc, va, check_a, np.uint64(0xAAAAAAAAAAAAAAAA), np.int16(-32000),
+                   cen_a, sob_a)
+        _pixel_row(gb, yc, vb, check_b, np.uint64(0x5555555555555555), np.int16(32000),
+                   cen_b, sob_b)
+        loaded[0] = yc
+
+
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _stream_rows(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vertical,
-                 y_first, y_last, out):  # type: ignore[no-untyped-def]
-    """One pass down rows ``y_first .. y_last - 1``; ``out[i]`` receives the summary
-    of each edge point ``i`` on them (see :class:`WindowCosts`)."""
-    h, w = cl.shape
+def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, trunc, pmax,
+                 hw, vertical, y_first, y_last, out):  # type: ignore[no-untyped-def]
+    """One pass down rows ``y_first .. y_last - 1`` of the grey images ``ga``, ``gb``;
+    ``out[i]`` receives the summary of each edge point ``i`` on them (see
+    :class:`WindowCosts`).  Census and Sobel rows are made as the pass needs them."""
+    h, w = ga.shape
     n_ring = 2 * hw + 1
     m = 2 * hw
     wp = w + 2 * m
@@ -244,6 +318,11 @@ def _stream_rows(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vert
     t4 = np.zeros(wp, np.int16)
     s5 = np.empty(nd, np.int32)
     s3 = np.empty(nd, np.int32)
+    cl = np.empty(w, np.uint64)  # census and Sobel of the row being added
+    cr = np.empty(w, np.uint64)
+    gl = np.empty(w, np.int16)
+    gr = np.empty(w, np.int16)
+    loaded = np.full(1, -1, np.int64)
     colsum[:, :m] = n_ring * pmax
     colsum[:, w + m:] = n_ring * pmax
 
@@ -255,15 +334,18 @@ def _stream_rows(cl, cr, gl, gr, row_start, cols, dlo, nd, trunc, pmax, hw, vert
     # column sums of the window centred on row j0: rows j0 - hw .. j0 + hw, clamped
     for r in range(j0 - hw, j0 + hw + 1):
         yc = min(max(r, 0), h - 1)
-        _row_update(cl[yc], cr[yc], gl[yc], gr[yc], dlo, nd, trunc, pmax, m, colsum,
+        _load_row(ga, gb, va, vb, check_a, check_b, yc, cl, cr, gl, gr, loaded)
+        _row_update(cl, cr, gl, gr, dlo, nd, trunc, pmax, m, colsum,
                     ring[(r + base) % n_ring], True)
     for j in range(j0, y_last + lag):
         if j > j0:
             r = j + hw  # the new pixel row; its ring slot holds row j - hw - 1
             yc = min(max(r, 0), h - 1)
-            _row_update(cl[yc], cr[yc], gl[yc], gr[yc], dlo, nd, trunc, pmax, m, colsum,
-                        ring[(r + base) % n_ring],
-                        edges_in(r - hw - lag, r + hw + lag + 1))
+            needed = edges_in(r - hw - lag, r + hw + lag + 1)
+            if needed:
+                _load_row(ga, gb, va, vb, check_a, check_b, yc, cl, cr, gl, gr, loaded)
+            _row_update(cl, cr, gl, gr, dlo, nd, trunc, pmax, m, colsum,
+                        ring[(r + base) % n_ring], needed)
         bj = boxes[(j + base) % n_ring]
         if edges_in(j - lag, j + lag + 1):
             for k in range(nd):
@@ -389,8 +471,6 @@ def window_costs(
     vertical: bool = True,
     valid_left: NDArray[np.bool_] | None = None,
     valid_right: NDArray[np.bool_] | None = None,
-    census_left: NDArray[np.uint64] | None = None,
-    census_right: NDArray[np.uint64] | None = None,
 ) -> WindowCosts:
     """Side-aware census + gradient window costs at left pixels, every disparity.
 
@@ -411,8 +491,6 @@ def window_costs(
     valid_left, valid_right : ndarray of bool, shape (H, W), optional
         Pixels that hold image data (e.g. inside a rectification's source); a pair
         with an invalid pixel costs nearly the most a pair can.
-    census_left, census_right : ndarray of uint64, optional
-        Census transforms, if already computed.
 
     Returns
     -------
@@ -428,8 +506,9 @@ def window_costs(
        ``x - 4``, ``x`` and ``x + 4``; the lowest is the cost (side-aware windows).
     4. For the right pixel ``x_r = x - d*`` of the best disparity, the same cost
        against the left pixels ``x_r + d`` for every ``d`` (left-right check).
-    5. Per point only a summary is kept (:class:`WindowCosts`): memory is a few rows
-       of costs, whatever the range.
+    5. Per point only a summary is kept (:class:`WindowCosts`), and census and Sobel
+       rows are made as the pass reaches them: memory is a few rows of costs, whatever
+       the range, and no transformed image is stored.
 
     Examples
     --------
@@ -440,8 +519,8 @@ def window_costs(
     >>> int(wc.best[0]) + wc.d_min, int(wc.right_best[0]) + wc.d_min, int(wc.cost[0])
     (6, 6, 0)
     """
-    gl = np.asarray(grey_left, dtype=np.float32)
-    gr = np.asarray(grey_right, dtype=np.float32)
+    gl = np.ascontiguousarray(grey_left, dtype=np.float32)
+    gr = np.ascontiguousarray(grey_right, dtype=np.float32)
     if gl.shape != gr.shape or gl.ndim != 2:
         raise InputError(f"grey images must be (H, W) of one size, got {gl.shape}, {gr.shape}")
     d_lo, d_hi = (int(v) for v in disparity_range)
@@ -455,26 +534,18 @@ def window_costs(
     if r.size and (np.any(np.diff(r) < 0) or r.min() < 0 or r.max() >= h or c.min() < 0
                    or c.max() >= w):
         raise InputError("edge pixels must lie in the image and be sorted by row")
-    (cl, sl), (cr, sr) = run_all([
-        lambda: (census_transform(gl) if census_left is None else census_left, sobel_x(gl)),
-        lambda: (census_transform(gr) if census_right is None else census_right, sobel_x(gr)),
-    ])
-    # invalid pixels: a gradient that differs from any by more than the truncation and
-    # a census of alternating bits, so that any pair with one costs nearly the most
-    for valid, sob, cen, sign in ((valid_left, sl, cl, -1), (valid_right, sr, cr, 1)):
-        if valid is not None:
-            bad = ~np.asarray(valid, dtype=bool)
-            if bad.shape != gl.shape:
-                raise InputError(f"valid masks must have the images' shape {gl.shape}")
-            if bad.any():
-                if census_left is not None or census_right is not None:
-                    cen = cen.copy()
-                sob[bad] = sign * 32000
-                cen[bad] = np.uint64(0x5555555555555555 if sign > 0 else 0xAAAAAAAAAAAAAAAA)
-                if sign < 0:
-                    cl = cen
-                else:
-                    cr = cen
+    # invalid pixels get a gradient that differs from any by more than the truncation
+    # and a census of alternating bits, so that any pair with one costs nearly the most
+    masks = []
+    for name, valid in (("valid_left", valid_left), ("valid_right", valid_right)):
+        if valid is None:
+            masks.append(np.ones((1, 1), np.bool_))
+            continue
+        vm = np.ascontiguousarray(valid, dtype=np.bool_)
+        if vm.shape != gl.shape:
+            raise InputError(f"{name} must have the images' shape {gl.shape}, got {vm.shape}")
+        masks.append(vm)
+    checks = [m.shape == gl.shape and not bool(m.all()) for m in masks]
     nd = d_hi - d_lo + 1
     n = r.shape[0]
     out = np.full((n, 10), -1, np.int32)
@@ -486,9 +557,9 @@ def window_costs(
         step = -(-h // n_bands)
 
         def band(y0: int) -> None:
-            _stream_rows(cl, cr, sl, sr, row_start, c, d_lo, nd, np.int16(trunc),
-                         np.int16(34 + trunc), HALF_WINDOW, bool(vertical), y0,
-                         min(h, y0 + step), out)
+            _stream_rows(gl, gr, masks[0], masks[1], checks[0], checks[1], row_start, c,
+                         d_lo, nd, np.int16(trunc), np.int16(34 + trunc), HALF_WINDOW,
+                         bool(vertical), y0, min(h, y0 + step), out)
 
         run_all([lambda y0=y0: band(y0) for y0 in range(0, h, step)])
     cols = dict(zip(("best", "cost", "second", "before", "after", "best_row", "cost_row",
@@ -570,8 +641,6 @@ def window_match(
     model: ConfidenceModel | None = None,
     valid_left: NDArray[np.bool_] | None = None,
     valid_right: NDArray[np.bool_] | None = None,
-    census_left: NDArray[np.uint64] | None = None,
-    census_right: NDArray[np.uint64] | None = None,
     vertical: bool = True,
 ) -> WindowMatch:
     """Best disparity and calibrated confidence of every left edge point.
@@ -594,8 +663,6 @@ def window_match(
         Default :data:`robostereo.confidence.DEFAULT_MODEL`.
     valid_left, valid_right : ndarray of bool, shape (H, W), optional
         Pixels that hold image data (see :func:`window_costs`).
-    census_left, census_right : ndarray of uint64, optional
-        :func:`census_transform` of the grey images, if already computed.
     vertical : bool
         Windows above and below too (see :func:`window_costs`).
 
@@ -619,8 +686,7 @@ def window_match(
     d_lo, d_hi = int(np.floor(lo)), int(np.ceil(hi))
     wc = window_costs(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
                       gradient_truncation=gradient_truncation, valid_left=valid_left,
-                      valid_right=valid_right, census_left=census_left,
-                      census_right=census_right, vertical=vertical)
+                      valid_right=valid_right, vertical=vertical)
     n, nd = len(left), wc.n_disparities
     k1 = wc.best.astype(np.intp)
     seen = k1 >= 0
