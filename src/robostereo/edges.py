@@ -459,6 +459,52 @@ def _mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
     return out
 
 
+@nb.njit(cache=True, nogil=True)
+def _features(k, j, am, a0, ap, gp, sr, g0, row_offset, row_step, subpixel,
+              n_lines):  # type: ignore[no-untyped-def]
+    """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
+    the grey levels before and after of the peaks (float32 arithmetic where NumPy's
+    on the same arrays is float32)."""
+    n = k.shape[0]
+    w = sr.shape[1]
+    x = np.empty(n, np.float64)
+    mag = np.empty(n, np.float64)
+    sign = np.empty(n, np.int8)
+    before = np.empty(n, np.float64)
+    after = np.empty(n, np.float64)
+    half = np.float32(0.5)
+    quarter = np.float32(0.25)
+    two = np.float32(2.0)
+    for i in range(n):
+        off = np.float32(0.0)
+        if subpixel:
+            den = am[i] - two * a0[i] + ap[i]
+            if den < 0:
+                off = half * (am[i] - ap[i]) / den
+                off = min(max(off, -half), half)
+            mag[i] = a0[i] - quarter * (am[i] - ap[i]) * off
+        else:
+            mag[i] = a0[i]
+        x[i] = j[i] + np.float64(off)
+        sign[i] = 1 if gp[i] > 0 else (-1 if gp[i] < 0 else 0)
+        before[i] = sr[k[i], min(max(j[i] - SIDE_OFFSET, 0), w - 1)]
+        after[i] = sr[k[i], min(max(j[i] + SIDE_OFFSET, 0), w - 1)]
+    up, down, up_off, down_off = _connect(k, j, sign, n_lines, w)
+    pattern = np.empty(n, np.int8)
+    for i in range(n):
+        hu, hd = up[i] >= 0, down[i] >= 0
+        if hu and hd:
+            pattern[i] = 1 + 3 * (up_off[i] + 1) + (down_off[i] + 1)
+        elif hu:
+            pattern[i] = 11 + up_off[i]
+        elif hd:
+            pattern[i] = 14 + down_off[i]
+        else:
+            pattern[i] = 16
+    mean5 = _mean5_at(g0, row_offset + row_step * k, j)
+    return x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
+
+
 def detect_edges(
     image: ArrayLike,
     *,
@@ -546,36 +592,23 @@ def detect_edges(
     rows = np.arange(row_offset, h, row_step)
     sr = s[row_offset::row_step]  # a view: no copy of the image
     thr = np.float32(min(float(threshold), float(np.finfo(np.float32).max)))  # no overflow
-    k, j, am, a0, ap, g_peak = _peaks(np.ascontiguousarray(sr), thr, BORDER)
+    src = np.ascontiguousarray(sr)
+    k, j, am, a0, ap, g_peak = _peaks(src, thr, BORDER)
     if valid is not None:
         vm = np.asarray(valid, dtype=bool)
         if vm.shape != (h, w):
             raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
         keep = usable_pixels(vm)[rows[k], j]
         k, j, am, a0, ap, g_peak = (v[keep] for v in (k, j, am, a0, ap, g_peak))
-    if subpixel:
-        den = am - 2.0 * a0 + ap
-        with np.errstate(divide="ignore", invalid="ignore"):
-            off = np.where(den < 0, 0.5 * (am - ap) / den, 0.0)
-        off = np.clip(off, -0.5, 0.5)
-        mag = a0 - 0.25 * (am - ap) * off
-    else:
-        off = np.zeros(k.shape[0])
-        mag = a0
-    x = j + off
-    sign = np.sign(g_peak).astype(np.int8)
     n_lines = rows.shape[0]
-    up, down, up_off, down_off = connectivity(k, j, sign, n_lines, w)
-    pattern = pattern_type(up_off, down_off, up >= 0, down >= 0)
-    r = rows[k]
-    mean5 = _mean5_at(g0, r.astype(np.int64), j)
-    before = sr[k, np.clip(j - SIDE_OFFSET, 0, w - 1)]
-    after = sr[k, np.clip(j + SIDE_OFFSET, 0, w - 1)]
+    x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = _features(
+        k, j, am, a0, ap, g_peak, src, g0, int(row_offset), int(row_step), bool(subpixel),
+        int(n_lines))
+    r = row_offset + row_step * k
     return EdgeSet(
-        line=k.astype(np.intp), row=r.astype(np.intp), x=x.astype(float),
-        column=j.astype(np.intp), sign=sign, magnitude=mag.astype(float), pattern=pattern,
-        up=up, down=down, up_offset=up_off, down_offset=down_off,
-        mean_grey=mean5, grey_before=before.astype(float),
-        grey_after=after.astype(float), row_step=int(row_step), row_offset=int(row_offset),
-        n_lines=int(n_lines),
+        line=k.astype(np.intp), row=r.astype(np.intp), x=x, column=j.astype(np.intp),
+        sign=sign, magnitude=mag, pattern=pattern, up=up.astype(np.intp),
+        down=down.astype(np.intp), up_offset=up_off, down_offset=down_off, mean_grey=mean5,
+        grey_before=before, grey_after=after, row_step=int(row_step),
+        row_offset=int(row_offset), n_lines=int(n_lines),
     )
