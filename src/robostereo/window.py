@@ -97,10 +97,18 @@ def _census(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _census_row(g, y, out, buf):  # type: ignore[no-untyped-def]
+def _shift_in(acc, nbr, centre):  # type: ignore[no-untyped-def]
+    """``acc = acc << 1 | (nbr < centre)`` along a row (32-bit lanes, as the floats)."""
+    for x in range(acc.shape[0]):
+        acc[x] = (acc[x] << np.uint32(1)) | np.uint32(nbr[x] < centre[x])
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _census_row(g, y, out, buf, acc):  # type: ignore[no-untyped-def]
     """Row ``y`` of the default 7 x 5 census of ``g`` into ``out`` (W,), the borders
-    replicated; ``buf`` (5, W + 6) holds the five rows padded.  Constant bounds let
-    the compiler unroll a pixel's 34 comparisons."""
+    replicated.  ``buf`` (5, W + 6) float32 receives the five rows padded; ``acc``
+    (2, W) uint32 collects the first two bits and the last 32, each comparison done
+    along the row for all pixels at once (vector lanes as wide as the floats)."""
     h, w = g.shape
     for dy in range(5):
         src = g[min(max(y + dy - 2, 0), h - 1)]
@@ -109,22 +117,19 @@ def _census_row(g, y, out, buf):  # type: ignore[no-untyped-def]
         for k in range(3):
             b[k] = src[0]
             b[w + 3 + k] = src[w - 1]
-    a0, a1, a2, a3, a4 = buf[0], buf[1], buf[2], buf[3], buf[4]
+    centre = buf[2, 3:w + 3]
+    hi = acc[0]
+    lo = acc[1]
+    hi[:] = 0
+    lo[:] = 0
+    bit = 0
+    for dy in range(5):
+        for dx in range(7):
+            if dy != 2 or dx != 3:
+                _shift_in(hi if bit < 2 else lo, buf[dy, dx:dx + w], centre)
+                bit += 1
     for x in range(w):
-        c = a2[x + 3]
-        v = np.uint64(0)
-        for dx in range(7):
-            v = (v << np.uint64(1)) | np.uint64(a0[x + dx] < c)
-        for dx in range(7):
-            v = (v << np.uint64(1)) | np.uint64(a1[x + dx] < c)
-        for dx in range(7):
-            if dx != 3:
-                v = (v << np.uint64(1)) | np.uint64(a2[x + dx] < c)
-        for dx in range(7):
-            v = (v << np.uint64(1)) | np.uint64(a3[x + dx] < c)
-        for dx in range(7):
-            v = (v << np.uint64(1)) | np.uint64(a4[x + dx] < c)
-        out[x] = v
+        out[x] = (np.uint64(hi[x]) << np.uint64(32)) | np.uint64(lo[x])
 
 
 @nb.njit(cache=True, nogil=True)
@@ -132,8 +137,9 @@ def _census_7x5(g):  # type: ignore[no-untyped-def]
     h, w = g.shape
     out = np.empty((h, w), np.uint64)
     buf = np.empty((5, w + 6), np.float32)
+    acc = np.empty((2, w), np.uint32)
     for y in range(h):
-        _census_row(g, y, out[y], buf)
+        _census_row(g, y, out[y], buf, acc)
     return out
 
 
@@ -163,11 +169,11 @@ def _sobel(g):  # type: ignore[no-untyped-def]
 
 
 @nb.njit(cache=True, nogil=True)
-def _pixel_row(g, y, valid, check, census_bad, sobel_bad, cen, sob,
-               buf):  # type: ignore[no-untyped-def]
+def _pixel_row(g, y, valid, check, census_bad, sobel_bad, cen, sob, buf,
+               acc):  # type: ignore[no-untyped-def]
     """Census and Sobel of row ``y``; pixels outside ``valid`` (where ``check``) get
     the values that make every pair with them cost nearly the most."""
-    _census_row(g, y, cen, buf)
+    _census_row(g, y, cen, buf, acc)
     _sobel_row(g, y, sob)
     if check:
         v = valid[y]
@@ -290,13 +296,13 @@ def _least(bu, bm, bd, k, x, hw, vertical):  # type: ignore[no-untyped-def]
 
 @nb.njit(cache=True, nogil=True)
 def _load_row(ga, gb, va, vb, check_a, check_b, yc, cen_a, cen_b, sob_a, sob_b,
-              loaded, buf):  # type: ignore[no-untyped-def]
+              loaded, buf, acc):  # type: ignore[no-untyped-def]
     """Census and Sobel rows ``yc`` of both images into the buffers (once per row)."""
     if loaded[0] != yc:
         _pixel_row(ga, yc, va, check_a, np.uint64(0xAAAAAAAAAAAAAAAA), np.int16(-32000),
-                   cen_a, sob_a, buf)
+                   cen_a, sob_a, buf, acc)
         _pixel_row(gb, yc, vb, check_b, np.uint64(0x5555555555555555), np.int16(32000),
-                   cen_b, sob_b, buf)
+                   cen_b, sob_b, buf, acc)
         loaded[0] = yc
 
 
@@ -325,6 +331,7 @@ def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, tru
     gr = np.empty(w, np.int16)
     loaded = np.full(1, -1, np.int64)
     buf = np.empty((5, w + 6), np.float32)  # padded grey rows for the census
+    acc = np.empty((2, w), np.uint32)
     colsum[:, :m] = n_ring * pmax
     colsum[:, w + m:] = n_ring * pmax
 
@@ -336,7 +343,7 @@ def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, tru
     # column sums of the window centred on row j0: rows j0 - hw .. j0 + hw, clamped
     for r in range(j0 - hw, j0 + hw + 1):
         yc = min(max(r, 0), h - 1)
-        _load_row(ga, gb, va, vb, check_a, check_b, yc, cl, cr, gl, gr, loaded, buf)
+        _load_row(ga, gb, va, vb, check_a, check_b, yc, cl, cr, gl, gr, loaded, buf, acc)
         _row_update(cl, cr, gl, gr, dlo, nd, trunc, pmax, m, colsum,
                     ring[(r + base) % n_ring], True)
     for j in range(j0, y_last + lag):
@@ -345,7 +352,7 @@ def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, tru
             yc = min(max(r, 0), h - 1)
             needed = edges_in(r - hw - lag, r + hw + lag + 1)
             if needed:
-                _load_row(ga, gb, va, vb, check_a, check_b, yc, cl, cr, gl, gr, loaded, buf)
+                _load_row(ga, gb, va, vb, check_a, check_b, yc, cl, cr, gl, gr, loaded, buf, acc)
             _row_update(cl, cr, gl, gr, dlo, nd, trunc, pmax, m, colsum,
                         ring[(r + base) % n_ring], needed)
         bj = boxes[(j + base) % n_ring]
