@@ -605,26 +605,43 @@ class WindowMatch:
     costs: WindowCosts
 
 
+@nb.njit(cache=True, nogil=True)
+def _nearest_on_lines(l_line, l_sign, x_right, r_line, r_x, r_sign, n_lines
+                      ):  # type: ignore[no-untyped-def]
+    n = l_line.shape[0]
+    idx = np.full(n, -1, np.int64)
+    dist = np.full(n, np.inf)
+    start = np.searchsorted(r_line, np.arange(n_lines + 1))
+    for i in range(n):
+        q = x_right[i]
+        ln = l_line[i]
+        if not np.isfinite(q) or ln < 0 or ln >= n_lines:
+            continue
+        a, b = start[ln], start[ln + 1]
+        j = a + np.searchsorted(r_x[a:b], q)
+        for jj in (j - 1, j):  # the two right points around x_right on the line
+            if a <= jj < b and r_sign[jj] == l_sign[i]:
+                dd = abs(r_x[jj] - q)
+                if dd < dist[i]:
+                    dist[i] = dd
+                    idx[i] = jj
+    return idx, dist
+
+
 def _nearest_right_edge(left: EdgeSet, right: EdgeSet, x_right: NDArray[np.float64]
                         ) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
-    """Per left edge point, the same-sign right edge point on its row nearest to
-    ``x_right``, and the distance (``inf`` where none)."""
-    n = len(left)
-    idx = np.full(n, -1, dtype=np.intp)
-    dist = np.full(n, np.inf)
-    if n == 0 or len(right) == 0:
-        return idx, dist
-    finite = np.abs(x_right[np.isfinite(x_right)])
-    span = 4.0 * (max(float(np.max(right.x)), float(np.max(finite, initial=0.0))) + 10.0)
-    key_r = right.line * span + right.x
-    q = np.where(np.isfinite(x_right), left.line * span + x_right, -np.inf)
-    j = np.searchsorted(key_r, q)
-    for jj in (np.clip(j - 1, 0, len(right) - 1), np.clip(j, 0, len(right) - 1)):
-        dd = np.abs(key_r[jj] - q)
-        ok = (right.sign[jj] == left.sign) & (right.line[jj] == left.line) & (dd < dist)
-        dist = np.where(ok, dd, dist)
-        idx = np.where(ok, jj, idx)
-    return idx, dist
+    """Per left edge point, the right edge point next to ``x_right`` on its line (the
+    nearer of the two around it, if it has the same contrast sign), and the distance
+    (``inf`` where none)."""
+    if len(left) == 0 or len(right) == 0:
+        return np.full(len(left), -1, dtype=np.intp), np.full(len(left), np.inf)
+    n_lines = int(max(int(left.line.max()), int(right.line.max())) + 1)
+    idx, dist = _nearest_on_lines(
+        np.ascontiguousarray(left.line, np.int64), np.ascontiguousarray(left.sign, np.int8),
+        np.ascontiguousarray(x_right, np.float64), np.ascontiguousarray(right.line, np.int64),
+        np.ascontiguousarray(right.x, np.float64), np.ascontiguousarray(right.sign, np.int8),
+        n_lines)
+    return idx.astype(np.intp), dist
 
 
 def _uniqueness(best: NDArray[np.float64], second: NDArray[np.integer]) -> NDArray[np.float64]:
