@@ -609,7 +609,21 @@ def _die_with_parent(parent: int) -> None:
 
 
 def _stop_workers(pool: ProcessPoolExecutor) -> None:
-    """Terminate a pool's worker processes now (an interrupted batch)."""
+    """Terminate a pool's worker processes now (an interrupted batch).
+
+    The pool's manager thread may then try to settle futures that were just cancelled
+    and print a traceback of ``InvalidStateError`` / ``CancelledError`` after the
+    one-line "interrupted": exceptions of those two kinds in threads are silenced.
+    """
+    from concurrent.futures import CancelledError, InvalidStateError
+
+    previous = threading.excepthook
+
+    def quiet(args: threading.ExceptHookArgs) -> None:
+        if not isinstance(args.exc_value, CancelledError | InvalidStateError):
+            previous(args)
+
+    threading.excepthook = quiet
     handles = list((getattr(pool, "_processes", None) or {}).values())
     for proc in handles:
         proc.terminate()
