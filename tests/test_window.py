@@ -16,7 +16,7 @@ from robostereo.confidence import (
 )
 from robostereo.errors import InputError
 from robostereo.evaluation import coverage_curve, match_errors
-from robostereo.pipeline import match_stereo
+from robostereo.pipeline import MatchParameters, match_stereo
 from robostereo.window import OUT_OF_VIEW, census_transform, sobel_x, window_costs
 
 
@@ -158,3 +158,70 @@ def test_confidence_on_synthetic_occlusions_is_calibrated_and_informative():
     e = res.left_edges
     curve = coverage_curve(e.row, e.x, res.edge_disparity, res.edge_confidence, gt)
     assert curve.false_rate[len(curve.false_rate) // 2] < curve.false_rate[-1]
+
+
+def _paths_reference(bm, m, w, p1, p2, step):
+    """Both scanline paths by the textbook recursion, on every ``step``-th column."""
+    cost = bm[:, m:m + w:step].T.astype(float)  # (columns, nd)
+
+    def one(c):
+        out = np.empty_like(c)
+        out[0] = c[0]
+        for x in range(1, len(c)):
+            prev = out[x - 1]
+            near = np.minimum(np.r_[np.inf, prev[:-1]], np.r_[prev[1:], np.inf]) + p1
+            out[x] = c[x] + np.minimum(np.minimum(prev, near), prev.min() + p2) - prev.min()
+        return out
+
+    return one(cost), one(cost[::-1])[::-1]
+
+
+def test_paths_are_the_semi_global_recursion():
+    from robostereo.window import PATH_COLUMN_STEP, _scanline
+
+    rng = np.random.default_rng(4)
+    nd, w, m = 7, 41, 8
+    bm = rng.integers(0, 3000, (nd, w + 2 * m)).astype(np.int16)
+    n = -(-w // PATH_COLUMN_STEP)
+    fwd, bwd = np.zeros((w, nd), np.float32), np.zeros((w, nd), np.float32)
+    bufs = [np.empty(nd, np.float32) for _ in range(4)]
+    _scanline(bm, m, w, np.float32(405), np.float32(2000), np.empty((w, nd), np.float32),
+              fwd, bwd, *bufs)
+    ref_f, ref_b = _paths_reference(bm, m, w, 405.0, 2000.0, PATH_COLUMN_STEP)
+    assert np.allclose(fwd[:n], ref_f) and np.allclose(bwd[:n], ref_b)
+
+
+def test_paths_carry_the_disparity_into_a_repeated_pattern():
+    """Stripes of period 8 between two textured parts, shifted 5 px: a window inside
+    the stripes matches 5 and 13 alike; the paths along the rows take 5 from the
+    textured parts."""
+    rng = np.random.default_rng(11)
+    h, w, d, period = 60, 240, 5, 8
+    scene = rng.uniform(20, 230, (h, w + d)).astype(np.float32)
+    stripes = np.where((np.arange(w + d) // (period // 2)) % 2 == 0, 60.0, 190.0)
+    scene[:, 80:170] = stripes[80:170]
+    left, right = scene[:, :w], scene[:, d:]  # left x shows what right x - d shows
+    left, right = (np.clip(im + rng.normal(0, 2.0, im.shape), 0, 255).astype(np.uint8)
+                   for im in (left, right))  # sensor noise of each camera
+    with_paths = match_stereo(left, right, (0.0, 16.0))
+    without = match_stereo(left, right, (0.0, 16.0),
+                           params=MatchParameters(paths=False))
+    e = with_paths.left_edges
+    inside = (e.x > 110) & (e.x < 140) & (e.row > 6) & (e.row < h - 6)
+    assert inside.sum() > 50
+
+    def right_share(res):
+        return float(np.mean(np.abs(res.edge_disparity[inside] - d) < 1.0))
+
+    # without the paths the two periods are near-equal; with them nearly all are right
+    assert right_share(with_paths) > 0.95
+    assert right_share(with_paths) > right_share(without) + 0.1
+
+
+def test_path_penalties_are_validated():
+    g = np.zeros((20, 30), np.float32)
+    for bad in [(5.0,), (-1.0, 2.0), (5.0, 1.0), (np.nan, 2.0), (5.0, 1e6)]:
+        with pytest.raises(InputError, match="path_penalties"):
+            window_costs(g, g, np.array([10]), np.array([15]), (0, 4), path_penalties=bad)
+    with pytest.raises(InputError, match="paths"):
+        MatchParameters(paths="yes")  # type: ignore[arg-type]

@@ -50,6 +50,9 @@ FEATURES: tuple[str, ...] = (
     "right_edge",      # a right edge point of the same sign lies there
     "similarity",      # the seed's w (3.3) of that edge pair, 0 without one
     "out_of_view",     # fraction of the search range whose right pixel is outside
+    "path_uniqueness",  # uniqueness of the costs aggregated along the row (paths)
+    "path_agree",      # the paths' best disparity is the windows' (or one off)
+    "path_swapped",    # they disagree and the paths' disparity was taken
 )
 _F = {name: k for k, name in enumerate(FEATURES)}
 
@@ -95,11 +98,18 @@ def isotonic(x: ArrayLike, y: ArrayLike, w: ArrayLike | None = None
 class ConfidenceModel:
     """Evidence score and its calibration curve.
 
-    ``score = min(uniqueness, uniqueness_row) - (1 - left_right)
-    + right_edge_weight * right_edge + similarity_weight * similarity
-    + row_agree_weight * row_agree``; ``P(correct)`` is the calibration curve at the
-    score: piecewise linear through ``(knots_score, knots_probability)``, constant
-    beyond the ends.
+    With ``e = right_edge_weight * right_edge + similarity_weight * similarity`` and the
+    windows' evidence ``s_w = min(uniqueness, uniqueness_row) - (1 - left_right) + e
+    + row_agree_weight * row_agree``, the score is
+
+    * ``s_w + path_weight * path_uniqueness`` where the paths along the row agree
+      with the windows;
+    * ``path_uniqueness - 1 + swap_weight + e`` where they disagree and their
+      disparity was taken (``path_swapped``);
+    * ``s_w - 1`` where they disagree and the windows' disparity was kept.
+
+    ``P(correct)`` is the calibration curve at the score: piecewise linear through
+    ``(knots_score, knots_probability)``, constant beyond the ends.
 
     Attributes
     ----------
@@ -107,13 +117,17 @@ class ConfidenceModel:
         The curve, both non-decreasing (an isotonic fit, :func:`fit_confidence`).
     right_edge_weight, similarity_weight, row_agree_weight : float
         Weights of the evidence beyond uniqueness and the left-right check.
+    path_weight, swap_weight : float
+        Weights of the paths' evidence (above).
 
     Examples
     --------
     >>> m = ConfidenceModel((-1.0, 0.0, 1.0), (0.1, 0.5, 0.9))
-    >>> f = np.array([[0.5, 0.5, 1, 1, 1, 0.8, 0.0], [0.5, 0.0, 0, 0, 0, 0.0, 0.0]])
+    >>> f = np.array([[0.5, 0.5, 1, 1, 1, 0.8, 0.0, 0.4, 1, 0],
+    ...               [0.5, 0.0, 0, 0, 0, 0.0, 0.0, 0.0, 1, 0],
+    ...               [0.1, 0.1, 1, 1, 0, 0.0, 0.0, 0.6, 0, 1]])
     >>> m.score(f).round(2).tolist(), m(f).round(3).tolist()
-    ([0.86, -1.0], [0.844, 0.1])
+    ([1.06, -1.0, 0.2], [0.9, 0.1, 0.58])
     """
 
     knots_score: tuple[float, ...]
@@ -121,12 +135,15 @@ class ConfidenceModel:
     right_edge_weight: float = 0.1
     similarity_weight: float = 0.2
     row_agree_weight: float = 0.1
+    path_weight: float = 0.5
+    swap_weight: float = 0.6
 
     def __post_init__(self) -> None:
         ks = np.asarray(self.knots_score, dtype=float)
         kp = np.asarray(self.knots_probability, dtype=float)
         require_finite("confidence model", [*ks, *kp, self.right_edge_weight,
-                                            self.similarity_weight, self.row_agree_weight])
+                                            self.similarity_weight, self.row_agree_weight,
+                                            self.path_weight, self.swap_weight])
         if ks.ndim != 1 or ks.shape != kp.shape or ks.size < 1:
             raise InputError("confidence model knots must be two sequences of one length")
         if np.any(np.diff(ks) < 0) or np.any(np.diff(kp) < 0) or kp.min() < 0 or kp.max() > 1:
@@ -138,11 +155,17 @@ class ConfidenceModel:
         f = np.asarray(features, dtype=float)
         if f.ndim != 2 or f.shape[1] != len(FEATURES):
             raise InputError(f"features must have shape (N, {len(FEATURES)}), got {f.shape}")
-        return (np.minimum(f[:, _F["uniqueness"]], f[:, _F["uniqueness_row"]])
-                - (1.0 - f[:, _F["left_right"]])
-                + self.right_edge_weight * f[:, _F["right_edge"]]
-                + self.similarity_weight * f[:, _F["similarity"]]
-                + self.row_agree_weight * f[:, _F["row_agree"]])
+        edge = (self.right_edge_weight * f[:, _F["right_edge"]]
+                + self.similarity_weight * f[:, _F["similarity"]])
+        windows = (np.minimum(f[:, _F["uniqueness"]], f[:, _F["uniqueness_row"]])
+                   - (1.0 - f[:, _F["left_right"]]) + edge
+                   + self.row_agree_weight * f[:, _F["row_agree"]])
+        u_path = f[:, _F["path_uniqueness"]]
+        agree = f[:, _F["path_agree"]] > 0
+        swapped = f[:, _F["path_swapped"]] > 0
+        return np.where(agree, windows + self.path_weight * u_path,
+                        np.where(swapped, u_path - 1.0 + self.swap_weight + edge,
+                                 windows - 1.0))
 
     def __call__(self, features: ArrayLike) -> NDArray[np.float64]:
         """``P(correct)`` per row of ``features`` ``(N, F)``."""
@@ -150,7 +173,7 @@ class ConfidenceModel:
 
 
 def fit_confidence(features: ArrayLike, correct: ArrayLike, *,
-                   weights: tuple[float, float, float] = (0.1, 0.2, 0.1),
+                   weights: tuple[float, ...] = (0.1, 0.2, 0.1, 0.5, 0.6),
                    sample_weight: ArrayLike | None = None,
                    knots: int = 40) -> ConfidenceModel:
     """Fit the calibration curve of the evidence score: isotonic regression.
@@ -161,7 +184,8 @@ def fit_confidence(features: ArrayLike, correct: ArrayLike, *,
     correct : array_like of bool, shape (N,)
         Whether each match is right (the project's evaluation rule).
     weights : tuple of float
-        ``(right_edge_weight, similarity_weight, row_agree_weight)`` of the score.
+        ``(right_edge_weight, similarity_weight, row_agree_weight, path_weight,
+        swap_weight)`` of the score.
     sample_weight : array_like, shape (N,), optional
         E.g. ``1 / points of the scene``, so that every scene counts the same.
     knots : int
@@ -239,10 +263,11 @@ def calibration_table(confidence: ArrayLike, correct: ArrayLike, *, bins: int = 
 #: fitted by ``python benchmarks/fit_confidence.py``: the six developer scenes' matches
 #: pooled, with six synthetic layered pairs weighing as one average scene
 DEFAULT_MODEL = ConfidenceModel(
-    knots_score=(-0.9502, -0.8512, -0.7498, -0.4632, 0.1696, 0.3001, 0.3721, 0.4313, 0.4795,
-                 0.5195, 0.5560, 0.5895, 0.6345, 0.6906, 0.7322, 0.7555, 0.7782, 0.8104,
-                 0.8410, 0.8896, 0.9543, 1.0917),
-    knots_probability=(0.1901, 0.2918, 0.4539, 0.6490, 0.7246, 0.8223, 0.8967, 0.9176,
-                       0.9305, 0.9503, 0.9543, 0.9663, 0.9771, 0.9811, 0.9861, 0.9921,
-                       0.9960, 0.9970, 0.9980, 0.9985, 0.9993, 1.0),
-    right_edge_weight=0.1, similarity_weight=0.2, row_agree_weight=0.1)
+    knots_score=(-1.7735, -0.8787, -0.7495, -0.6084, -0.4131, 0.1518, 0.3851, 0.4856, 0.5586,
+                 0.6414, 0.7366, 0.7998, 0.8579, 0.9158, 0.9831, 1.0442, 1.1395, 1.2696,
+                 1.4488),
+    knots_probability=(0.1814, 0.3269, 0.5866, 0.7255, 0.8038, 0.8513, 0.8916, 0.9374,
+                       0.9444, 0.9702, 0.9732, 0.9861, 0.9861, 0.9921, 0.9927, 0.9960,
+                       0.9987, 0.9990, 1.0000),
+    right_edge_weight=0.1, similarity_weight=0.2, row_agree_weight=0.0, path_weight=0.5,
+    swap_weight=0.0)

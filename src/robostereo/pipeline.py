@@ -35,7 +35,7 @@ from robostereo.matching import (
 from robostereo.parallel import run_all
 from robostereo.relaxation import RelaxationParameters, RelaxationResult, relax
 from robostereo.triangulation import StereoCamera, triangulate
-from robostereo.window import WindowMatch, window_match
+from robostereo.window import PATH_PENALTIES, WindowMatch, window_match
 
 __all__ = [
     "DEFAULT_MIN_CONFIDENCE",
@@ -95,6 +95,12 @@ class MatchParameters:
         matches, raise it for fewer false ones.
     gradient_truncation : int
         Window method: largest gradient difference per pixel pair (0..300).
+    paths : bool
+        Window method: also aggregate the window costs along the rows (two paths of
+        semi-global matching, :func:`robostereo.window.window_costs`), which carries
+        the disparity of textured parts into repeated patterns and weak texture.
+        False: about a third faster, worse there; the confidence is then conservative
+        (its calibration was fitted with the paths).
     bit_depth : int or None
         Bit depth of the input grey levels; None: from the dtype.
     """
@@ -111,6 +117,7 @@ class MatchParameters:
     )
     min_confidence: float | None = None
     gradient_truncation: int = 64
+    paths: bool = True
     bit_depth: int | None = None
 
     def __post_init__(self) -> None:
@@ -124,6 +131,8 @@ class MatchParameters:
                 raise InputError(f"min_confidence must be in 0..1, got {self.min_confidence}")
         require_int("row_step", self.row_step, minimum=1)
         require_int("gradient_truncation", self.gradient_truncation, minimum=0)
+        if not isinstance(self.paths, bool):
+            raise InputError(f"paths must be True or False, got {self.paths!r}")
         if self.gradient_truncation > 300:
             raise InputError(f"gradient_truncation must be in 0..300, got "
                              f"{self.gradient_truncation}")
@@ -496,6 +505,7 @@ def match_stereo(
         wm = window_match(el, er, ga, gb, (float(lo), float(hi)),
                           gradient_truncation=p.gradient_truncation, weights=p.weights,
                           profile_scale=p.profile_scale,
+                          path_penalties=PATH_PENALTIES if p.paths else None,
                           valid_left=None if valid_left is None else np.asarray(valid_left, bool),
                           valid_right=None if valid_right is None
                           else np.asarray(valid_right, bool))

@@ -29,6 +29,8 @@ References
    visual correspondence", ECCV 1994.
 .. [2] A. Fusiello, V. Roberto and E. Trucco, "Efficient stereo with multiple
    windowing", CVPR 1997.
+.. [3] H. Hirschmüller, "Stereo processing by semiglobal matching and mutual
+   information", IEEE TPAMI 30(2), 2008.
 """
 
 from __future__ import annotations
@@ -294,6 +296,66 @@ def _least(bu, bm, bd, k, x, hw, vertical):  # type: ignore[no-untyped-def]
     return row, row
 
 
+@nb.njit(cache=True, fastmath=True, nogil=True, inline="always")
+def _path_step(cost, prev, cur, p1, p2):  # type: ignore[no-untyped-def]
+    """One step of a scanline path (semi-global matching, [3]_ eq. 13):
+    ``cur[k] = cost[k] + min(prev[k], prev[k -/+ 1] + p1, min(prev) + p2) - min(prev)``
+    (``prev`` and ``cur`` distinct, ``nd >= 2``)."""
+    nd = prev.shape[0]
+    mn = prev[0]
+    for k in range(1, nd):
+        mn = min(mn, prev[k])
+    jump = mn + p2
+    for k in range(1, nd - 1):
+        lo = prev[k - 1]
+        hi = prev[k + 1]
+        c = (lo if lo < hi else hi) + p1
+        v = prev[k]
+        c = v if v < c else c
+        cur[k] = cost[k] + (jump if jump < c else c) - mn
+    c = prev[1] + p1
+    c = prev[0] if prev[0] < c else c
+    cur[0] = cost[0] + (jump if jump < c else c) - mn
+    c = prev[nd - 2] + p1
+    c = prev[nd - 1] if prev[nd - 1] < c else c
+    cur[nd - 1] = cost[nd - 1] + (jump if jump < c else c) - mn
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _scanline(bm, m, w, p1, p2, bt, fwd, bwd, a, b, c, d):  # type: ignore[no-untyped-def]
+    """Window costs of one row aggregated along it, both ways (two paths of
+    semi-global matching): ``L_left`` into ``fwd`` and ``L_right`` into ``bwd``, both
+    (W, nd).  The two paths are stepped in one loop (independent chains), in float32
+    (exact for these sums)."""
+    nd = bm.shape[0]
+    w = (w + PATH_COLUMN_STEP - 1) // PATH_COLUMN_STEP
+    for k in range(nd):  # the row's window sums, disparity fastest
+        src = bm[k]
+        for x in range(w):
+            bt[x, k] = np.float32(src[m + PATH_COLUMN_STEP * x])
+    for k in range(nd):
+        a[k] = bt[0, k]
+        fwd[0, k] = a[k]
+        c[k] = bt[w - 1, k]
+        bwd[w - 1, k] = c[k]
+    if nd >= 2:
+        for x in range(1, w):
+            xb = w - 1 - x
+            _path_step(bt[x], a, b, p1, p2)
+            _path_step(bt[xb], c, d, p1, p2)
+            fo = fwd[x]
+            bo = bwd[xb]
+            for k in range(nd):
+                a[k] = b[k]
+                fo[k] = b[k]
+                c[k] = d[k]
+                bo[k] = d[k]
+    else:
+        for x in range(w):
+            fwd[x, 0] = bt[x, 0]
+            bwd[x, 0] = bt[x, 0]
+
+
 @nb.njit(cache=True, nogil=True)
 def _load_row(ga, gb, va, vb, check_a, check_b, yc, cen_a, cen_b, sob_a, sob_b,
               loaded, buf, acc):  # type: ignore[no-untyped-def]
@@ -308,7 +370,8 @@ def _load_row(ga, gb, va, vb, check_a, check_b, yc, cen_a, cen_b, sob_a, sob_b,
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
 def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, trunc, pmax,
-                 hw, vertical, y_first, y_last, out):  # type: ignore[no-untyped-def]
+                 hw, vertical, p1, p2, path_step, y_first, y_last,
+                 out):  # type: ignore[no-untyped-def]
     """One pass down rows ``y_first .. y_last - 1`` of the grey images ``ga``, ``gb``;
     ``out[i]`` receives the summary of each edge point ``i`` on them (see
     :class:`WindowCosts`).  Census and Sobel rows are made as the pass needs them."""
@@ -332,6 +395,17 @@ def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, tru
     loaded = np.full(1, -1, np.int64)
     buf = np.empty((5, w + 6), np.float32)  # padded grey rows for the census
     acc = np.empty((2, w), np.uint32)
+    scan = p1 >= 0  # aggregate along the rows too (p1 < 0: not)
+    ws = w if scan else 1
+    bt = np.empty((ws, nd), np.float32)
+    fwd = np.empty((ws, nd), np.float32)
+    bwd = np.empty((ws, nd), np.float32)
+    pa = np.empty(nd, np.float32)
+    pb = np.empty(nd, np.float32)
+    pc = np.empty(nd, np.float32)
+    pd = np.empty(nd, np.float32)
+    s_row = np.empty(nd, np.int32)
+    path_row = -1
     colsum[:, :m] = n_ring * pmax
     colsum[:, w + m:] = n_ring * pmax
 
@@ -365,6 +439,17 @@ def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, tru
         bu = boxes[(y - hw + base) % n_ring]
         bm = boxes[(y + base) % n_ring]
         bd = boxes[(y + hw + base) % n_ring]
+        if scan:
+            # paths run on every path_step-th row; a row's edge points read those of the
+            # nearest such row (their windows share all but a few rows).  The choice
+            # depends on y alone, so bands (threads) do not change the result
+            y_path = y
+            if vertical:
+                y_path = min((y + path_step // 2) // path_step * path_step, h - 1)
+            if y_path != path_row:
+                _scanline(boxes[(y_path + base) % n_ring], m, w, np.float32(p1),
+                          np.float32(p2), bt, fwd, bwd, pa, pb, pc, pd)
+                path_row = y_path
         for i in range(row_start[y], row_start[y + 1]):
             c = cols[i]
             xc = c + m
@@ -422,6 +507,28 @@ def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, tru
                     cb = v
                     kr = k
             o[9] = kr
+            if scan:  # the aggregated costs: best, its cost, the best more than 1 off
+                sr_ = s_row
+                cq = c // PATH_COLUMN_STEP
+                for k in range(nd):
+                    sr_[k] = np.int32(fwd[cq, k] + bwd[cq, k])
+                ks = -1
+                cs = big
+                for k in range(nd):
+                    xr = c - dlo - k
+                    if 0 <= xr < w and sr_[k] < cs:
+                        cs = sr_[k]
+                        ks = k
+                fs = big
+                for k in range(nd):
+                    xr = c - dlo - k
+                    if 0 <= xr < w and abs(k - ks) > 1 and sr_[k] < fs:
+                        fs = sr_[k]
+                o[10] = ks
+                o[11] = cs
+                o[12] = fs
+                o[13] = sr_[ks - 1] if ks > 0 else big
+                o[14] = sr_[ks + 1] if 0 <= ks < nd - 1 else big
 
 
 @dataclass(frozen=True)
@@ -449,6 +556,9 @@ class WindowCosts:
     right_best : ndarray of int
         Best disparity of the right pixel ``x - d_min - k1`` against every left pixel
         (the left-right check); -1 where there is none.
+    best_path, cost_path, second_path, before_path, after_path : ndarray of int
+        The same as ``best`` ... ``after`` for the centred window costs aggregated
+        along the row both ways (:func:`window_costs`, Notes); -1 without paths.
     """
 
     d_min: int
@@ -463,10 +573,30 @@ class WindowCosts:
     second_row: NDArray[np.int32]
     in_view: NDArray[np.int32]
     right_best: NDArray[np.int32]
+    best_path: NDArray[np.int32]
+    cost_path: NDArray[np.int32]
+    second_path: NDArray[np.int32]
+    before_path: NDArray[np.int32]
+    after_path: NDArray[np.int32]
 
 
 #: cost value of a disparity whose right pixel lies outside the image
 OUT_OF_VIEW = 2**30
+
+#: ``(P1, P2)`` of the paths along the rows, per pixel of the window (chosen
+#: leave-one-scene-out by ``benchmarks/fit_confidence.py``): a jump costs more than any
+#: window, so a path changes disparity by ramps of one pixel at ``P1`` each
+PATH_PENALTIES = (5.0, 160.0)
+
+#: paths run on every fifth row, over every second column (a step of the path is two
+#: columns); edge points read the nearest path row (at most two rows away, within the
+#: nine rows of their windows)
+PATH_ROW_STEP = 5
+PATH_COLUMN_STEP = 2
+
+#: where the paths' best disparity is more than a pixel from the windows', it is taken
+#: instead when its uniqueness exceeds this (leave-one-scene-out, as the penalties)
+SWAP_UNIQUENESS = 0.1
 
 
 def window_costs(
@@ -480,6 +610,7 @@ def window_costs(
     vertical: bool = True,
     valid_left: NDArray[np.bool_] | None = None,
     valid_right: NDArray[np.bool_] | None = None,
+    path_penalties: tuple[float, float] | None = PATH_PENALTIES,
 ) -> WindowCosts:
     """Side-aware census + gradient window costs at left pixels, every disparity.
 
@@ -500,6 +631,10 @@ def window_costs(
     valid_left, valid_right : ndarray of bool, shape (H, W), optional
         Pixels that hold image data (e.g. inside a rectification's source); a pair
         with an invalid pixel costs nearly the most a pair can.
+    path_penalties : tuple of float or None
+        ``(P1, P2)`` of the paths along the row, per pixel of the window: the cost of
+        a one-pixel change of disparity between neighbouring columns and of a larger
+        jump (Notes, 6).  None: no paths.
 
     Returns
     -------
@@ -518,6 +653,13 @@ def window_costs(
     5. Per point only a summary is kept (:class:`WindowCosts`), and census and Sobel
        rows are made as the pass reaches them: memory is a few rows of costs, whatever
        the range, and no transformed image is stored.
+    6. The centred window costs ``C(x, d)`` of the row are also aggregated along it,
+       from the left and from the right, as two paths of semi-global matching [3]_
+       (eq. 13): ``L(x, d) = C(x, d) + min(L(x', d), L(x', d -/+ 1) + P1,
+       min_k L(x', k) + P2) - min_k L(x', k)`` with ``x'`` the previous column; their
+       sum is read at the edge points (``best_path`` ...).  A path carries the
+       disparity of textured parts of the row into ambiguous ones (repeated patterns,
+       weak texture), where a window alone has two near-equal minima.
 
     Examples
     --------
@@ -557,10 +699,19 @@ def window_costs(
     checks = [m.shape == gl.shape and not bool(m.all()) for m in masks]
     nd = d_hi - d_lo + 1
     n = r.shape[0]
-    out = np.full((n, 10), -1, np.int32)
+    out = np.full((n, 15), -1, np.int32)
     if n:
         row_start = np.searchsorted(r, np.arange(h + 1)).astype(np.int64)
         trunc = int(gradient_truncation)
+        area = (2 * HALF_WINDOW + 1) ** 2
+        if path_penalties is None:
+            p1, p2 = -1, -1
+        else:
+            pp = [float(v) for v in path_penalties]
+            if len(pp) != 2 or not all(np.isfinite(pp)) or not 0 <= pp[0] <= pp[1] <= 200:
+                raise InputError(f"path_penalties must be (P1, P2) with 0 <= P1 <= P2 <= 200 "
+                                 f"per window pixel, got {path_penalties}")
+            p1, p2 = round(pp[0] * area), round(pp[1] * area)
         # bands of at least 64 rows, one per thread: a band repeats 2 * HALF_WINDOW rows
         n_bands = max(1, min(n_threads(), h // 64))
         step = -(-h // n_bands)
@@ -568,11 +719,12 @@ def window_costs(
         def band(y0: int) -> None:
             _stream_rows(gl, gr, masks[0], masks[1], checks[0], checks[1], row_start, c,
                          d_lo, nd, np.int16(trunc), np.int16(34 + trunc), HALF_WINDOW,
-                         bool(vertical), y0, min(h, y0 + step), out)
+                         bool(vertical), p1, p2, PATH_ROW_STEP, y0, min(h, y0 + step), out)
 
         run_all([lambda y0=y0: band(y0) for y0 in range(0, h, step)])
     cols = dict(zip(("best", "cost", "second", "before", "after", "best_row", "cost_row",
-                     "second_row", "in_view", "right_best"), out.T, strict=True))
+                     "second_row", "in_view", "right_best", "best_path", "cost_path",
+                     "second_path", "before_path", "after_path"), out.T, strict=True))
     return WindowCosts(d_min=d_lo, n_disparities=nd, **cols)
 
 
@@ -668,6 +820,7 @@ def window_match(
     valid_left: NDArray[np.bool_] | None = None,
     valid_right: NDArray[np.bool_] | None = None,
     vertical: bool = True,
+    path_penalties: tuple[float, float] | None = PATH_PENALTIES,
 ) -> WindowMatch:
     """Best disparity and calibrated confidence of every left edge point.
 
@@ -691,6 +844,8 @@ def window_match(
         Pixels that hold image data (see :func:`window_costs`).
     vertical : bool
         Windows above and below too (see :func:`window_costs`).
+    path_penalties : tuple of float or None
+        Paths along the rows (see :func:`window_costs`); None: none.
 
     Returns
     -------
@@ -705,14 +860,19 @@ def window_match(
        its best disparity should be ``d1`` (or one pixel off).
     4. Sub-pixel disparity from the right edge point within half a pixel of
        ``x - d`` (same contrast sign), else from the parabola of the costs.
-    5. Confidence from the evidence by the calibrated model
+    5. Paths along the row (:func:`window_costs`, Notes 6): where their best
+       disparity is more than a pixel from the windows' and their uniqueness is above
+       :data:`SWAP_UNIQUENESS`, theirs is taken (parabola of the path costs, then the
+       right edge point there as in 4); their agreement and uniqueness are evidence.
+    6. Confidence from the evidence by the calibrated model
        (:mod:`robostereo.confidence`).
     """
     lo, hi = float(disparity_range[0]), float(disparity_range[1])
     d_lo, d_hi = int(np.floor(lo)), int(np.ceil(hi))
     wc = window_costs(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
                       gradient_truncation=gradient_truncation, valid_left=valid_left,
-                      valid_right=valid_right, vertical=vertical)
+                      valid_right=valid_right, vertical=vertical,
+                      path_penalties=path_penalties)
     n, nd = len(left), wc.n_disparities
     k1 = wc.best.astype(np.intp)
     seen = k1 >= 0
@@ -725,6 +885,21 @@ def window_match(
         inner = seen & (cm < OUT_OF_VIEW) & (cp < OUT_OF_VIEW) & (den > 0)
         off = np.where(inner, 0.5 * (cm - cp) / np.where(inner, den, 1.0), 0.0)
     d_par = np.where(seen, d_lo + k1 + np.clip(off, -0.5, 0.5), np.nan)
+    # the paths along the row: agreement, their uniqueness, and where they disagree
+    # with the windows and are unique enough, their disparity instead
+    kp = wc.best_path.astype(np.intp)
+    has_path = kp >= 0
+    u_path = np.where(has_path, _uniqueness(wc.cost_path.astype(np.float64), wc.second_path),
+                      0.0)
+    path_agree = ~has_path | (seen & (np.abs(kp - k1) <= 1))
+    swap = has_path & ~path_agree & (u_path > SWAP_UNIQUENESS)
+    pm, p0, pp = (v.astype(np.float64) for v in (wc.before_path, wc.cost_path, wc.after_path))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        den = pm - 2.0 * p0 + pp
+        inner = swap & (pm < OUT_OF_VIEW) & (pp < OUT_OF_VIEW) & (den > 0)
+        off = np.where(inner, 0.5 * (pm - pp) / np.where(inner, den, 1.0), 0.0)
+    d_par = np.where(swap, d_lo + kp + np.clip(off, -0.5, 0.5), d_par)
+    seen = seen | swap
     lr = np.where(wc.right_best >= 0, np.abs(wc.right_best - k1), nd)
     agree = seen & (np.abs(wc.best_row - k1) <= 1)
     u_row = np.where(agree, _uniqueness(wc.cost_row.astype(np.float64), wc.second_row), 0.0)
@@ -748,6 +923,9 @@ def window_match(
         use_edge.astype(float),
         sim,
         1.0 - wc.in_view / max(nd, 1),
+        u_path,
+        path_agree.astype(float),
+        swap.astype(float),
     ]) if n else np.zeros((0, len(FEATURES)))
     conf = (model or DEFAULT_MODEL)(feats)
     conf = np.where(np.isfinite(disparity), conf, np.nan)
