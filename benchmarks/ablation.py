@@ -13,8 +13,11 @@ fitted to the scenes it is scored on; the weights of the full score are the ones
   uniqueness alone;
 * ``+ rows above/below``: the five windows;
 * ``+ left-right check``: ranked by uniqueness minus a failed left-right check;
-* ``+ edge evidence``: the full score (right edge point, its similarity w, agreement
-  of the windows along the row).
+* ``+ edge evidence``: the windows' score (right edge point, its similarity w,
+  agreement of the windows along the row);
+* ``+ paths along rows``: the full matcher, the window costs also aggregated along the
+  rows (two scanline paths of semi-global matching), their disparity where they
+  disagree and are unique, their evidence in the score.
 """
 
 from __future__ import annotations
@@ -40,14 +43,17 @@ def variants(scene):
     rel = match_stereo(scene.left, scene.right, scene.disparity_range,
                        params=MatchParameters(method="relaxation", bit_depth=scene.bit_depth))
     yield "relaxation", el, rel.edge_disparity, rel.edge_confidence
-    row = window_match(el, er, gl, gr, scene.disparity_range, vertical=False)
+    row = window_match(el, er, gl, gr, scene.disparity_range, vertical=False,
+                       path_penalties=None)
     yield "rows, uniqueness", el, row.disparity, row.features[:, F["uniqueness"]]
-    five = window_match(el, er, gl, gr, scene.disparity_range)
+    five = window_match(el, er, gl, gr, scene.disparity_range, path_penalties=None)
     f = five.features
     yield "+ rows above/below", el, five.disparity, f[:, F["uniqueness"]]
     yield ("+ left-right check", el, five.disparity,
            f[:, F["uniqueness"]] - (1.0 - f[:, F["left_right"]]))
     yield "+ edge evidence", el, five.disparity, DEFAULT_MODEL.score(f)
+    full = window_match(el, er, gl, gr, scene.disparity_range)
+    yield "+ paths along rows", el, full.disparity, DEFAULT_MODEL.score(full.features)
 
 
 def main() -> int:

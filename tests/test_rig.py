@@ -110,12 +110,13 @@ def rendered() -> tuple[Scene, np.ndarray, np.ndarray]:
 
 @pytest.fixture(scope="module")
 def result(rig, rendered):
-    """The rig path with the seed's relaxation: these tests check the geometry, and this
-    scene's slanted stripes of a few grey levels are periodic for census windows (the
-    window method matches half as many points here, some a period off; see README)."""
+    """The rig path with the default matcher.  This scene's slanted stripes of a few
+    grey levels are periodic for census windows: without the paths along the rows the
+    window method matched 5950 points here, 97.9 % within their bound; with them
+    15458, 99.6 % (the seed's relaxation: 25667, 99.9 %)."""
     _, left, right = rendered
     return match_rig(left, right, rig, depth_range_mm=DEPTH,
-                     params=MatchParameters(method="relaxation"))
+                     params=MatchParameters())
 
 
 def test_round_trip_recovers_the_scene(result, rendered) -> None:
