@@ -185,7 +185,7 @@ def test_paths_are_the_semi_global_recursion():
     n = -(-w // PATH_COLUMN_STEP)
     fwd, bwd = np.zeros((w, nd), np.float32), np.zeros((w, nd), np.float32)
     bufs = [np.empty(nd, np.float32) for _ in range(4)]
-    _scanline(bm, m, w, np.float32(405), np.float32(2000), np.empty((w, nd), np.float32),
+    _scanline(bm, m, w, 1, np.float32(405), np.float32(2000), np.empty((w, nd), np.float32),
               fwd, bwd, *bufs)
     ref_f, ref_b = _paths_reference(bm, m, w, 405.0, 2000.0, PATH_COLUMN_STEP)
     assert np.allclose(fwd[:n], ref_f) and np.allclose(bwd[:n], ref_b)
@@ -225,3 +225,20 @@ def test_path_penalties_are_validated():
             window_costs(g, g, np.array([10]), np.array([15]), (0, 4), path_penalties=bad)
     with pytest.raises(InputError, match="paths"):
         MatchParameters(paths="yes")  # type: ignore[arg-type]
+
+
+def test_paths_bin_a_wide_range():
+    """Over more than PATH_MAX_DISPARITIES the path disparities are bins; the best
+    whole disparity inside the best bin is still the true one."""
+    from robostereo.window import PATH_MAX_DISPARITIES
+
+    rng = np.random.default_rng(8)
+    d, w = 150, 420
+    scene = rng.uniform(0, 127, (40, w + d)).astype(np.float32)
+    left, right = scene[:, :w], scene[:, d:]
+    rows = np.repeat(np.arange(10, 30), 5)
+    cols = np.tile(np.array([200, 240, 280, 320, 360]), 20)
+    wide = (0, 2 * PATH_MAX_DISPARITIES)
+    wc = window_costs(left, right, rows, cols, wide)
+    assert np.all(wc.best_path == d) and np.all(wc.best == d)
+    assert np.all(wc.second_path > wc.cost_path)

@@ -322,17 +322,29 @@ def _path_step(cost, prev, cur, p1, p2):  # type: ignore[no-untyped-def]
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _scanline(bm, m, w, p1, p2, bt, fwd, bwd, a, b, c, d):  # type: ignore[no-untyped-def]
+def _scanline(bm, m, w, q, p1, p2, bt, fwd, bwd, a, b, c, d):  # type: ignore[no-untyped-def]
     """Window costs of one row aggregated along it, both ways (two paths of
     semi-global matching): ``L_left`` into ``fwd`` and ``L_right`` into ``bwd``, both
     (W, nd).  The two paths are stepped in one loop (independent chains), in float32
-    (exact for these sums)."""
-    nd = bm.shape[0]
+    (exact for these sums).  With ``q > 1`` a path disparity is a bin of ``q`` whole
+    ones, its cost the least of theirs (wide ranges)."""
+    nd_fine = bm.shape[0]
+    nd = a.shape[0]
     w = (w + PATH_COLUMN_STEP - 1) // PATH_COLUMN_STEP
-    for k in range(nd):  # the row's window sums, disparity fastest
-        src = bm[k]
+    if q == 1:
+        for k in range(nd_fine):  # the row's window sums, disparity fastest
+            src = bm[k]
+            for x in range(w):
+                bt[x, k] = np.float32(src[m + PATH_COLUMN_STEP * x])
+    else:
         for x in range(w):
-            bt[x, k] = np.float32(src[m + PATH_COLUMN_STEP * x])
+            for j in range(nd):
+                bt[x, j] = np.float32(np.inf)
+        for k in range(nd_fine):
+            src = bm[k]
+            j = k // q
+            for x in range(w):
+                bt[x, j] = min(bt[x, j], np.float32(src[m + PATH_COLUMN_STEP * x]))
     for k in range(nd):
         a[k] = bt[0, k]
         fwd[0, k] = a[k]
@@ -397,14 +409,16 @@ def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, tru
     acc = np.empty((2, w), np.uint32)
     scan = p1 >= 0  # aggregate along the rows too (p1 < 0: not)
     ws = w if scan else 1
-    bt = np.empty((ws, nd), np.float32)
-    fwd = np.empty((ws, nd), np.float32)
-    bwd = np.empty((ws, nd), np.float32)
-    pa = np.empty(nd, np.float32)
-    pb = np.empty(nd, np.float32)
-    pc = np.empty(nd, np.float32)
-    pd = np.empty(nd, np.float32)
-    s_row = np.empty(nd, np.int32)
+    q = max(1, (nd + PATH_MAX_DISPARITIES - 1) // PATH_MAX_DISPARITIES)  # path bins
+    ndc = (nd + q - 1) // q
+    bt = np.empty((ws, ndc), np.float32)
+    fwd = np.empty((ws, ndc), np.float32)
+    bwd = np.empty((ws, ndc), np.float32)
+    pa = np.empty(ndc, np.float32)
+    pb = np.empty(ndc, np.float32)
+    pc = np.empty(ndc, np.float32)
+    pd = np.empty(ndc, np.float32)
+    s_row = np.empty(ndc, np.int32)
     path_row = -1
     colsum[:, :m] = n_ring * pmax
     colsum[:, w + m:] = n_ring * pmax
@@ -447,7 +461,7 @@ def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, tru
             if vertical:
                 y_path = min((y + path_step // 2) // path_step * path_step, h - 1)
             if y_path != path_row:
-                _scanline(boxes[(y_path + base) % n_ring], m, w, np.float32(p1),
+                _scanline(boxes[(y_path + base) % n_ring], m, w, q, np.float32(p1),
                           np.float32(p2), bt, fwd, bwd, pa, pb, pc, pd)
                 path_row = y_path
         for i in range(row_start[y], row_start[y + 1]):
@@ -510,25 +524,38 @@ def _stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, tru
             if scan:  # the aggregated costs: best, its cost, the best more than 1 off
                 sr_ = s_row
                 cq = c // PATH_COLUMN_STEP
-                for k in range(nd):
-                    sr_[k] = np.int32(fwd[cq, k] + bwd[cq, k])
-                ks = -1
+                for j in range(ndc):
+                    sr_[j] = np.int32(fwd[cq, j] + bwd[cq, j])
+                # a bin is in view where one of its disparities is: k in k_lo .. k_hi
+                k_lo = max(c - dlo - w + 1, 0)
+                k_hi = min(c - dlo, nd - 1)
+                js = -1
                 cs = big
-                for k in range(nd):
-                    xr = c - dlo - k
-                    if 0 <= xr < w and sr_[k] < cs:
-                        cs = sr_[k]
-                        ks = k
+                for j in range(ndc):
+                    if j * q <= k_hi and (j + 1) * q - 1 >= k_lo and sr_[j] < cs:
+                        cs = sr_[j]
+                        js = j
                 fs = big
-                for k in range(nd):
-                    xr = c - dlo - k
-                    if 0 <= xr < w and abs(k - ks) > 1 and sr_[k] < fs:
-                        fs = sr_[k]
-                o[10] = ks
+                for j in range(ndc):
+                    if (j * q <= k_hi and (j + 1) * q - 1 >= k_lo and abs(j - js) > 1
+                            and sr_[j] < fs):
+                        fs = sr_[j]
                 o[11] = cs
                 o[12] = fs
-                o[13] = sr_[ks - 1] if ks > 0 else big
-                o[14] = sr_[ks + 1] if 0 <= ks < nd - 1 else big
+                if q == 1 or js < 0:
+                    o[10] = js
+                    o[13] = sr_[js - 1] if js > 0 else big
+                    o[14] = sr_[js + 1] if 0 <= js < ndc - 1 else big
+                else:  # the bin's best whole disparity by the windows, their parabola
+                    ks = -1
+                    cb = big
+                    for k in range(js * q, min(nd, (js + 1) * q)):
+                        if s5[k] < cb:
+                            cb = s5[k]
+                            ks = k
+                    o[10] = ks
+                    o[13] = s5[ks - 1] if ks > 0 else big
+                    o[14] = s5[ks + 1] if 0 <= ks < nd - 1 else big
 
 
 @dataclass(frozen=True)
@@ -593,6 +620,11 @@ PATH_PENALTIES = (5.0, 160.0)
 #: nine rows of their windows)
 PATH_ROW_STEP = 5
 PATH_COLUMN_STEP = 2
+
+#: paths over at most this many disparities: a wider range is binned (a path
+#: disparity stands for 2, 3, ... whole ones, its cost their least), so their cost stops
+#: growing with the range; the developer scenes (up to 97) are not binned
+PATH_MAX_DISPARITIES = 128
 
 #: where the paths' best disparity is more than a pixel from the windows', it is taken
 #: instead when its uniqueness exceeds this (leave-one-scene-out, as the penalties)
