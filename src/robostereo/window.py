@@ -351,17 +351,18 @@ def _scanline(bm, m, w, q, p1, p2, bt, fwd, bwd, a, b, c, d):  # type: ignore[no
         c[k] = bt[w - 1, k]
         bwd[w - 1, k] = c[k]
     if nd >= 2:
-        for x in range(1, w):
+        for x in range(1, w):  # a, c hold the previous column, b, d the new (swapped)
             xb = w - 1 - x
-            _path_step(bt[x], a, b, p1, p2)
-            _path_step(bt[xb], c, d, p1, p2)
-            fo = fwd[x]
-            bo = bwd[xb]
-            for k in range(nd):
-                a[k] = b[k]
-                fo[k] = b[k]
-                c[k] = d[k]
-                bo[k] = d[k]
+            if x % 2:
+                _path_step(bt[x], a, b, p1, p2)
+                _path_step(bt[xb], c, d, p1, p2)
+                fwd[x] = b
+                bwd[xb] = d
+            else:
+                _path_step(bt[x], b, a, p1, p2)
+                _path_step(bt[xb], d, c, p1, p2)
+                fwd[x] = a
+                bwd[xb] = c
     else:
         for x in range(w):
             fwd[x, 0] = bt[x, 0]
