@@ -111,7 +111,7 @@ def _add_matcher_args(p: Any) -> None:
                         + ", ".join(f"{k} {v:g}" for k, v in DEFAULT_MIN_CONFIDENCE.items())
                         + ")")
     p.add_argument("--no-paths", dest="paths", action="store_false", default=None,
-                   help="window method without the paths along the rows: a sixth to a third "
+                   help="window method without the paths along the rows: a tenth to a quarter "
                         "faster, worse on repeated patterns and weak texture")
 
 

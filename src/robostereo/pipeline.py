@@ -99,7 +99,7 @@ class MatchParameters:
         Window method: also aggregate the window costs along the rows (two paths of
         semi-global matching, :func:`robostereo.window.window_costs`), which carries
         the disparity of textured parts into repeated patterns and weak texture.
-        False: a sixth to a third faster, worse there; the confidence is then conservative
+        False: a tenth to a quarter faster, worse there; the confidence is then conservative
         (its calibration was fitted with the paths).
     bit_depth : int or None
         Bit depth of the input grey levels; None: from the dtype.
