@@ -447,7 +447,8 @@ def match_stereo(
     Window method (default):
 
     2. Every whole-pixel disparity of the range scored at each left edge point with
-       side-aware census + gradient windows, the left-right check, sub-pixel
+       side-aware census + gradient windows, the left-right check, the window costs
+       aggregated along the rows (two scanline paths; ``params.paths``), sub-pixel
        disparity from the right edge point there (:func:`~robostereo.window.window_match`).
     3. Confidence ``P(correct)`` from the evidence by the calibrated model
        (:mod:`~robostereo.confidence`); the no-match label wins below

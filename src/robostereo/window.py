@@ -16,10 +16,17 @@ edge, and shifted half a window left, right, up and down) and the lowest is kept
 a depth boundary only the window on the occluding surface sees one disparity
 (side-aware windows, as in multiple-window matching [2]_).
 
+Where a window alone is ambiguous (a repeated pattern, weak texture: two near-equal
+minima), the costs of the centred windows are also aggregated along the row, from the
+left and from the right, as two scanline paths of semi-global matching [3]_; a path
+carries the disparity of the row's textured parts into the ambiguous ones, and where
+the paths disagree with the windows and are unique enough their disparity is taken.
+
 The work is done in one pass down the image (a numba kernel): pixel costs of a row
 for all disparities, vertical column sums kept running over a ring of the last nine
-rows, window sums of nine columns, and at each row the windows of that row's edge
-points read from the window sums of it and of the rows half a window above and below.
+rows, window sums of nine columns, the paths on every fifth row, and at each row the
+windows of that row's edge points read from the window sums of it and of the rows half
+a window above and below.
 Cost is therefore linear in the disparity range and the image size, per-image work
 (census, gradients) is done once, and memory is a few rows of costs.
 
