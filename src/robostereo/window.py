@@ -836,14 +836,63 @@ def _nearest_right_edge(left: EdgeSet, right: EdgeSet, x_right: NDArray[np.float
     return idx.astype(np.intp), dist
 
 
-def _uniqueness(best: NDArray[np.float64], second: NDArray[np.integer]) -> NDArray[np.float64]:
-    """``(c2 - c1) / c2`` of the best cost ``c1`` and the best ``c2`` more than one
-    disparity away; 0 where either is out of view."""
-    c2 = second.astype(np.float64)
-    ok = (best < OUT_OF_VIEW) & (c2 < OUT_OF_VIEW)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        u = np.where(ok, (c2 - best) / np.maximum(c2, 1.0), 0.0)
-    return np.clip(u, 0.0, 1.0)
+@nb.njit(cache=True, nogil=True)
+def _unique(c1, c2):  # type: ignore[no-untyped-def]
+    """``(c2 - c1) / c2`` clipped to 0..1; 0 where either is out of view."""
+    if c1 >= OUT_OF_VIEW or c2 >= OUT_OF_VIEW:
+        return 0.0
+    return min(max((c2 - c1) / max(c2, 1.0), 0.0), 1.0)
+
+
+@nb.njit(cache=True, nogil=True)
+def _vertex(k, cm, c0, cp, d_lo):  # type: ignore[no-untyped-def]
+    """Disparity of the parabola's vertex through the costs at ``k - 1, k, k + 1``."""
+    den = cm - 2.0 * c0 + cp
+    off = 0.0
+    if cm < OUT_OF_VIEW and cp < OUT_OF_VIEW and den > 0:
+        off = min(max(0.5 * (cm - cp) / den, -0.5), 0.5)
+    return d_lo + k + off
+
+
+@nb.njit(cache=True, nogil=True)
+def _evidence(best, cost, second, before, after, best_row, cost_row, second_row,
+              right_best, best_path, cost_path, second_path, before_path, after_path,
+              d_lo, nd, swap_u):  # type: ignore[no-untyped-def]
+    """Per point: the whole-pixel disparity refined by its parabola (the paths' where
+    they are taken), and the evidence of :data:`robostereo.confidence.FEATURES`."""
+    n = best.shape[0]
+    d_par = np.full(n, np.nan)
+    uniq = np.zeros(n)
+    u_row = np.zeros(n)
+    u_path = np.zeros(n)
+    lr_ok = np.zeros(n, np.bool_)
+    path_agree = np.zeros(n, np.bool_)
+    swap = np.zeros(n, np.bool_)
+    seen = np.zeros(n, np.bool_)
+    for i in range(n):
+        k1 = best[i]
+        s = k1 >= 0
+        uniq[i] = _unique(float(cost[i]), float(second[i]))
+        if s:
+            d_par[i] = _vertex(k1, float(before[i]), float(cost[i]), float(after[i]), d_lo)
+        kp = best_path[i]
+        if kp >= 0:
+            u_path[i] = _unique(float(cost_path[i]), float(second_path[i]))
+            path_agree[i] = s and abs(kp - k1) <= 1
+            swap[i] = not path_agree[i] and u_path[i] > swap_u
+            if swap[i]:
+                d_par[i] = _vertex(kp, float(before_path[i]), float(cost_path[i]),
+                                   float(after_path[i]), d_lo)
+        else:
+            path_agree[i] = True
+        s = s or swap[i]
+        seen[i] = s
+        # the right pixel's best disparity is the same or one off (none: only when a
+        # single disparity is searched, where there is nothing to disagree with)
+        lr_ok[i] = abs(right_best[i] - k1) <= 1 if right_best[i] >= 0 else nd <= 1
+        if s and abs(best_row[i] - k1) <= 1:
+            u_row[i] = _unique(float(cost_row[i]), float(second_row[i]))
+    return d_par, uniq, u_row, u_path, lr_ok, path_agree, swap, seen
 
 
 def window_match(
@@ -914,35 +963,10 @@ def window_match(
                       valid_right=valid_right, vertical=vertical,
                       path_penalties=path_penalties)
     n, nd = len(left), wc.n_disparities
-    k1 = wc.best.astype(np.intp)
-    seen = k1 >= 0
-    c1 = wc.cost.astype(np.float64)
-    uniq = _uniqueness(c1, wc.second)
-    cm = wc.before.astype(np.float64)
-    cp = wc.after.astype(np.float64)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        den = cm - 2.0 * c1 + cp
-        inner = seen & (cm < OUT_OF_VIEW) & (cp < OUT_OF_VIEW) & (den > 0)
-        off = np.where(inner, 0.5 * (cm - cp) / np.where(inner, den, 1.0), 0.0)
-    d_par = np.where(seen, d_lo + k1 + np.clip(off, -0.5, 0.5), np.nan)
-    # the paths along the row: agreement, their uniqueness, and where they disagree
-    # with the windows and are unique enough, their disparity instead
-    kp = wc.best_path.astype(np.intp)
-    has_path = kp >= 0
-    u_path = np.where(has_path, _uniqueness(wc.cost_path.astype(np.float64), wc.second_path),
-                      0.0)
-    path_agree = ~has_path | (seen & (np.abs(kp - k1) <= 1))
-    swap = has_path & ~path_agree & (u_path > SWAP_UNIQUENESS)
-    pm, p0, pp = (v.astype(np.float64) for v in (wc.before_path, wc.cost_path, wc.after_path))
-    with np.errstate(invalid="ignore", divide="ignore"):
-        den = pm - 2.0 * p0 + pp
-        inner = swap & (pm < OUT_OF_VIEW) & (pp < OUT_OF_VIEW) & (den > 0)
-        off = np.where(inner, 0.5 * (pm - pp) / np.where(inner, den, 1.0), 0.0)
-    d_par = np.where(swap, d_lo + kp + np.clip(off, -0.5, 0.5), d_par)
-    seen = seen | swap
-    lr = np.where(wc.right_best >= 0, np.abs(wc.right_best - k1), nd)
-    agree = seen & (np.abs(wc.best_row - k1) <= 1)
-    u_row = np.where(agree, _uniqueness(wc.cost_row.astype(np.float64), wc.second_row), 0.0)
+    d_par, uniq, u_row, u_path, lr_ok, path_agree, swap, seen = _evidence(
+        wc.best, wc.cost, wc.second, wc.before, wc.after, wc.best_row, wc.cost_row,
+        wc.second_row, wc.right_best, wc.best_path, wc.cost_path, wc.second_path,
+        wc.before_path, wc.after_path, d_lo, nd, SWAP_UNIQUENESS)
     idx, dist = _nearest_right_edge(left, right, left.x - d_par)
     d_edge = left.x - right.x[np.maximum(idx, 0)] if len(right) else d_par
     use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel
@@ -959,7 +983,7 @@ def window_match(
         uniq,
         u_row,
         (u_row > 0).astype(float),
-        (lr <= 1).astype(float),
+        lr_ok.astype(float),
         use_edge.astype(float),
         sim,
         1.0 - wc.in_view / max(nd, 1),
