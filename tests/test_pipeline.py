@@ -138,3 +138,25 @@ def test_no_edges_gives_an_empty_result_not_a_crash():
 def test_bad_input(left, right, rng_, message):
     with pytest.raises(InputError, match=message):
         match_stereo(left, right, rng_)
+
+
+def test_parabola_disparities_get_a_wider_depth_bound():
+    """A match that lands on no right edge point takes its sub-pixel disparity from a
+    cost parabola; its eq. (9) bound uses PARABOLA_DISPARITY_UNCERTAINTY_PX, and with
+    it every correct match of a half-pixel synthetic pair is within its bound."""
+    from robostereo.pipeline import PARABOLA_DISPARITY_UNCERTAINTY_PX
+    from robostereo.triangulation import triangulate
+
+    left, right, gt = synthetic_pair(np.random.default_rng(3), disparities=(6.5, 9.25))
+    cam = StereoCamera(800.0, 800.0, 60.0, disparity_uncertainty_px=0.2)
+    res = match_stereo(left, right, (4.0, 12.0), camera=cam)
+    dd = res.disparity_uncertainty_px
+    on_edge = res.edge_right[res.matched] >= 0
+    assert np.all(dd[on_edge] == 0.2)
+    assert np.all(dd[~on_edge] == PARABOLA_DISPARITY_UNCERTAINTY_PX) and (~on_edge).any()
+    xyz, bound = res.triangulated()
+    g = gt[res.rows, np.rint(res.x_left).astype(int)]
+    ok = np.isfinite(g) & (np.abs(res.disparity - g) <= 1.0)
+    truth, _ = triangulate(cam, res.x_left, res.x_left - g, res.rows, res.image_shape)
+    dz = np.abs(xyz[:, 2] - truth[:, 2])
+    assert ok.sum() > 100 and np.all(dz[ok] <= bound[ok])

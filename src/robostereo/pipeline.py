@@ -40,12 +40,19 @@ from robostereo.window import PATH_PENALTIES, WindowMatch, window_match
 __all__ = [
     "DEFAULT_MIN_CONFIDENCE",
     "METHODS",
+    "PARABOLA_DISPARITY_UNCERTAINTY_PX",
     "MatchParameters",
     "MatchResult",
     "match_stereo",
     "searched_range",
 ]
 
+
+#: ``d(disp)`` (pixels) of a match whose sub-pixel disparity is the vertex of the window
+#: costs' parabola rather than a right edge point's position: on the synthetic pairs with
+#: exact ground truth (tests/synthetic.py, 6 + 6 pairs) their correct matches were at most
+#: 0.68 px off (95 % within 0.61), against 0.12 px (99 %) on a right edge point
+PARABOLA_DISPARITY_UNCERTAINTY_PX = 0.75
 
 #: the matchers of :func:`match_stereo`
 METHODS = ("window", "relaxation")
@@ -290,7 +297,19 @@ class MatchResult:
         """
         if self.camera is None:
             raise InputError("3-D points need a camera (focal length, pixel pitch, baseline)")
-        return triangulate(self.camera, self.x_left, self.x_right, self.rows, self.image_shape)
+        return triangulate(self.camera, self.x_left, self.x_right, self.rows, self.image_shape,
+                           disparity_uncertainty_px=self.disparity_uncertainty_px)
+
+    @property
+    def disparity_uncertainty_px(self) -> NDArray[np.float64]:
+        """``d(disp)`` of each matched point for eq. (9), shape ``(K,)``: the camera's
+        (sub-pixel edge positions) where the match lands on a right edge point, at
+        least :data:`PARABOLA_DISPARITY_UNCERTAINTY_PX` where its sub-pixel disparity is
+        the vertex of a cost parabola (window method, no right edge point there)."""
+        base = (self.camera.disparity_uncertainty_px if self.camera is not None
+                else PARABOLA_DISPARITY_UNCERTAINTY_PX)
+        on_edge = self.edge_right[self.matched] >= 0
+        return np.where(on_edge, base, max(base, PARABOLA_DISPARITY_UNCERTAINTY_PX))
 
     def table(self) -> dict[str, NDArray]:
         """Matched points as columns: row, x_left, x_right, disparity, confidence and,
