@@ -303,15 +303,32 @@ def pattern_type(up_offset: ArrayLike, down_offset: ArrayLike, has_up: ArrayLike
     ...              [True, True, False, False]).tolist()
     [5, 2, 12, 16]
     """
-    u = np.asarray(up_offset, dtype=np.int16)
-    v = np.asarray(down_offset, dtype=np.int16)
-    hu = np.asarray(has_up, dtype=bool)
-    hd = np.asarray(has_down, dtype=bool)
-    out = np.full(np.broadcast(u, v, hu, hd).shape, 16, dtype=np.int16)
-    out = np.where(hu & hd, 1 + 3 * (u + 1) + (v + 1), out)
-    out = np.where(hu & ~hd, 11 + u, out)
-    out = np.where(~hu & hd, 14 + v, out)
-    return out.astype(np.int8)
+    u, v, hu, hd = np.broadcast_arrays(np.asarray(up_offset, dtype=np.int64),
+                                       np.asarray(down_offset, dtype=np.int64),
+                                       np.asarray(has_up, dtype=bool),
+                                       np.asarray(has_down, dtype=bool))
+    out = _patterns(u.ravel(), v.ravel(), hu.ravel(), hd.ravel())
+    return out.reshape(u.shape)
+
+
+@nb.njit(cache=True, nogil=True)
+def _pattern(u, v, hu, hd):  # type: ignore[no-untyped-def]
+    """Pattern type of one edge point (:func:`pattern_type`)."""
+    if hu and hd:
+        return 1 + 3 * (u + 1) + (v + 1)
+    if hu:
+        return 11 + u
+    if hd:
+        return 14 + v
+    return 16
+
+
+@nb.njit(cache=True, nogil=True)
+def _patterns(u, v, hu, hd):  # type: ignore[no-untyped-def]
+    out = np.empty(u.shape[0], np.int8)
+    for i in range(u.shape[0]):
+        out[i] = _pattern(u[i], v[i], hu[i], hd[i])
+    return out
 
 
 def pattern_difference(
@@ -492,15 +509,7 @@ def _features(k, j, am, a0, ap, gp, sr, g0, row_offset, row_step, subpixel,
     up, down, up_off, down_off = _connect(k, j, sign, n_lines, w)
     pattern = np.empty(n, np.int8)
     for i in range(n):
-        hu, hd = up[i] >= 0, down[i] >= 0
-        if hu and hd:
-            pattern[i] = 1 + 3 * (up_off[i] + 1) + (down_off[i] + 1)
-        elif hu:
-            pattern[i] = 11 + up_off[i]
-        elif hd:
-            pattern[i] = 14 + down_off[i]
-        else:
-            pattern[i] = 16
+        pattern[i] = _pattern(up_off[i], down_off[i], up[i] >= 0, down[i] >= 0)
     mean5 = _mean5_at(g0, row_offset + row_step * k, j)
     return x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
 

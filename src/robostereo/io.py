@@ -14,6 +14,7 @@ from __future__ import annotations
 import contextlib
 import math
 import os
+import shutil
 import tempfile
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
@@ -37,6 +38,7 @@ __all__ = [
     "stereo_camera_from_dict",
     "stereo_camera_to_dict",
     "write_csv",
+    "write_image_folder",
     "write_ply",
 ]
 
@@ -54,6 +56,56 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
         raise InputError(f"{target}: is a folder, not an output file name")
     with atomic_outputs({"path": target}) as tmp:
         yield tmp["path"]
+
+
+def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
+                       texts: Mapping[str, str]) -> Path:
+    """Write a folder of 8-bit PNG images and text files, all or nothing.
+
+    The files are written into a temporary folder beside `directory`, which is then
+    renamed to it; on an error nothing is left behind.
+
+    Parameters
+    ----------
+    directory : path
+        The folder to make: it must not exist or be empty, its parent must exist.
+    images : mapping of str to ndarray
+        File name to a uint8 image, written as PNG.
+    texts : mapping of str to str
+        File name to its UTF-8 text.
+
+    Returns
+    -------
+    Path
+        `directory`.
+    """
+    import cv2
+
+    target = Path(directory)
+    parent = target.parent if str(target.parent) else Path(".")
+    if not parent.is_dir():
+        raise InputError(f"{target}: parent folder {parent} does not exist")
+    if target.exists() and (not target.is_dir() or any(target.iterdir())):
+        raise InputError(f"{target}: exists and is not an empty folder")
+    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".part", dir=parent))
+    try:
+        for name, img in images.items():
+            ok, buf = cv2.imencode(".png", np.asarray(img, dtype=np.uint8))
+            if not ok:  # pragma: no cover - OpenCV always encodes uint8 grey
+                raise InputError(f"{target / name}: cannot encode PNG")
+            (tmp / name).write_bytes(buf.tobytes())
+        for name, text in texts.items():
+            (tmp / name).write_text(text, encoding="utf-8")
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)
+        if target.is_dir():
+            target.rmdir()
+        os.replace(tmp, target)
+    finally:
+        if tmp.exists():
+            shutil.rmtree(tmp, ignore_errors=True)
+    return target
 
 
 def read_folder_yaml(directory: PathLike, filename: str, *, folder: str) -> tuple[Any, Path]:

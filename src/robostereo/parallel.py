@@ -53,7 +53,10 @@ def _executor(workers: int) -> ThreadPoolExecutor:
     global _pool
     with _lock:
         if _pool is None or _pool[0] != os.getpid() or _pool[1] != workers:
-            # a forked child inherits the pool object but not its threads
+            # a forked child inherits the pool object but not its threads; a pool of
+            # another size (ROBOSTEREO_THREADS changed) lets its threads end
+            if _pool is not None and _pool[0] == os.getpid():
+                _pool[2].shutdown(wait=False)
             _pool = (os.getpid(), workers, ThreadPoolExecutor(
                 max_workers=workers, thread_name_prefix="robostereo"))
         return _pool[2]

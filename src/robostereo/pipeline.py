@@ -305,9 +305,11 @@ class MatchResult:
         """``d(disp)`` of each matched point for eq. (9), shape ``(K,)``: the camera's
         (sub-pixel edge positions) where the match lands on a right edge point, at
         least :data:`PARABOLA_DISPARITY_UNCERTAINTY_PX` where its sub-pixel disparity is
-        the vertex of a cost parabola (window method, no right edge point there)."""
-        base = (self.camera.disparity_uncertainty_px if self.camera is not None
-                else PARABOLA_DISPARITY_UNCERTAINTY_PX)
+        the vertex of a cost parabola (window method, no right edge point there).
+        Raises :class:`~robostereo.errors.InputError` without a camera."""
+        if self.camera is None:
+            raise InputError("d(disp) needs a camera (its disparity_uncertainty_px)")
+        base = self.camera.disparity_uncertainty_px
         on_edge = self.edge_right[self.matched] >= 0
         return np.where(on_edge, base, max(base, PARABOLA_DISPARITY_UNCERTAINTY_PX))
 

@@ -71,10 +71,6 @@ __all__ = [
 CENSUS_SIZE = (7, 5)
 #: half size of the aggregation window (9 x 9) and the shift of the side windows
 HALF_WINDOW = 4
-#: the windows shifted up or down cost this many sixteenths more: they win only where
-#: they are clearly better than the windows along the row
-VERTICAL_PENALTY = 8
-
 
 @intrinsic
 def _popcount(typingctx, x):  # type: ignore[no-untyped-def]
@@ -593,7 +589,11 @@ class WindowCosts:
         (the left-right check); -1 where there is none.
     best_path, cost_path, second_path, before_path, after_path : ndarray of int
         The same as ``best`` ... ``after`` for the centred window costs aggregated
-        along the row both ways (:func:`window_costs`, Notes); -1 without paths.
+        along the row both ways (:func:`window_costs`, Notes); -1 without paths.  Over
+        more than :data:`PATH_MAX_DISPARITIES` the paths' disparities are bins:
+        ``best_path`` is then the windows' best whole disparity in the best bin, the
+        costs are the bins', ``before_path`` and ``after_path`` the windows' (for the
+        parabola).
     """
 
     d_min: int

@@ -25,36 +25,7 @@ The names of :mod:`robostereo.robot.scara` are re-exported here, so
 ``from robostereo.robot import AdeptOne`` works as before the subpackage existed.
 """
 
-from robostereo.robot.scara import (
-    ADEPTONE_LIMITS,
-    ADEPTONE_LINK1_MM,
-    ADEPTONE_LINK2_MM,
-    ADEPTONE_REPEATABILITY_MM,
-    AdeptOne,
-    CameraDevice,
-    CameraMount,
-    Elbow,
-    JointLimits,
-    Joints,
-    Robot,
-    SimulatedCamera,
-    StereoAcquisition,
-    acquire_stereo_pair,
-)
+from robostereo.robot import scara
+from robostereo.robot.scara import *  # noqa: F403 - the names of scara.__all__
 
-__all__ = [
-    "ADEPTONE_LIMITS",
-    "ADEPTONE_LINK1_MM",
-    "ADEPTONE_LINK2_MM",
-    "ADEPTONE_REPEATABILITY_MM",
-    "AdeptOne",
-    "CameraDevice",
-    "CameraMount",
-    "Elbow",
-    "JointLimits",
-    "Joints",
-    "Robot",
-    "SimulatedCamera",
-    "StereoAcquisition",
-    "acquire_stereo_pair",
-]
+__all__ = list(scara.__all__)

@@ -45,14 +45,11 @@ from __future__ import annotations
 
 import math
 import os
-import shutil
-import tempfile
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any, Literal
 
-import cv2
 import numpy as np
 import yaml
 from numpy.typing import ArrayLike, NDArray
@@ -413,12 +410,6 @@ def write_capture(directory: str | os.PathLike[str], capture: Capture) -> Path:
         The parent folder is missing, `directory` is a non-empty folder or a file, or
         the images are not 8-bit representable.
     """
-    target = Path(directory)
-    parent = target.parent if str(target.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{target}: parent folder {parent} does not exist")
-    if target.exists() and (not target.is_dir() or any(target.iterdir())):
-        raise InputError(f"{target}: exists and is not an empty folder")
     images = []
     for name in ("left", "right"):
         img = np.asarray(getattr(capture, name))
@@ -429,24 +420,10 @@ def write_capture(directory: str | os.PathLike[str], capture: Capture) -> Path:
         images.append(img.astype(np.uint8))
     text = yaml.dump(capture_to_dict(capture), Dumper=_Dumper, sort_keys=False,
                      default_flow_style=False)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".part", dir=parent))
-    try:
-        for name, img in zip(_IMAGES, images, strict=True):
-            ok, buf = cv2.imencode(".png", img)
-            if not ok:  # pragma: no cover - OpenCV always encodes uint8 grey
-                raise InputError(f"{target / name}: cannot encode PNG")
-            (tmp / name).write_bytes(buf.tobytes())
-        (tmp / CAPTURE_YAML).write_text(text, encoding="utf-8")
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o777 & ~umask)
-        if target.is_dir():
-            target.rmdir()
-        os.replace(tmp, target)
-    finally:
-        if tmp.exists():
-            shutil.rmtree(tmp, ignore_errors=True)
-    return target
+    from robostereo.io import write_image_folder
+
+    return write_image_folder(directory, dict(zip(_IMAGES, images, strict=True)),
+                              {CAPTURE_YAML: text})
 
 
 def read_capture(directory: str | os.PathLike[str]) -> Capture:

@@ -680,21 +680,11 @@ def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | 
 
     `extra` maps further file names to mappings written as YAML (e.g. ``truth.yaml``).
     """
-    import os
-    import shutil
-    import tempfile
-    from pathlib import Path
-
     import yaml
 
+    from robostereo.io import write_image_folder
     from robostereo.robot.poses import pose_to_dict
 
-    target = Path(directory)
-    parent = target.parent if str(target.parent) else Path(".")
-    if not parent.is_dir():
-        raise InputError(f"{target}: parent folder {parent} does not exist")
-    if target.exists() and (not target.is_dir() or any(target.iterdir())):
-        raise InputError(f"{target}: exists and is not an empty folder")
     b = views.board
     board: dict[str, Any]
     if isinstance(b, Chessboard):
@@ -710,25 +700,10 @@ def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | 
         "views": [{"image": n, "flange": pose_to_dict(f)}
                   for n, f in zip(views.names, views.flange_poses, strict=True)],
     }
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".part", dir=parent))
-    try:
-        for name, img in zip(views.names, views.images, strict=True):
-            ok, buf = cv2.imencode(".png", np.asarray(img, dtype=np.uint8))
-            if not ok:  # pragma: no cover
-                raise InputError(f"{target / name}: cannot encode PNG")
-            (tmp / name).write_bytes(buf.tobytes())
-        (tmp / VIEWS_YAML).write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
-        for fname, mapping in (extra or {}).items():
-            (tmp / fname).write_text(yaml.safe_dump(mapping, sort_keys=False), encoding="utf-8")
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o777 & ~umask)
-        if target.is_dir():
-            target.rmdir()
-        os.replace(tmp, target)
-    finally:
-        if tmp.exists():
-            shutil.rmtree(tmp, ignore_errors=True)
+    texts = {VIEWS_YAML: yaml.safe_dump(data, sort_keys=False)}
+    texts.update({fname: yaml.safe_dump(mapping, sort_keys=False)
+                  for fname, mapping in (extra or {}).items()})
+    write_image_folder(directory, dict(zip(views.names, views.images, strict=True)), texts)
 
 
 def read_views(directory: Any) -> HandEyeViews:
