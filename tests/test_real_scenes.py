@@ -152,3 +152,22 @@ def test_paths_earn_their_time(matched):
         gains.append(curves[0] - curves[1])
         assert gains[-1] > -0.02, (name, curves)
     assert np.mean(gains) > 0.0
+
+
+def test_a_generous_range_costs_little_and_loses_nothing(matched):
+    """Every scene searched over 0..256 instead of its own range: the half-size pass
+    narrows it to under half, and the curve at <= 3 % false stays within a point of
+    the one at the scene's range."""
+    if not matched:
+        pytest.skip("no real scenes")
+    for name, m in matched.items():
+        scene = m["scene"]
+        wide = match_stereo(scene.left, scene.right, (0.0, 256.0))
+        assert wide.window.costs.n_disparities < 257 / 2, name
+        curves = []
+        for res in (m["res"], wide):
+            e = res.left_edges
+            c = coverage_curve(e.row, e.x, res.edge_disparity, res.edge_confidence,
+                               scene.gt_disparity)
+            curves.append(c.coverage_at(0.03))
+        assert curves[1] > curves[0] - 0.01, (name, curves)

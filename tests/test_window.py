@@ -242,3 +242,68 @@ def test_paths_bin_a_wide_range():
     wc = window_costs(left, right, rows, cols, wide)
     assert np.all(wc.best_path == d) and np.all(wc.best == d)
     assert np.all(wc.second_path > wc.cost_path)
+
+
+def test_coarse_range_holds_the_scene_and_drops_the_rest():
+    """Layered scenes (disparities 5..26) searched over 0..150: the half-size pass keeps
+    every disparity the edge points have and cuts most of the rest."""
+    from robostereo.edges import detect_edges, to_grey
+    from robostereo.window import COARSE_MARGIN, coarse_range
+
+    rng = np.random.default_rng(21)
+    for _ in range(3):
+        left, right, gt = layered_pair(rng, height=200, width=360)
+        e = detect_edges(left, threshold=8.0)
+        lo, hi = coarse_range(to_grey(left), to_grey(right), e.row, e.column, (0, 150))
+        true = gt[e.row, e.column]
+        true = true[np.isfinite(true)]
+        # some edge points at the far left are out of view; all the rest are kept
+        assert lo <= np.quantile(true, 0.01) and hi >= np.quantile(true, 0.99)
+        assert 0 <= lo and hi <= 26 + 2 * COARSE_MARGIN + 1
+
+
+def test_coarse_range_leaves_narrow_ranges_and_degenerate_input_whole():
+    from robostereo.window import coarse_range
+
+    g = np.zeros((12, 30), np.float32)  # too small to halve into a window
+    assert coarse_range(g, g, np.array([5]), np.array([9]), (0, 100)) == (0, 100)
+    rng = np.random.default_rng(3)
+    big = rng.uniform(0, 127, (60, 120)).astype(np.float32)
+    none = np.array([], np.int64)
+    assert coarse_range(big, big, none, none, (0, 100)) == (0, 100)
+
+
+def test_coarse_search_of_a_wide_range_matches_like_the_tight_one():
+    """A generous range (0..150) gives the matches of the true range (4..27) with the
+    half-size pass, which searches a fifth of the disparities."""
+    rng = np.random.default_rng(5)
+    shares = {"tight": [], "coarse": [], "whole": []}
+    for _ in range(2):
+        left, right, gt = layered_pair(rng, height=200, width=360)
+        runs = {"tight": match_stereo(left, right, (4.0, 27.0)),
+                "coarse": match_stereo(left, right, (0.0, 150.0)),
+                "whole": match_stereo(left, right, (0.0, 150.0),
+                                      params=MatchParameters(coarse=False))}
+        assert runs["coarse"].window.costs.n_disparities < 60
+        assert runs["whole"].window.costs.n_disparities == 151
+        for k, res in runs.items():
+            e = res.left_edges
+            known, err = match_errors(e.row, e.x, res.accepted_disparity(), gt)
+            shares[k].append(np.mean(err[known] <= 1.0))
+    tight, coarse, whole = (float(np.mean(v)) for v in shares.values())
+    assert coarse >= tight - 0.02
+    assert coarse >= whole - 0.01
+
+
+def test_coarse_search_only_for_wide_ranges():
+    from robostereo.window import COARSE_MIN_DISPARITIES
+
+    rng = np.random.default_rng(6)
+    left, right, _ = layered_pair(rng, height=120, width=240)
+    narrow = (0.0, float(COARSE_MIN_DISPARITIES - 1))
+    a = match_stereo(left, right, narrow)
+    b = match_stereo(left, right, narrow, params=MatchParameters(coarse=False))
+    assert np.array_equal(a.edge_disparity, b.edge_disparity, equal_nan=True)
+    assert a.window.costs.n_disparities == COARSE_MIN_DISPARITIES
+    with pytest.raises(InputError, match="coarse"):
+        MatchParameters(coarse=1)  # type: ignore[arg-type]

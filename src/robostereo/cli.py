@@ -98,8 +98,8 @@ def _unit_interval(name: str) -> Callable[[str], float]:
 
 
 def _add_matcher_args(p: Any) -> None:
-    """``--method``, ``--min-confidence`` and ``--no-paths``, shared by the commands
-    that match."""
+    """``--method``, ``--min-confidence``, ``--no-paths`` and ``--no-coarse``, shared by
+    the commands that match."""
     from robostereo.pipeline import DEFAULT_MIN_CONFIDENCE, METHODS
 
     p.add_argument("--method", choices=METHODS, default=None,
@@ -113,11 +113,14 @@ def _add_matcher_args(p: Any) -> None:
     p.add_argument("--no-paths", dest="paths", action="store_false", default=None,
                    help="window method without the paths along the rows: a tenth to a quarter "
                         "faster, worse on repeated patterns and weak texture")
+    p.add_argument("--no-coarse", dest="coarse", action="store_false", default=None,
+                   help="window method: search a wide disparity range (over 64) whole, "
+                        "without first narrowing it by a pass at half size")
 
 
 def matcher_params(args: argparse.Namespace, base: Any) -> Any:
-    """``base`` (MatchParameters) with the ``--method``, ``--min-confidence`` and
-    ``--no-paths`` given."""
+    """``base`` (MatchParameters) with the ``--method``, ``--min-confidence``,
+    ``--no-paths`` and ``--no-coarse`` given."""
     changes: dict[str, Any] = {}
     if getattr(args, "method", None) is not None:
         changes["method"] = args.method
@@ -125,6 +128,8 @@ def matcher_params(args: argparse.Namespace, base: Any) -> Any:
         changes["min_confidence"] = args.min_confidence
     if getattr(args, "paths", None) is False:
         changes["paths"] = False
+    if getattr(args, "coarse", None) is False:
+        changes["coarse"] = False
     return replace(base, **changes)
 
 

@@ -263,11 +263,11 @@ def calibration_table(confidence: ArrayLike, correct: ArrayLike, *, bins: int = 
 #: fitted by ``python benchmarks/fit_confidence.py``: the six developer scenes' matches
 #: pooled, with six synthetic layered pairs weighing as one average scene
 DEFAULT_MODEL = ConfidenceModel(
-    knots_score=(-1.7735, -0.8787, -0.7495, -0.6084, -0.4131, 0.1518, 0.3851, 0.4856, 0.5586,
-                 0.6414, 0.7366, 0.7998, 0.8579, 0.9158, 0.9831, 1.0442, 1.1395, 1.2696,
-                 1.4488),
-    knots_probability=(0.1814, 0.3269, 0.5866, 0.7255, 0.8038, 0.8513, 0.8916, 0.9374,
-                       0.9444, 0.9702, 0.9732, 0.9861, 0.9861, 0.9921, 0.9927, 0.9960,
+    knots_score=(-1.7706, -0.8767, -0.7474, -0.6046, -0.4023, 0.1685, 0.3901, 0.4904, 0.5627,
+                 0.6194, 0.6714, 0.7399, 0.8413, 0.9524, 1.0171, 1.0472, 1.1412, 1.2702,
+                 1.4490),
+    knots_probability=(0.1785, 0.3265, 0.6005, 0.7262, 0.7991, 0.8549, 0.8906, 0.9344,
+                       0.9522, 0.9662, 0.9702, 0.9732, 0.9874, 0.9920, 0.9940, 0.9960,
                        0.9987, 0.9990, 1.0000),
     right_edge_weight=0.1, similarity_weight=0.2, row_agree_weight=0.0, path_weight=0.5,
     swap_weight=0.0)

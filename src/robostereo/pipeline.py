@@ -108,6 +108,11 @@ class MatchParameters:
         the disparity of textured parts into repeated patterns and weak texture.
         False: a tenth to a quarter faster, worse there; the confidence is then conservative
         (its calibration was fitted with the paths).
+    coarse : bool
+        Window method: a range of more than 64 whole disparities is first narrowed
+        to the part the scene holds by a pass at half size
+        (:func:`robostereo.window.coarse_range`), so a generous range costs little
+        more than a tight one.  False: the whole range is searched.
     bit_depth : int or None
         Bit depth of the input grey levels; None: from the dtype.
     """
@@ -125,6 +130,7 @@ class MatchParameters:
     min_confidence: float | None = None
     gradient_truncation: int = 64
     paths: bool = True
+    coarse: bool = True
     bit_depth: int | None = None
 
     def __post_init__(self) -> None:
@@ -138,8 +144,9 @@ class MatchParameters:
                 raise InputError(f"min_confidence must be in 0..1, got {self.min_confidence}")
         require_int("row_step", self.row_step, minimum=1)
         require_int("gradient_truncation", self.gradient_truncation, minimum=0)
-        if not isinstance(self.paths, bool):
-            raise InputError(f"paths must be True or False, got {self.paths!r}")
+        for name in ("paths", "coarse"):
+            if not isinstance(getattr(self, name), bool):
+                raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
         if self.gradient_truncation > 300:
             raise InputError(f"gradient_truncation must be in 0..300, got "
                              f"{self.gradient_truncation}")
@@ -528,6 +535,7 @@ def match_stereo(
                           gradient_truncation=p.gradient_truncation, weights=p.weights,
                           profile_scale=p.profile_scale,
                           path_penalties=PATH_PENALTIES if p.paths else None,
+                          coarse=p.coarse,
                           valid_left=None if valid_left is None else np.asarray(valid_left, bool),
                           valid_right=None if valid_right is None
                           else np.asarray(valid_right, bool))
