@@ -663,7 +663,7 @@ def _halve(image: NDArray[np.generic], *, mask: bool = False) -> NDArray[np.gene
     if mask:
         return np.ascontiguousarray(image[:2 * h, :2 * w].reshape(h, 2, w, 2).all(axis=(1, 3)))
     # an area resize by exactly one half is the mean of each 2 x 2 block
-    return cv2.resize(np.ascontiguousarray(image[:2 * h, :2 * w], np.float32), (w, h),
+    return cv2.resize(image[:2 * h, :2 * w].astype(np.float32, copy=False), (w, h),
                       interpolation=cv2.INTER_AREA)
 
 
@@ -699,7 +699,8 @@ def coarse_range(
     tuple of int
         ``(d_min, d_max)`` within `disparity_range`: the hull of the disparities at
         which the edge points match at half resolution, passing the left-right
-        check, widened by `margin`.  The whole range where none passes.
+        check and backed by a neighbour (another such match within two pixels and
+        one disparity), widened by `margin`.  The whole range where none passes.
 
     Notes
     -----
@@ -724,8 +725,10 @@ def coarse_range(
     h, w = ga.shape
     if h < 2 * HALF_WINDOW + 1 or w < 2 * HALF_WINDOW + 1 or len(rows) == 0:
         return d_lo, d_hi
-    key = np.unique(np.minimum(np.asarray(rows, np.int64) // 2, h - 1) * w
-                    + np.minimum(np.asarray(columns, np.int64) // 2, w - 1))
+    marked = np.zeros(h * w, np.bool_)  # the halved edge pixels, each once, by row
+    marked[np.minimum(np.asarray(rows, np.int64) // 2, h - 1) * w
+           + np.minimum(np.asarray(columns, np.int64) // 2, w - 1)] = True
+    key = np.flatnonzero(marked)
     masks = [None if v is None else _halve(np.asarray(v, np.bool_), mask=True)
              for v in (valid_left, valid_right)]
     c_lo, c_hi = d_lo // 2, -(-d_hi // 2)
@@ -733,9 +736,19 @@ def coarse_range(
                       gradient_truncation=gradient_truncation, valid_left=masks[0],
                       valid_right=masks[1], path_penalties=None)
     ok = (wc.best >= 0) & (wc.right_best >= 0) & (np.abs(wc.right_best - wc.best) <= 1)
-    if not np.any(ok):
+    # an edge is a curve: a match counts where a neighbour within two pixels matches
+    # within a pixel of it too, which a lone false match does not
+    r, c, d = key[ok] // w + 2, key[ok] % w + 2, wc.best[ok].astype(np.int64)
+    held = np.full((h + 4, w + 4), -(1 << 40), np.int64)
+    held[r, c] = d
+    backed = np.zeros(d.shape, np.bool_)
+    for dy in range(-2, 3):
+        for dx in range(-2, 3):
+            if dy or dx:
+                backed |= np.abs(held[r + dy, c + dx] - d) <= 1
+    if not np.any(backed):
         return d_lo, d_hi
-    found = wc.best[ok] + c_lo
+    found = d[backed] + c_lo
     return (max(d_lo, 2 * int(found.min()) - margin),
             min(d_hi, 2 * int(found.max()) + margin))
 
