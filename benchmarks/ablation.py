@@ -15,9 +15,12 @@ fitted to the scenes it is scored on; the weights of the full score are the ones
 * ``+ left-right check``: ranked by uniqueness minus a failed left-right check;
 * ``+ edge evidence``: the windows' score (right edge point, its similarity w,
   agreement of the windows along the row);
-* ``+ paths along rows``: the full matcher, the window costs also aggregated along the
-  rows (two scanline paths of semi-global matching), their disparity where they
-  disagree and are unique, their evidence in the score.
+* ``+ paths along rows``: the window costs also aggregated along the rows (two
+  scanline paths of semi-global matching), their disparity where they disagree and
+  are unique, their evidence in the score;
+* ``+ range narrowed``: the full matcher, a range of more than 64 disparities first
+  narrowed by the half-size pass (``robostereo.window.coarse_range``; the earlier
+  variants search the scene's whole range).
 """
 
 from __future__ import annotations
@@ -44,16 +47,19 @@ def variants(scene):
                        params=MatchParameters(method="relaxation", bit_depth=scene.bit_depth))
     yield "relaxation", el, rel.edge_disparity, rel.edge_confidence
     row = window_match(el, er, gl, gr, scene.disparity_range, vertical=False,
-                       path_penalties=None)
+                       path_penalties=None, coarse=False)
     yield "rows, uniqueness", el, row.disparity, row.features[:, F["uniqueness"]]
-    five = window_match(el, er, gl, gr, scene.disparity_range, path_penalties=None)
+    five = window_match(el, er, gl, gr, scene.disparity_range, path_penalties=None,
+                        coarse=False)
     f = five.features
     yield "+ rows above/below", el, five.disparity, f[:, F["uniqueness"]]
     yield ("+ left-right check", el, five.disparity,
            f[:, F["uniqueness"]] - (1.0 - f[:, F["left_right"]]))
     yield "+ edge evidence", el, five.disparity, DEFAULT_MODEL.score(f)
+    paths = window_match(el, er, gl, gr, scene.disparity_range, coarse=False)
+    yield "+ paths along rows", el, paths.disparity, DEFAULT_MODEL.score(paths.features)
     full = window_match(el, er, gl, gr, scene.disparity_range)
-    yield "+ paths along rows", el, full.disparity, DEFAULT_MODEL.score(full.features)
+    yield "+ range narrowed", el, full.disparity, DEFAULT_MODEL.score(full.features)
 
 
 def main() -> int:
