@@ -94,9 +94,10 @@ def usable_pixels(valid: ArrayLike) -> NDArray[np.bool_]:
                      borderValue=1).astype(bool)
 
 
-#: rows of a colour image converted at a time (one small float buffer, not a float copy
-#: of the whole image)
-_GREY_BLOCK_ROWS = 32
+#: pixels of a colour image converted at a time (a float buffer of 3 MiB, not a float
+#: copy of the whole image; few enough calls that two images converted on two threads
+#: do not queue for the interpreter lock between them)
+_GREY_BLOCK_PIXELS = 1 << 18
 
 
 def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
@@ -105,10 +106,11 @@ def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
     if rgb.dtype == np.float32:
         return cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2GRAY)
     grey = np.empty((h, w), np.float32)
-    buf = np.empty((min(h, _GREY_BLOCK_ROWS), w, 3), np.float32)
+    rows = max(1, _GREY_BLOCK_PIXELS // max(w, 1))
+    buf = np.empty((min(h, rows), w, 3), np.float32)
     with np.errstate(over="ignore"):  # beyond float32: inf, refused by the caller
-        for y0 in range(0, h, _GREY_BLOCK_ROWS):
-            y1 = min(h, y0 + _GREY_BLOCK_ROWS)
+        for y0 in range(0, h, rows):
+            y1 = min(h, y0 + rows)
             part = buf[:y1 - y0]
             np.copyto(part, rgb[y0:y1], casting="unsafe")
             cv2.cvtColor(part, cv2.COLOR_RGB2GRAY, dst=grey[y0:y1])
@@ -514,6 +516,18 @@ def _features(k, j, am, a0, ap, gp, sr, g0, row_offset, row_step, subpixel,
     return x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
 
 
+@nb.njit(cache=True, nogil=True)
+def _edge_points(src, g0, threshold, m, row_offset, row_step, subpixel,
+                 n_lines):  # type: ignore[no-untyped-def]
+    """:func:`_peaks` then :func:`_features` in one call (one release of the
+    interpreter lock for the image, not one per step), with the rows."""
+    k, j, am, a0, ap, gp = _peaks(src, threshold, m)
+    x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = _features(
+        k, j, am, a0, ap, gp, src, g0, row_offset, row_step, subpixel, n_lines)
+    return (k, j, row_offset + row_step * k, x, sign, mag, up, down, up_off, down_off,
+            pattern, mean5, before, after)
+
+
 def detect_edges(
     image: ArrayLike,
     *,
@@ -602,22 +616,27 @@ def detect_edges(
     sr = s[row_offset::row_step]  # a view: no copy of the image
     thr = np.float32(min(float(threshold), float(np.finfo(np.float32).max)))  # no overflow
     src = np.ascontiguousarray(sr)
-    k, j, am, a0, ap, g_peak = _peaks(src, thr, BORDER)
-    if valid is not None:
+    n_lines = rows.shape[0]
+    if valid is None:
+        k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = (
+            _edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step),
+                         bool(subpixel), int(n_lines)))
+    else:
+        k, j, am, a0, ap, g_peak = _peaks(src, thr, BORDER)
         vm = np.asarray(valid, dtype=bool)
         if vm.shape != (h, w):
             raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
         keep = usable_pixels(vm)[rows[k], j]
         k, j, am, a0, ap, g_peak = (v[keep] for v in (k, j, am, a0, ap, g_peak))
-    n_lines = rows.shape[0]
-    x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = _features(
-        k, j, am, a0, ap, g_peak, src, g0, int(row_offset), int(row_step), bool(subpixel),
-        int(n_lines))
-    r = row_offset + row_step * k
+        x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = _features(
+            k, j, am, a0, ap, g_peak, src, g0, int(row_offset), int(row_step), bool(subpixel),
+            int(n_lines))
+        r = row_offset + row_step * k
     return EdgeSet(
-        line=k.astype(np.intp), row=r.astype(np.intp), x=x, column=j.astype(np.intp),
-        sign=sign, magnitude=mag, pattern=pattern, up=up.astype(np.intp),
-        down=down.astype(np.intp), up_offset=up_off, down_offset=down_off, mean_grey=mean5,
-        grey_before=before, grey_after=after, row_step=int(row_step),
-        row_offset=int(row_offset), n_lines=int(n_lines),
+        line=k.astype(np.intp, copy=False), row=r.astype(np.intp, copy=False), x=x,
+        column=j.astype(np.intp, copy=False), sign=sign, magnitude=mag, pattern=pattern,
+        up=up.astype(np.intp, copy=False), down=down.astype(np.intp, copy=False),
+        up_offset=up_off, down_offset=down_off, mean_grey=mean5, grey_before=before,
+        grey_after=after, row_step=int(row_step), row_offset=int(row_offset),
+        n_lines=int(n_lines),
     )

@@ -16,10 +16,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.edges import EdgeSet, pattern_difference
+from robostereo.edges import EdgeSet
 from robostereo.errors import InputError, require_finite
 
 __all__ = [
@@ -268,20 +269,51 @@ def pair_similarity(
     """
     wg, wp, wa = (weights or SimilarityWeights()).normalised()
     _check_profile_scale(profile_scale)
-    gi = 1.0 / (1.0 + np.abs(left.magnitude[li] - right.magnitude[ri]))
-    pdiff = pattern_difference(
-        left.up_offset[li], left.down_offset[li], left.up[li] >= 0, left.down[li] >= 0,
-        right.up_offset[ri], right.down_offset[ri], right.up[ri] >= 0, right.down[ri] >= 0,
-    )
-    pi = 1.0 / (1.0 + pdiff.astype(float))
-    ai = 1.0 / (1.0 + np.abs(left.mean_grey[li] - right.mean_grey[ri]))
-    side = 0.5 * (
-        np.abs(left.grey_before[li] - right.grey_before[ri])
-        + np.abs(left.grey_after[li] - right.grey_after[ri])
-    )
+    li = np.ascontiguousarray(li, np.int64)
+    ri = np.ascontiguousarray(ri, np.int64)
+    if li.shape != ri.shape or li.ndim != 1:
+        raise InputError("li and ri must be 1-D arrays of one length")
+    if li.size and (li.min() < 0 or li.max() >= len(left) or ri.min() < 0
+                    or ri.max() >= len(right)):
+        raise InputError("li and ri must index the left and right edge points")
+    gi, pi, ai, side = _similarity(
+        li, ri, *(np.ascontiguousarray(getattr(e, a)) for e in (left, right)
+                  for a in ("magnitude", "up_offset", "down_offset", "up", "down",
+                            "mean_grey", "grey_before", "grey_after")))
     profile = np.exp(-side / profile_scale) if profile_scale is not None else np.ones_like(side)
     w = (wg * gi + wp * pi + wa * ai) * profile
     return gi, pi, ai, profile, w
+
+
+@nb.njit(cache=True, nogil=True)
+def _one_side(a, b, ha, hb):  # type: ignore[no-untyped-def]
+    """Difference of one side's connection (see ``edges.pattern_difference``)."""
+    if ha and hb:
+        return abs(int(a) - int(b))
+    return 0 if ha == hb else 3
+
+
+@nb.njit(cache=True, nogil=True)
+def _similarity(li, ri, mag_l, uo_l, do_l, up_l, dn_l, mean_l, bef_l, aft_l,
+                mag_r, uo_r, do_r, up_r, dn_r, mean_r, bef_r, aft_r
+                ):  # type: ignore[no-untyped-def]
+    """GI, PI, AI and the profile difference ``e`` of each pair, in one pass over
+    the pairs (:func:`pair_similarity`)."""
+    n = li.shape[0]
+    gi = np.empty(n)
+    pi = np.empty(n)
+    ai = np.empty(n)
+    side = np.empty(n)
+    for k in range(n):
+        i, j = li[k], ri[k]
+        gi[k] = 1.0 / (1.0 + abs(float(mag_l[i]) - float(mag_r[j])))
+        diff = (_one_side(uo_l[i], uo_r[j], up_l[i] >= 0, up_r[j] >= 0)
+                + _one_side(do_l[i], do_r[j], dn_l[i] >= 0, dn_r[j] >= 0))
+        pi[k] = 1.0 / (1.0 + float(diff))
+        ai[k] = 1.0 / (1.0 + abs(float(mean_l[i]) - float(mean_r[j])))
+        side[k] = 0.5 * (abs(float(bef_l[i]) - float(bef_r[j]))
+                         + abs(float(aft_l[i]) - float(aft_r[j])))
+    return gi, pi, ai, side
 
 
 def initial_probabilities(

@@ -624,6 +624,13 @@ class WindowCosts:
     after_path: NDArray[np.int32]
 
 
+#: the columns of the features that the right edge point gives (the rest: _evidence,
+#: which writes them in this order)
+_RIGHT_EDGE, _SIMILARITY = FEATURES.index("right_edge"), FEATURES.index("similarity")
+if FEATURES != ("uniqueness", "uniqueness_row", "row_agree", "left_right", "right_edge",
+                "similarity", "out_of_view", "path_uniqueness", "path_agree", "path_swapped"):
+    raise ImportError("robostereo.window._evidence must follow confidence.FEATURES")
+
 #: cost value of a disparity whose right pixel lies outside the image
 OUT_OF_VIEW = 2**30
 
@@ -971,42 +978,48 @@ def _vertex(k, cm, c0, cp, d_lo):  # type: ignore[no-untyped-def]
 @nb.njit(cache=True, nogil=True)
 def _evidence(best, cost, second, before, after, best_row, cost_row, second_row,
               right_best, best_path, cost_path, second_path, before_path, after_path,
-              d_lo, nd, swap_u):  # type: ignore[no-untyped-def]
+              in_view, d_lo, nd, swap_u, feats):  # type: ignore[no-untyped-def]
     """Per point: the whole-pixel disparity refined by its parabola (the paths' where
-    they are taken), and the evidence of :data:`robostereo.confidence.FEATURES`."""
+    they are taken), whether there is one, and into ``feats`` (N, F) the evidence of
+    :data:`robostereo.confidence.FEATURES` but the right edge point's two columns."""
     n = best.shape[0]
     d_par = np.full(n, np.nan)
-    uniq = np.zeros(n)
-    u_row = np.zeros(n)
-    u_path = np.zeros(n)
-    lr_ok = np.zeros(n, np.bool_)
-    path_agree = np.zeros(n, np.bool_)
-    swap = np.zeros(n, np.bool_)
     seen = np.zeros(n, np.bool_)
     for i in range(n):
         k1 = best[i]
         s = k1 >= 0
-        uniq[i] = _unique(float(cost[i]), float(second[i]))
+        uniq = _unique(float(cost[i]), float(second[i]))
         if s:
             d_par[i] = _vertex(k1, float(before[i]), float(cost[i]), float(after[i]), d_lo)
         kp = best_path[i]
+        u_path = 0.0
+        agree = True
+        swap = False
         if kp >= 0:
-            u_path[i] = _unique(float(cost_path[i]), float(second_path[i]))
-            path_agree[i] = s and abs(kp - k1) <= 1
-            swap[i] = not path_agree[i] and u_path[i] > swap_u
-            if swap[i]:
+            u_path = _unique(float(cost_path[i]), float(second_path[i]))
+            agree = s and abs(kp - k1) <= 1
+            swap = not agree and u_path > swap_u
+            if swap:
                 d_par[i] = _vertex(kp, float(before_path[i]), float(cost_path[i]),
                                    float(after_path[i]), d_lo)
-        else:
-            path_agree[i] = True
-        s = s or swap[i]
+        s = s or swap
         seen[i] = s
         # the right pixel's best disparity is the same or one off (none: only when a
         # single disparity is searched, where there is nothing to disagree with)
-        lr_ok[i] = abs(right_best[i] - k1) <= 1 if right_best[i] >= 0 else nd <= 1
+        lr_ok = abs(right_best[i] - k1) <= 1 if right_best[i] >= 0 else nd <= 1
+        u_row = 0.0
         if s and abs(best_row[i] - k1) <= 1:
-            u_row[i] = _unique(float(cost_row[i]), float(second_row[i]))
-    return d_par, uniq, u_row, u_path, lr_ok, path_agree, swap, seen
+            u_row = _unique(float(cost_row[i]), float(second_row[i]))
+        f = feats[i]
+        f[0] = uniq
+        f[1] = u_row
+        f[2] = 1.0 if u_row > 0 else 0.0
+        f[3] = 1.0 if lr_ok else 0.0
+        f[6] = 1.0 - in_view[i] / max(nd, 1)
+        f[7] = u_path
+        f[8] = 1.0 if agree else 0.0
+        f[9] = 1.0 if swap else 0.0
+    return d_par, seen
 
 
 def window_match(
@@ -1087,10 +1100,11 @@ def window_match(
                       valid_right=valid_right, vertical=vertical,
                       path_penalties=path_penalties)
     n, nd = len(left), wc.n_disparities
-    d_par, uniq, u_row, u_path, lr_ok, path_agree, swap, seen = _evidence(
+    feats = np.zeros((n, len(FEATURES)))
+    d_par, seen = _evidence(
         wc.best, wc.cost, wc.second, wc.before, wc.after, wc.best_row, wc.cost_row,
         wc.second_row, wc.right_best, wc.best_path, wc.cost_path, wc.second_path,
-        wc.before_path, wc.after_path, d_lo, nd, SWAP_UNIQUENESS)
+        wc.before_path, wc.after_path, wc.in_view, d_lo, nd, SWAP_UNIQUENESS, feats)
     idx, dist = _nearest_right_edge(left, right, left.x - d_par)
     d_edge = left.x - right.x[np.maximum(idx, 0)] if len(right) else d_par
     use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel
@@ -1098,23 +1112,11 @@ def window_match(
     in_range = (disparity >= lo - 0.5) & (disparity <= hi + 0.5) & seen
     disparity = np.where(in_range, disparity, np.nan)
     right_edge = np.where(use_edge & in_range, idx, -1).astype(np.intp)
-    sim = np.zeros(n)
+    feats[:, _RIGHT_EDGE] = use_edge
     if np.any(use_edge):
         sel = np.nonzero(use_edge)[0]
-        sim[sel] = pair_similarity(left, right, sel, idx[sel], weights=weights,
-                                   profile_scale=profile_scale)[4]
-    feats = np.column_stack([
-        uniq,
-        u_row,
-        (u_row > 0).astype(float),
-        lr_ok.astype(float),
-        use_edge.astype(float),
-        sim,
-        1.0 - wc.in_view / max(nd, 1),
-        u_path,
-        path_agree.astype(float),
-        swap.astype(float),
-    ]) if n else np.zeros((0, len(FEATURES)))
+        feats[sel, _SIMILARITY] = pair_similarity(left, right, sel, idx[sel], weights=weights,
+                                                  profile_scale=profile_scale)[4]
     conf = (model or DEFAULT_MODEL)(feats)
     conf = np.where(np.isfinite(disparity), conf, np.nan)
     return WindowMatch(disparity=disparity, right_edge=right_edge, features=feats,
