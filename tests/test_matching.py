@@ -123,3 +123,30 @@ def test_bad_range_and_weights():
         find_candidates(e, e, (float("nan"), 2))
     with pytest.raises(InputError, match="weights"):
         SimilarityWeights(-1, 1, 1)
+
+
+def test_pair_similarity_is_the_seed_formula_and_checks_its_indices(rng):
+    """GI, PI, AI, the profile factor and w of random pairs, against the formulas of
+    3.2-3.3 written out in NumPy; indices outside the edge sets are refused."""
+    from robostereo.edges import pattern_difference
+    from robostereo.matching import SimilarityWeights, pair_similarity
+
+    img = (rng.uniform(0, 1, (40, 90)) > 0.5).astype(np.uint8) * 200
+    left, right = detect_edges(img), detect_edges(np.roll(img, 3, axis=0))
+    li, ri = rng.integers(0, len(left), 500), rng.integers(0, len(right), 500)
+    weights = SimilarityWeights(2.0, 1.0, 1.0)
+    gi, pi, ai, profile, w = pair_similarity(left, right, li, ri, weights=weights,
+                                             profile_scale=7.0)
+    assert np.allclose(gi, 1 / (1 + np.abs(left.magnitude[li] - right.magnitude[ri])))
+    diff = pattern_difference(left.up_offset[li], left.down_offset[li], left.up[li] >= 0,
+                              left.down[li] >= 0, right.up_offset[ri], right.down_offset[ri],
+                              right.up[ri] >= 0, right.down[ri] >= 0)
+    assert np.allclose(pi, 1 / (1 + diff)) and 0 < pi.min() < pi.max() <= 1
+    assert np.allclose(ai, 1 / (1 + np.abs(left.mean_grey[li] - right.mean_grey[ri])))
+    side = 0.5 * (np.abs(left.grey_before[li] - right.grey_before[ri])
+                  + np.abs(left.grey_after[li] - right.grey_after[ri]))
+    assert np.allclose(profile, np.exp(-side / 7.0))
+    assert np.allclose(w, (0.5 * gi + 0.25 * pi + 0.25 * ai) * profile)
+    for bad in ([len(left)], [-1]):
+        with pytest.raises(InputError, match="index"):
+            pair_similarity(left, right, np.array(bad), np.array([0]))
