@@ -35,8 +35,9 @@ from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.evaluation import coverage_curve, match_errors
 from robostereo.pipeline import MatchParameters, match_stereo
 
-GRID = list(itertools.product((0.0, 0.1, 0.2), (0.0, 0.1, 0.2), (0.0, 0.1, 0.2),
-                               (0.0, 0.2, 0.5), (0.0, 0.3, 0.6)))
+#: (right edge, similarity, row agreement, path uniqueness, path taken): 1008 settings
+GRID = list(itertools.product((0.0, 0.1, 0.2, 0.3), (0.0, 0.1, 0.2, 0.3, 0.4, 0.6, 0.8),
+                               (0.0, 0.1, 0.2), (0.0, 0.2, 0.5, 0.8), (0.0, 0.3, 0.6)))
 LEVELS = (0.02, 0.03, 0.05)
 
 

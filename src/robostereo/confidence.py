@@ -263,11 +263,11 @@ def calibration_table(confidence: ArrayLike, correct: ArrayLike, *, bins: int = 
 #: fitted by ``python benchmarks/fit_confidence.py``: the six developer scenes' matches
 #: pooled, with six synthetic layered pairs weighing as one average scene
 DEFAULT_MODEL = ConfidenceModel(
-    knots_score=(-1.7706, -0.8767, -0.7474, -0.6046, -0.4023, 0.1685, 0.3901, 0.4904, 0.5627,
-                 0.6194, 0.6714, 0.7399, 0.8413, 0.9524, 1.0171, 1.0472, 1.1412, 1.2702,
-                 1.4490),
-    knots_probability=(0.1785, 0.3265, 0.6005, 0.7262, 0.7991, 0.8549, 0.8906, 0.9344,
-                       0.9522, 0.9662, 0.9702, 0.9732, 0.9874, 0.9920, 0.9940, 0.9960,
-                       0.9987, 0.9990, 1.0000),
-    right_edge_weight=0.1, similarity_weight=0.2, row_agree_weight=0.0, path_weight=0.5,
+    knots_score=(-1.7734, -0.8815, -0.7564, -0.6039, -0.3701, 0.1769, 0.3937, 0.5387, 0.6717,
+                 0.7543, 0.8022, 0.8470, 0.8901, 0.9350, 0.9966, 1.0732, 1.1230, 1.1702,
+                 1.2583, 1.3763, 1.6066),
+    knots_probability=(0.1774, 0.3279, 0.5818, 0.7433, 0.7998, 0.8530, 0.8826, 0.9503,
+                       0.9652, 0.9721, 0.9781, 0.9821, 0.9841, 0.9921, 0.9930, 0.9940,
+                       0.9940, 0.9980, 0.9985, 0.9995, 1.0000),
+    right_edge_weight=0.0, similarity_weight=0.6, row_agree_weight=0.0, path_weight=0.5,
     swap_weight=0.0)
