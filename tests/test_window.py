@@ -307,3 +307,25 @@ def test_coarse_search_only_for_wide_ranges():
     assert a.window.costs.n_disparities == COARSE_MIN_DISPARITIES
     with pytest.raises(InputError, match="coarse"):
         MatchParameters(coarse=1)  # type: ignore[arg-type]
+
+
+def test_coarse_range_with_masks_and_odd_sizes():
+    """All-valid masks change nothing; the binning drops an odd last row and column
+    and a mask keeps a binned pixel only where its four sources are valid."""
+    from robostereo.edges import detect_edges, to_grey
+    from robostereo.window import _halve, coarse_range
+
+    rng = np.random.default_rng(9)
+    left, right, _ = layered_pair(rng, height=161, width=331)
+    gl, gr = to_grey(left), to_grey(right)
+    e = detect_edges(left, threshold=8.0)
+    ones = np.ones(gl.shape, bool)
+    plain = coarse_range(gl, gr, e.row, e.column, (0, 120))
+    assert coarse_range(gl, gr, e.row, e.column, (0, 120), valid_left=ones,
+                        valid_right=ones) == plain
+    assert _halve(gl).shape == (80, 165)
+    assert np.allclose(_halve(gl)[3, 7], gl[6:8, 14:16].mean())
+    m = ones.copy()
+    m[10, 21] = False
+    hm = _halve(m, mask=True)
+    assert not hm[5, 10] and hm.sum() == hm.size - 1
