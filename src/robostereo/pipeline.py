@@ -58,11 +58,11 @@ PARABOLA_DISPARITY_UNCERTAINTY_PX = 0.75
 METHODS = ("window", "relaxation")
 
 #: least confidence of an accepted match, per method (see :class:`MatchParameters`)
-DEFAULT_MIN_CONFIDENCE = {"window": 0.95, "relaxation": 0.7}
-"""Window method: a match is accepted when it is at least 95 % likely right, the
-decision that weighs one false match as 20 missed ones (20 / 21 = 0.952, chosen
-leave-one-scene-out by ``benchmarks/fit_confidence.py``).  Relaxation: the probability
-above which robostereo's relaxation accepts (the seed's mode: 0.5)."""
+DEFAULT_MIN_CONFIDENCE = {"window": 20 / 21, "relaxation": 0.7}
+"""Window method: a match is accepted when it is at least 20 / 21 = 95.2 % likely right,
+the decision that weighs one false match as 20 missed ones (a decision, not a fit;
+``benchmarks/fit_confidence.py`` shows it leave-one-scene-out).  Relaxation: the
+probability above which robostereo's relaxation accepts (the seed's mode: 0.5)."""
 
 
 @dataclass(frozen=True)
