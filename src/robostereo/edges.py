@@ -190,7 +190,7 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
             bit_depth = 7
     if not 1 <= bit_depth <= 32:
         raise InputError(f"bit_depth must be in 1..32, got {bit_depth}")
-    if not np.isfinite(grey).all():
+    if arr.dtype.kind == "f" and not np.isfinite(grey).all():  # integers always are
         raise InputError(f"{name} contains NaN or infinite grey levels")
     if unit_float:
         lo, hi = float(arr.min()), float(arr.max())
