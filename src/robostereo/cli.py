@@ -108,7 +108,7 @@ def _add_matcher_args(p: Any) -> None:
     p.add_argument("--min-confidence", type=_unit_interval("--min-confidence"), default=None,
                    help="least confidence P(correct) of an accepted match; lower: more "
                         "matches, higher: fewer false (default "
-                        + ", ".join(f"{k} {v:g}" for k, v in DEFAULT_MIN_CONFIDENCE.items())
+                        + ", ".join(f"{k} {v:.3g}" for k, v in DEFAULT_MIN_CONFIDENCE.items())
                         + ")")
     p.add_argument("--no-paths", dest="paths", action="store_false", default=None,
                    help="window method without the paths along the rows: a tenth to a quarter "
