@@ -2,8 +2,9 @@
 
 A camera carried by a SCARA robot to two viewpoints (or any rectified or calibrated
 stereo pair) gives two images; edge points found along epipolar lines are matched
-with similarity indices and a connectivity relaxation rule, then triangulated into
-3-D points with a per-point depth error bound.
+(by default with side-aware census windows over every disparity and a calibrated
+confidence, or with the seed's similarity indices and connectivity relaxation), then
+triangulated into 3-D points with a per-point depth error bound.
 
 Conventions used throughout
 ---------------------------
@@ -14,8 +15,9 @@ Conventions used throughout
 * world and camera-frame coordinates are millimetres; camera frames have x to the
   image's right, y down the image, z along the optical axis (depth positive).
 
-One module per stage: :mod:`~robostereo.edges`, :mod:`~robostereo.matching`,
-:mod:`~robostereo.relaxation`, :mod:`~robostereo.triangulation`,
+One module per stage: :mod:`~robostereo.edges`, :mod:`~robostereo.window` and
+:mod:`~robostereo.confidence` (the default matcher), :mod:`~robostereo.matching`,
+:mod:`~robostereo.relaxation` (the seed's), :mod:`~robostereo.triangulation`,
 :mod:`~robostereo.pipeline` (all of them in one call), :mod:`~robostereo.camera`
 (camera, poses, epipolar frames), :mod:`~robostereo.robot` (arm models, capture folders),
 :mod:`~robostereo.simulation`,
