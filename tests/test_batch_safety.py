@@ -206,3 +206,17 @@ def test_killing_the_main_process_leaves_no_worker(slow_inputs: Path, tmp_path: 
     for k in kids:  # nothing to clean up, but never leave a process behind
         if _alive(k):
             os.kill(k, signal.SIGKILL)
+
+
+def test_local_workers_share_the_cores(monkeypatch):
+    """A local worker gets its share of the cores for the matcher's threads, unless
+    ROBOSTEREO_THREADS says otherwise."""
+    from robostereo import batch
+
+    monkeypatch.setattr(batch, "_die_with_parent", lambda parent: None)
+    monkeypatch.delenv("ROBOSTEREO_THREADS", raising=False)
+    batch._start_worker(os.getpid(), 3)
+    assert os.environ["ROBOSTEREO_THREADS"] == "3"
+    monkeypatch.setenv("ROBOSTEREO_THREADS", "5")
+    batch._start_worker(os.getpid(), 1)
+    assert os.environ["ROBOSTEREO_THREADS"] == "5"

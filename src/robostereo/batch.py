@@ -48,6 +48,7 @@ import numpy as np
 import yaml
 
 from robostereo.errors import InputError
+from robostereo.parallel import n_threads
 from robostereo.pipeline import MatchParameters
 
 __all__ = [
@@ -557,8 +558,11 @@ def run_batch(
 
             n = min(workers or os.cpu_count() or 1, len(todo))
             ctx = multiprocessing.get_context("spawn")  # safe beside threads (dask, BLAS)
-            with ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_die_with_parent,
-                                     initargs=(os.getpid(),)) as pool:
+            # the cores shared out: n processes of n_threads() threads each would make
+            # n times too many (a ROBOSTEREO_THREADS the user set is kept)
+            share = max(1, n_threads() // n)
+            with ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_start_worker,
+                                     initargs=(os.getpid(), share)) as pool:
                 futs = [pool.submit(process_input, str(p), str(out), opts) for p in todo]
                 try:
                     for f in as_completed(futs):
@@ -579,6 +583,14 @@ def run_batch(
         errors={r["input"]: r["error"] for r in ordered if r["status"] != "ok"},
         redone=tuple(sorted(redone)),
     )  # fmt: skip
+
+
+def _start_worker(parent: int, threads: int) -> None:
+    """Initializer of a local worker: its share of the cores for the matcher's threads
+    (unless ``ROBOSTEREO_THREADS`` is set), and :func:`_die_with_parent`."""
+    if not os.environ.get("ROBOSTEREO_THREADS", "").strip():
+        os.environ["ROBOSTEREO_THREADS"] = str(threads)
+    _die_with_parent(parent)
 
 
 def _die_with_parent(parent: int) -> None:
