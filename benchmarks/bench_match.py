@@ -1,6 +1,6 @@
 """Time robostereo's whole matcher against OpenCV's StereoSGBM on the same pairs.
 
-Run:  python benchmarks/bench_match.py [--repeat N] [--no-memory]
+Run:  python benchmarks/bench_match.py [--repeat N] [--no-memory] [--no-paths] [--no-coarse]
 
 For every pair (the six real scenes of ../shared/data/stereo, motorcycle again with
 wider disparity ranges, and synthetic pairs of two sizes) both run in this one process
@@ -33,7 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from robostereo.datasets import find_data_dir, load_scene
 from robostereo.evaluation import sgbm_disparity
-from robostereo.pipeline import match_stereo
+from robostereo.pipeline import MatchParameters, match_stereo
 
 SCENES = ("tsukuba", "venus", "motorcycle", "cloth3", "reindeer", "wood2")
 
@@ -85,8 +85,10 @@ sys.path.insert(0, {tests!r})
 import numpy as np
 from bench_match import pair
 from robostereo.evaluation import sgbm_disparity
-from robostereo.pipeline import match_stereo
-fn = match_stereo if {method!r} == "robostereo" else sgbm_disparity
+from robostereo.pipeline import MatchParameters, match_stereo
+params = MatchParameters(**{options!r})
+fn = ((lambda a, b, r: match_stereo(a, b, r, params=params)) if {method!r} == "robostereo"
+      else sgbm_disparity)
 left, right, rng = pair({name!r})
 warm = np.random.default_rng(0).integers(0, 255, (40, 200)).astype(np.uint8)
 fn(warm, np.roll(warm, -3, axis=1), (0.0, 16.0))
@@ -104,10 +106,12 @@ print(json.dumps((status("VmHWM:") - base) / 1024.0))
 """
 
 
-def peak_mib(method: str, name: str) -> float:
-    """Peak resident memory (MiB) that one run of ``method`` on pair ``name`` adds."""
+def peak_mib(method: str, name: str, options: dict[str, bool]) -> float:
+    """Peak resident memory (MiB) that one run of ``method`` on pair ``name`` adds
+    (robostereo with ``MatchParameters(**options)``)."""
     here = Path(__file__).resolve().parent
-    code = _CHILD.format(tests=str(here.parent / "tests"), method=method, name=name)
+    code = _CHILD.format(tests=str(here.parent / "tests"), method=method, name=name,
+                         options=options)
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          cwd=here, check=True)
     return float(json.loads(out.stdout.strip().splitlines()[-1]))
@@ -117,24 +121,33 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--repeat", type=int, default=15)
     ap.add_argument("--no-memory", action="store_true", help="skip the memory children")
+    ap.add_argument("--no-paths", action="store_true", help="robostereo without its paths")
+    ap.add_argument("--no-coarse", action="store_true",
+                    help="robostereo searching wide ranges whole")
     args = ap.parse_args()
+    options = {"paths": not args.no_paths, "coarse": not args.no_coarse}
+    params = MatchParameters(**options)
     import cv2
 
-    print(f"OpenCV {cv2.__version__}, {cv2.getNumThreads()} threads; median of {args.repeat}")
+    print(f"OpenCV {cv2.__version__}, {cv2.getNumThreads()} threads; median of {args.repeat}; "
+          f"robostereo paths {'on' if params.paths else 'off'}, "
+          f"coarse {'on' if params.coarse else 'off'}")
     head = (f"{'pair':<20} {'edges':>6} {'robostereo ms':>14} {'SGBM ms':>9} {'ratio':>7} "
             f"{'robostereo MiB':>15} {'SGBM MiB':>9} {'mem ratio':>9}")
     print(head)
     print("-" * len(head))
     for name in names():
         left, right, rng = pair(name)
-        n = len(match_stereo(left, right, rng).left_edges)
+        n = len(match_stereo(left, right, rng, params=params).left_edges)
         t_ours, t_sgbm, ratio = _time_pair(
-            lambda left=left, right=right, rng=rng: match_stereo(left, right, rng),
+            lambda left=left, right=right, rng=rng: match_stereo(left, right, rng,
+                                                                 params=params),
             lambda left=left, right=right, rng=rng: sgbm_disparity(left, right, rng),
             args.repeat)
         mem = ""
         if not args.no_memory:
-            m_ours, m_sgbm = peak_mib("robostereo", name), peak_mib("sgbm", name)
+            m_ours = peak_mib("robostereo", name, options)
+            m_sgbm = peak_mib("sgbm", name, options)
             mem = f"{m_ours:>15.1f} {m_sgbm:>9.1f} {m_ours / max(m_sgbm, 0.1):>8.2f}x"
         print(f"{name:<20} {n:>6} {1000 * t_ours:>14.2f} {1000 * t_sgbm:>9.2f} "
               f"{ratio:>6.2f}x {mem}", flush=True)

@@ -517,15 +517,21 @@ def _features(k, j, am, a0, ap, gp, sr, g0, row_offset, row_step, subpixel,
 
 
 @nb.njit(cache=True, nogil=True)
-def _edge_points(src, g0, threshold, m, row_offset, row_step, subpixel,
-                 n_lines):  # type: ignore[no-untyped-def]
-    """:func:`_peaks` then :func:`_features` in one call (one release of the
-    interpreter lock for the image, not one per step), with the rows."""
+def _edge_points(src, g0, threshold, m, row_offset, row_step, subpixel, n_lines,
+                 usable, check):  # type: ignore[no-untyped-def]
+    """:func:`_peaks`, with ``check`` only those on ``usable`` pixels, then
+    :func:`_features`, in one call (one release of the interpreter lock for the image,
+    not one per step); also the rows."""
     k, j, am, a0, ap, gp = _peaks(src, threshold, m)
+    r = row_offset + row_step * k
+    if check:
+        keep = np.empty(k.shape[0], np.bool_)
+        for i in range(k.shape[0]):
+            keep[i] = usable[r[i], j[i]]
+        k, j, r, am, a0, ap, gp = k[keep], j[keep], r[keep], am[keep], a0[keep], ap[keep], gp[keep]
     x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = _features(
         k, j, am, a0, ap, gp, src, g0, row_offset, row_step, subpixel, n_lines)
-    return (k, j, row_offset + row_step * k, x, sign, mag, up, down, up_off, down_off,
-            pattern, mean5, before, after)
+    return k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
 
 
 def detect_edges(
@@ -617,21 +623,15 @@ def detect_edges(
     thr = np.float32(min(float(threshold), float(np.finfo(np.float32).max)))  # no overflow
     src = np.ascontiguousarray(sr)
     n_lines = rows.shape[0]
-    if valid is None:
-        k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = (
-            _edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step),
-                         bool(subpixel), int(n_lines)))
-    else:
-        k, j, am, a0, ap, g_peak = _peaks(src, thr, BORDER)
+    usable = np.ones((1, 1), np.bool_)
+    if valid is not None:
         vm = np.asarray(valid, dtype=bool)
         if vm.shape != (h, w):
             raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
-        keep = usable_pixels(vm)[rows[k], j]
-        k, j, am, a0, ap, g_peak = (v[keep] for v in (k, j, am, a0, ap, g_peak))
-        x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = _features(
-            k, j, am, a0, ap, g_peak, src, g0, int(row_offset), int(row_step), bool(subpixel),
-            int(n_lines))
-        r = row_offset + row_step * k
+        usable = usable_pixels(vm)
+    k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = (
+        _edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step), bool(subpixel),
+                     int(n_lines), usable, valid is not None))
     return EdgeSet(
         line=k.astype(np.intp, copy=False), row=r.astype(np.intp, copy=False), x=x,
         column=j.astype(np.intp, copy=False), sign=sign, magnitude=mag, pattern=pattern,

@@ -20,6 +20,7 @@ __all__ = [
     "require_file",
     "require_finite",
     "require_int",
+    "require_nonnegative",
     "require_positive",
     "require_range",
 ]
@@ -75,6 +76,20 @@ def require_positive(name: str, value: float) -> None:
     if (isinstance(value, bool) or not isinstance(value, numbers.Real)
             or not math.isfinite(value) or value <= 0):
         raise InputError(f"{name} must be a finite number > 0, got {_show(value)}")
+
+
+def require_nonnegative(name: str, value: float) -> None:
+    """Raise :class:`InputError` unless `value` is a finite number >= 0.
+
+    >>> require_nonnegative("noise_sigma", 0.0)
+    >>> require_nonnegative("noise_sigma", -1.0)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: noise_sigma must be >= 0, got -1.0
+    """
+    require_finite(name, value)
+    if value < 0:
+        raise InputError(f"{name} must be >= 0, got {value}")
 
 
 def require_file(path: str | os.PathLike[str], what: str = "file") -> Path:

@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 from robostereo.calibration import rectify_stereo
 from robostereo.datasets import StereoScene
 from robostereo.edges import to_grey
-from robostereo.errors import InputError, require_finite
+from robostereo.errors import InputError, require_nonnegative
 from robostereo.pipeline import MatchParameters, match_stereo, searched_range
 from robostereo.triangulation import StereoCamera, triangulate
 
@@ -106,9 +106,7 @@ def _score_inputs(
     if not (r.ndim == xs.ndim == d.ndim == 1 and r.shape == xs.shape == d.shape):
         raise InputError(f"rows, x and disparity must be 1-D arrays of one length, got shapes "
                          f"{r.shape}, {xs.shape}, {d.shape}")
-    require_finite("tolerance", tolerance)
-    if tolerance < 0:
-        raise InputError(f"tolerance must be >= 0, got {tolerance}")
+    require_nonnegative("tolerance", tolerance)
     h, w = gt.shape
     if not (np.isfinite(r).all() and (r == np.rint(r)).all() and (r >= 0).all()
             and (r <= h - 1).all()):

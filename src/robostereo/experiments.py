@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.camera import SEED_CAMERA, Camera, EpipolarGeometry
-from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
 from robostereo.evaluation import MatchScore, score_matches
 from robostereo.pipeline import MatchParameters
 from robostereo.robot import AdeptOne, CameraMount, SimulatedCamera, acquire_stereo_pair
@@ -129,9 +129,7 @@ class RigSetup:
         require_positive("camera_height_mm", self.camera_height_mm)
         require_positive("object_height_mm", self.object_height_mm)
         require_finite("table_depth_margin_mm", self.table_depth_margin_mm)
-        require_finite("noise_sigma", self.noise_sigma)
-        if self.noise_sigma < 0:
-            raise InputError(f"noise_sigma must be >= 0, got {self.noise_sigma}")
+        require_nonnegative("noise_sigma", self.noise_sigma)
         if self.object_height_mm >= self.camera_height_mm:
             raise InputError("object_height_mm must be below camera_height_mm")
 

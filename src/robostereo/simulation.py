@@ -29,7 +29,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.ndimage import gaussian_filter
 
 from robostereo.camera import Camera, Pose
-from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
 from robostereo.robot.poses import SE3
 
 __all__ = [
@@ -678,10 +678,7 @@ class Scene:
         ld = ld / np.linalg.norm(ld)
         object.__setattr__(self, "light_direction", tuple(float(v) for v in ld))
         for name in ("light_intensity", "ambient"):
-            v = getattr(self, name)
-            require_finite(name, v)
-            if v < 0:
-                raise InputError(f"{name} must be >= 0, got {v}")
+            require_nonnegative(name, getattr(self, name))
         require_finite("background", self.background)
         if not 0.0 <= self.background <= 1.0:
             raise InputError(f"background must be in [0, 1], got {self.background}")
@@ -1173,12 +1170,8 @@ def render(
     if isinstance(supersample, bool) or int(supersample) != supersample or supersample < 1:
         raise InputError(f"supersample must be an integer >= 1, got {supersample}")
     supersample = int(supersample)
-    require_finite("blur_sigma_px", blur_sigma_px)
-    if blur_sigma_px < 0:
-        raise InputError(f"blur_sigma_px must be >= 0, got {blur_sigma_px}")
-    require_finite("noise_sigma", noise_sigma)
-    if noise_sigma < 0:
-        raise InputError(f"noise_sigma must be >= 0, got {noise_sigma}")
+    require_nonnegative("blur_sigma_px", blur_sigma_px)
+    require_nonnegative("noise_sigma", noise_sigma)
     require_finite("vignetting", vignetting)
     if not 0.0 <= vignetting < 1.0:
         raise InputError(f"vignetting must be in [0, 1), got {vignetting}")

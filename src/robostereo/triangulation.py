@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
 
 __all__ = [
     "MAX_BASELINE_MM",
@@ -172,10 +172,7 @@ class StereoCamera:
             )
         for name in ("focal_uncertainty_px", "baseline_uncertainty_mm",
                      "disparity_uncertainty_px"):
-            v = getattr(self, name)
-            require_finite(name, v)
-            if v < 0:
-                raise InputError(f"{name} must be >= 0, got {v}")
+            require_nonnegative(name, getattr(self, name))
 
     @classmethod
     def from_physical(

@@ -624,12 +624,12 @@ class WindowCosts:
     after_path: NDArray[np.int32]
 
 
-#: the columns of the features that the right edge point gives (the rest: _evidence,
-#: which writes them in this order)
+#: the feature columns that :func:`_evidence` fills, in the order it computes them, and
+#: the two that the right edge point gives
+_EVIDENCE_COLUMNS = np.array([FEATURES.index(name) for name in (
+    "uniqueness", "uniqueness_row", "row_agree", "left_right", "out_of_view",
+    "path_uniqueness", "path_agree", "path_swapped")], np.int64)
 _RIGHT_EDGE, _SIMILARITY = FEATURES.index("right_edge"), FEATURES.index("similarity")
-if FEATURES != ("uniqueness", "uniqueness_row", "row_agree", "left_right", "right_edge",
-                "similarity", "out_of_view", "path_uniqueness", "path_agree", "path_swapped"):
-    raise ImportError("robostereo.window._evidence must follow confidence.FEATURES")
 
 #: cost value of a disparity whose right pixel lies outside the image
 OUT_OF_VIEW = 2**30
@@ -978,10 +978,11 @@ def _vertex(k, cm, c0, cp, d_lo):  # type: ignore[no-untyped-def]
 @nb.njit(cache=True, nogil=True)
 def _evidence(best, cost, second, before, after, best_row, cost_row, second_row,
               right_best, best_path, cost_path, second_path, before_path, after_path,
-              in_view, d_lo, nd, swap_u, feats):  # type: ignore[no-untyped-def]
+              in_view, d_lo, nd, swap_u, feats, cols):  # type: ignore[no-untyped-def]
     """Per point: the whole-pixel disparity refined by its parabola (the paths' where
     they are taken), whether there is one, and into ``feats`` (N, F) the evidence of
-    :data:`robostereo.confidence.FEATURES` but the right edge point's two columns."""
+    :data:`robostereo.confidence.FEATURES` but the right edge point's two columns, in
+    the columns ``cols`` (:data:`_EVIDENCE_COLUMNS`)."""
     n = best.shape[0]
     d_par = np.full(n, np.nan)
     seen = np.zeros(n, np.bool_)
@@ -1011,14 +1012,14 @@ def _evidence(best, cost, second, before, after, best_row, cost_row, second_row,
         if s and abs(best_row[i] - k1) <= 1:
             u_row = _unique(float(cost_row[i]), float(second_row[i]))
         f = feats[i]
-        f[0] = uniq
-        f[1] = u_row
-        f[2] = 1.0 if u_row > 0 else 0.0
-        f[3] = 1.0 if lr_ok else 0.0
-        f[6] = 1.0 - in_view[i] / max(nd, 1)
-        f[7] = u_path
-        f[8] = 1.0 if agree else 0.0
-        f[9] = 1.0 if swap else 0.0
+        f[cols[0]] = uniq
+        f[cols[1]] = u_row
+        f[cols[2]] = 1.0 if u_row > 0 else 0.0
+        f[cols[3]] = 1.0 if lr_ok else 0.0
+        f[cols[4]] = 1.0 - in_view[i] / max(nd, 1)
+        f[cols[5]] = u_path
+        f[cols[6]] = 1.0 if agree else 0.0
+        f[cols[7]] = 1.0 if swap else 0.0
     return d_par, seen
 
 
@@ -1104,7 +1105,8 @@ def window_match(
     d_par, seen = _evidence(
         wc.best, wc.cost, wc.second, wc.before, wc.after, wc.best_row, wc.cost_row,
         wc.second_row, wc.right_best, wc.best_path, wc.cost_path, wc.second_path,
-        wc.before_path, wc.after_path, wc.in_view, d_lo, nd, SWAP_UNIQUENESS, feats)
+        wc.before_path, wc.after_path, wc.in_view, d_lo, nd, SWAP_UNIQUENESS, feats,
+        _EVIDENCE_COLUMNS)
     idx, dist = _nearest_right_edge(left, right, left.x - d_par)
     d_edge = left.x - right.x[np.maximum(idx, 0)] if len(right) else d_par
     use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel

@@ -62,7 +62,7 @@ from robostereo.camera import (
     camera_to_dict,
     rectified_valid_mask,
 )
-from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
 from robostereo.pipeline import MatchParameters, MatchResult, match_stereo
 from robostereo.robot.geometry import GeneralEpipolarGeometry
 from robostereo.robot.poses import SE3, as_se3
@@ -204,10 +204,7 @@ class Capture:
             object.__setattr__(self, "depth_range_mm", (near, far))
         for name in ("baseline_uncertainty_mm", "focal_length_uncertainty_mm",
                      "disparity_uncertainty_px"):
-            v = getattr(self, name)
-            require_finite(name, v)
-            if v < 0:
-                raise InputError(f"{name} must be >= 0, got {v}")
+            require_nonnegative(name, getattr(self, name))
         if self.is_scara:
             if abs(self.pose_left.z - self.pose_right.z) > 1e-3:
                 raise InputError(

@@ -29,7 +29,13 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.camera import Camera, EpipolarGeometry, Pose, wrap_angle
-from robostereo.errors import InputError, UnreachablePoseError, require_finite, require_positive
+from robostereo.errors import (
+    InputError,
+    UnreachablePoseError,
+    require_finite,
+    require_nonnegative,
+    require_positive,
+)
 
 __all__ = [
     "ADEPTONE_LIMITS",
@@ -279,11 +285,8 @@ class AdeptOne:
     ) -> None:
         require_positive("link1_mm", link1_mm)
         require_positive("link2_mm", link2_mm)
-        for name, v in (("repeatability_mm", repeatability_mm),
-                        ("yaw_repeatability", yaw_repeatability)):
-            require_finite(name, v)
-            if v < 0:
-                raise InputError(f"{name} must be >= 0, got {v}")
+        require_nonnegative("repeatability_mm", repeatability_mm)
+        require_nonnegative("yaw_repeatability", yaw_repeatability)
         if (repeatability_mm > 0 or yaw_repeatability > 0) and not isinstance(
             rng, np.random.Generator
         ):
