@@ -26,6 +26,7 @@ One module per stage: :mod:`~robostereo.edges`, :mod:`~robostereo.window` and
 command line in :mod:`~robostereo.cli`.
 """
 
+from robostereo import _moved
 from robostereo.camera import Camera, EpipolarGeometry, Pose
 from robostereo.edges import EdgeSet, detect_edges
 from robostereo.errors import InputError, UnreachablePoseError
@@ -36,6 +37,8 @@ from robostereo.relaxation import RelaxationParameters
 from robostereo.triangulation import StereoCamera, triangulate
 
 __version__ = "0.1.0"
+
+_moved.install()
 
 __all__ = [
     "Camera",

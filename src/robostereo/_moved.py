@@ -1,0 +1,97 @@
+"""Module paths of release 0.1 that moved, kept importable for one release.
+
+``import robostereo.pipeline`` (or ``from robostereo.camera import Camera``) still works:
+the old path is a module assembled from the public names (``__all__``) of the modules
+the code moved to, and importing it warns with a :class:`DeprecationWarning` that names
+the new home.  New code imports from the new paths; nothing inside robostereo uses the
+old ones (``tests/test_layout.py`` checks that).
+
+The table :data:`MOVED` is the whole mapping; :func:`install` puts its finder on
+:data:`sys.meta_path` once, from ``robostereo/__init__.py``.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.abc
+import importlib.machinery
+import sys
+import types
+import warnings
+
+__all__ = ["MOVED", "install"]
+
+#: old module path -> the modules whose public names it is made of (first wins)
+MOVED: dict[str, tuple[str, ...]] = {
+    # the matcher (one folder, kernels apart)
+    "robostereo.pipeline": ("robostereo.matcher.pipeline",),
+    "robostereo.edges": ("robostereo.matcher.edges",),
+    "robostereo.matching": ("robostereo.matcher.candidates",),
+    "robostereo.relaxation": ("robostereo.matcher.relaxation",),
+    "robostereo.confidence": ("robostereo.matcher.confidence",),
+    "robostereo.parallel": ("robostereo.matcher.parallel",),
+    "robostereo.window": (
+        "robostereo.matcher.window_match",
+        "robostereo.matcher.window_costs",
+        "robostereo.matcher.pipeline",
+    ),
+    # geometry under one roof, file reading in io
+    "robostereo.camera": (
+        "robostereo.geometry.camera",
+        "robostereo.geometry.poses",
+        "robostereo.geometry.scara_rectification",
+        "robostereo.io.cameras",
+    ),
+    "robostereo.calibration": (
+        "robostereo.geometry.calibration",
+        "robostereo.geometry.calibrated_rectification",
+        "robostereo.io.calibration_files",
+    ),
+    "robostereo.triangulation": ("robostereo.geometry.triangulation",),
+    "robostereo.robot.poses": ("robostereo.geometry.poses",),
+    "robostereo.robot.geometry": ("robostereo.geometry.pose_rectification",),
+    # the command line by command group
+    "robostereo.cli_robot": ("robostereo.cli.robot",),
+}
+
+
+class _MovedLoader(importlib.abc.Loader):
+    def __init__(self, targets: tuple[str, ...]) -> None:
+        self.targets = targets
+
+    def create_module(self, spec: importlib.machinery.ModuleSpec) -> types.ModuleType:
+        module = types.ModuleType(spec.name, f"Moved to {', '.join(self.targets)}.")
+        names: list[str] = []
+        for target in reversed(self.targets):  # the first target's names win
+            new = importlib.import_module(target)
+            for name in getattr(new, "__all__", ()):
+                setattr(module, name, getattr(new, name))
+                names.append(name)
+        module.__all__ = sorted(set(names))
+        return module
+
+    def exec_module(self, module: types.ModuleType) -> None:
+        warnings.warn(
+            f"{module.__name__} moved to {' and '.join(self.targets)}; the old path goes "
+            "in the next release",
+            DeprecationWarning,
+            stacklevel=2,
+        )
+
+
+class _MovedFinder(importlib.abc.MetaPathFinder):
+    def find_spec(self, fullname: str, path: object = None,
+                  target: object = None) -> importlib.machinery.ModuleSpec | None:
+        targets = MOVED.get(fullname)
+        if targets is None:
+            return None
+        return importlib.machinery.ModuleSpec(fullname, _MovedLoader(targets))
+
+
+def install() -> None:
+    """Put the finder of the moved paths last on :data:`sys.meta_path` (once).
+
+    Last, so that it answers only for paths no file answers for.
+    """
+    if not any(isinstance(f, _MovedFinder) for f in sys.meta_path):
+        sys.meta_path.append(_MovedFinder())
