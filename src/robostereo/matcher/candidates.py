@@ -20,8 +20,8 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.edges import EdgeSet
 from robostereo.errors import InputError, require_finite
+from robostereo.matcher.edges import EdgeSet
 
 __all__ = [
     "Candidates",
@@ -78,7 +78,7 @@ class Candidates:
     Attributes
     ----------
     left, right : ndarray of int
-        Edge indices in the left and right :class:`~robostereo.edges.EdgeSet`.
+        Edge indices in the left and right :class:`~robostereo.matcher.edges.EdgeSet`.
     disparity : ndarray of float
         ``x_left - x_right`` in pixels.
     gi, pi, ai : ndarray of float
@@ -261,7 +261,7 @@ def pair_similarity(
     --------
     An edge point compared with itself is similar in every respect:
 
-    >>> from robostereo.edges import detect_edges
+    >>> from robostereo.matcher.edges import detect_edges
     >>> img = np.zeros((9, 20), np.uint8); img[:, 10:] = 200
     >>> e = detect_edges(img)
     >>> [round(float(v[0]), 3) for v in pair_similarity(e, e, np.array([4]), np.array([4]))]

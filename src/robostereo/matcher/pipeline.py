@@ -16,7 +16,6 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.edges import EdgeSet, detect_edges, to_grey
 from robostereo.errors import (
     InputError,
     require_finite,
@@ -24,7 +23,7 @@ from robostereo.errors import (
     require_positive,
     require_range,
 )
-from robostereo.matching import (
+from robostereo.matcher.candidates import (
     Candidates,
     SimilarityWeights,
     assign_matches,
@@ -32,10 +31,12 @@ from robostereo.matching import (
     group_argmax,
     initial_probabilities,
 )
-from robostereo.parallel import run_all
-from robostereo.relaxation import RelaxationParameters, RelaxationResult, relax
+from robostereo.matcher.edges import EdgeSet, detect_edges, to_grey
+from robostereo.matcher.parallel import run_all
+from robostereo.matcher.relaxation import RelaxationParameters, RelaxationResult, relax
+from robostereo.matcher.window_costs import PATH_PENALTIES
+from robostereo.matcher.window_match import WindowMatch, window_match
 from robostereo.triangulation import StereoCamera, triangulate
-from robostereo.window import PATH_PENALTIES, WindowMatch, window_match
 
 __all__ = [
     "DEFAULT_MIN_CONFIDENCE",
@@ -45,6 +46,7 @@ __all__ = [
     "MatchResult",
     "match_stereo",
     "searched_range",
+    "warm_up",
 ]
 
 
@@ -74,7 +76,7 @@ class MatchParameters:
     method : str
         ``"window"`` (default): every disparity of the range scored at each left edge
         point by side-aware census windows, with a left-right check and a calibrated
-        confidence (:func:`robostereo.window.window_match`).  ``"relaxation"``: the
+        confidence (:func:`robostereo.matcher.window_match.window_match`).  ``"relaxation"``: the
         seed's matcher, right edge points as candidates, relaxation on edge
         connectivity (3.2-3.5).
     threshold : float
@@ -90,7 +92,7 @@ class MatchParameters:
     weights : SimilarityWeights
         Weights of GI, PI, AI in ``w`` (seed: 1/3 each).
     profile_scale : float or None
-        Edge-profile factor of ``w`` (see :func:`~robostereo.matching.find_candidates`);
+        Edge-profile factor of ``w`` (see :func:`~robostereo.matcher.candidates.find_candidates`);
         None for the seed's ``w``.
     relaxation : RelaxationParameters
         Iterations (5) and coefficients of the relaxation; the no-match label's
@@ -104,14 +106,14 @@ class MatchParameters:
         Window method: largest gradient difference per pixel pair (0..300).
     paths : bool
         Window method: also aggregate the window costs along the rows (two paths of
-        semi-global matching, :func:`robostereo.window.window_costs`), which carries
+        semi-global matching, :func:`robostereo.matcher.window_costs.window_costs`), which carries
         the disparity of textured parts into repeated patterns and weak texture.
         False: a tenth to a quarter faster, worse there; the confidence is then conservative
         (its calibration was fitted with the paths).
     coarse : bool
         Window method: a range of more than 64 whole disparities is first narrowed
         to the part the scene holds by a pass at half size
-        (:func:`robostereo.window.coarse_range`), so a generous range costs little
+        (:func:`robostereo.matcher.window_costs.coarse_range`), so a generous range costs little
         more than a tight one.  False: the whole range is searched.
     bit_depth : int or None
         Bit depth of the input grey levels; None: from the dtype.
@@ -449,7 +451,7 @@ def match_stereo(
     valid_left, valid_right : array_like of bool, shape (H, W), optional
         Pixels that hold image data, e.g. the part of a rectified image that has a
         source; edge points whose features would see other pixels are not used
-        (:func:`~robostereo.edges.usable_pixels`), so the fill of a rectification
+        (:func:`~robostereo.matcher.edges.usable_pixels`), so the fill of a rectification
         makes no false edges.
     progress : callable, optional
         Called with the name of each stage as it starts.
@@ -463,32 +465,34 @@ def match_stereo(
     InputError
         Images that are not (H, W) or (H, W, 3|4) real-valued arrays of one size, a
         float image outside 0..1 without ``params.bit_depth`` (see
-        :func:`~robostereo.edges.to_grey`), NaN grey levels, a malformed or empty
+        :func:`~robostereo.matcher.edges.to_grey`), NaN grey levels, a malformed or empty
         `disparity_range` or one outside the image's (one line naming the parameter).
     TypeError
         `params` or `camera` of the wrong type.
 
     Notes
     -----
-    1. Edge points and features in both images (:func:`~robostereo.edges.detect_edges`).
+    1. Edge points and features in both images (:func:`~robostereo.matcher.edges.detect_edges`).
 
     Window method (default):
 
     2. Every whole-pixel disparity of the range scored at each left edge point with
        side-aware census + gradient windows, the left-right check, the window costs
        aggregated along the rows (two scanline paths; ``params.paths``), sub-pixel
-       disparity from the right edge point there (:func:`~robostereo.window.window_match`).
+       disparity from the right edge point there
+       (:func:`~robostereo.matcher.window_match.window_match`).
     3. Confidence ``P(correct)`` from the evidence by the calibrated model
-       (:mod:`~robostereo.confidence`); the no-match label wins below
+       (:mod:`~robostereo.matcher.confidence`); the no-match label wins below
        ``params.acceptance``.
 
     Relaxation method (the seed's, ``MatchParameters.seed()``):
 
-    2. Candidates, similarity indices and ``w`` (:func:`~robostereo.matching.find_candidates`).
+    2. Candidates, similarity indices and ``w``
+       (:func:`~robostereo.matcher.candidates.find_candidates`).
     3. Initial probabilities, eq. (1)-(3).
-    4. Relaxation, eq. (4)-(5) (:func:`~robostereo.relaxation.relax`).
+    4. Relaxation, eq. (4)-(5) (:func:`~robostereo.matcher.relaxation.relax`).
     5. Acceptance: one match per left and per right edge point
-       (:func:`~robostereo.matching.assign_matches`).
+       (:func:`~robostereo.matcher.candidates.assign_matches`).
 
     A pair with no edge points gives an empty result, not an error.
 
@@ -574,3 +578,10 @@ def match_stereo(
         camera=camera, image_shape=(int(a.shape[0]), int(a.shape[1])),
         disparity_range=(float(lo), float(hi)), parameters=p, timings=t,
     )
+
+
+def warm_up() -> None:
+    """Load (or compile) the numba kernels once, on a tiny pair, so that the first real
+    match is timed like the others (``robostereo evaluate`` calls it)."""
+    g = np.random.default_rng(0).integers(0, 255, (128, 96)).astype(np.uint8)
+    match_stereo(g, np.roll(g, -2, axis=1), (0.0, 4.0))

@@ -41,7 +41,8 @@ __all__ = [
     "isotonic",
 ]
 
-#: names of the evidence, the columns of :attr:`robostereo.window.WindowMatch.features`
+#: names of the evidence, the columns of
+#: :attr:`robostereo.matcher.window_match.WindowMatch.features`
 FEATURES: tuple[str, ...] = (
     "uniqueness",      # (c2 - c1) / c2: best cost c1, best c2 more than 1 px away
     "uniqueness_row",  # the same with the three windows along the row, where they agree

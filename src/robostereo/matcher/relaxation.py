@@ -31,9 +31,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.edges import EdgeSet
 from robostereo.errors import InputError, require_finite, require_int
-from robostereo.matching import Candidates, group_sum
+from robostereo.matcher.candidates import Candidates, group_sum
+from robostereo.matcher.edges import EdgeSet
 
 __all__ = [
     "RelaxationParameters",
