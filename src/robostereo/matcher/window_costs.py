@@ -54,6 +54,9 @@ from robostereo.matcher.window_kernels import (
     CENSUS_SIZE,
     HALF_WINDOW,
     PATH_ROW_STEP,
+    STREAM_COLUMNS,
+    StreamImages,
+    StreamSettings,
     census_7x5,
     census_padded,
     sobel,
@@ -349,6 +352,7 @@ def window_costs(
     >>> int(wc.best[0]) + wc.d_min, int(wc.right_best[0]) + wc.d_min, int(wc.cost[0])
     (6, 6, 0)
     """
+    # -- checks: one image size, a range, edge pixels in the image sorted by row
     gl = np.ascontiguousarray(grey_left, dtype=np.float32)
     gr = np.ascontiguousarray(grey_right, dtype=np.float32)
     if gl.shape != gr.shape or gl.ndim != 2:
@@ -364,8 +368,9 @@ def window_costs(
     if r.size and (np.any(np.diff(r) < 0) or r.min() < 0 or r.max() >= h or c.min() < 0
                    or c.max() >= w):
         raise InputError("edge pixels must lie in the image and be sorted by row")
-    # invalid pixels get a gradient that differs from any by more than the truncation
-    # and a census of alternating bits, so that any pair with one costs nearly the most
+    # -- masks: invalid pixels get a gradient that differs from any by more than the
+    # truncation and a census of alternating bits, so that any pair with one costs
+    # nearly the most
     masks = []
     for name, valid in (("valid_left", valid_left), ("valid_right", valid_right)):
         if valid is None:
@@ -378,11 +383,12 @@ def window_costs(
     checks = [m.shape == gl.shape and not bool(m.all()) for m in masks]
     nd = d_hi - d_lo + 1
     n = r.shape[0]
-    out = np.full((n, 15), -1, np.int32)
+    out = np.full((n, len(STREAM_COLUMNS)), -1, np.int32)  # (N, columns) summary
     if n:
-        row_start = np.searchsorted(r, np.arange(h + 1)).astype(np.int64)
+        row_start = np.searchsorted(r, np.arange(h + 1)).astype(np.int64)  # (H + 1,)
         trunc = int(gradient_truncation)
         area = (2 * HALF_WINDOW + 1) ** 2
+        # path penalties per window pixel -> per window sum
         if path_penalties is None:
             p1, p2 = -1, -1
         else:
@@ -391,17 +397,19 @@ def window_costs(
                 raise InputError(f"path_penalties must be (P1, P2) with 0 <= P1 <= P2 <= 200 "
                                  f"per window pixel, got {path_penalties}")
             p1, p2 = round(pp[0] * area), round(pp[1] * area)
+        # -- one pass down the image per band of rows, on threads (stream_rows)
+        images = StreamImages(gl, gr, masks[0], masks[1], checks[0], checks[1])
+        settings = StreamSettings(
+            d_min=d_lo, n_disparities=nd, truncation=np.int16(trunc),
+            pixel_cost_max=np.int16(34 + trunc), half_window=HALF_WINDOW,
+            vertical=bool(vertical), p1=p1, p2=p2, path_row_step=PATH_ROW_STEP)
         # bands of at least 64 rows, one per thread: a band repeats 2 * HALF_WINDOW rows
         n_bands = max(1, min(n_threads(), h // 64))
         step = -(-h // n_bands)
 
         def band(y0: int) -> None:
-            stream_rows(gl, gr, masks[0], masks[1], checks[0], checks[1], row_start, c,
-                         d_lo, nd, np.int16(trunc), np.int16(34 + trunc), HALF_WINDOW,
-                         bool(vertical), p1, p2, PATH_ROW_STEP, y0, min(h, y0 + step), out)
+            stream_rows(images, settings, row_start, c, y0, min(h, y0 + step), out)
 
         run_all([lambda y0=y0: band(y0) for y0 in range(0, h, step)])
-    cols = dict(zip(("best", "cost", "second", "before", "after", "best_row", "cost_row",
-                     "second_row", "in_view", "right_best", "best_path", "cost_path",
-                     "second_path", "before_path", "after_path"), out.T, strict=True))
+    cols = dict(zip(STREAM_COLUMNS, out.T, strict=True))
     return WindowCosts(d_min=d_lo, n_disparities=nd, **cols)

@@ -17,6 +17,8 @@ References
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numba as nb
 import numpy as np
 from llvmlite import ir
@@ -30,6 +32,10 @@ __all__ = [
     "PATH_COLUMN_STEP",
     "PATH_MAX_DISPARITIES",
     "PATH_ROW_STEP",
+    "STREAM_COLUMNS",
+    "RowPixels",
+    "StreamImages",
+    "StreamSettings",
     "census_7x5",
     "census_padded",
     "evidence",
@@ -56,6 +62,71 @@ PATH_COLUMN_STEP = 2
 #: disparity stands for 2, 3, ... whole ones, its cost their least), so their cost stops
 #: growing with the range; the developer scenes (up to 97) are not binned
 PATH_MAX_DISPARITIES = 128
+
+#: the columns of :func:`stream_rows`' summary of an edge point, in order: the fields of
+#: :class:`~robostereo.matcher.window_costs.WindowCosts` (its docstring says what each
+#: holds): with the five windows, with the three along the row, the disparities in view,
+#: the left-right check and the paths
+STREAM_COLUMNS: tuple[str, ...] = (
+    "best", "cost", "second", "before", "after",
+    "best_row", "cost_row", "second_row",
+    "in_view",
+    "right_best",
+    "best_path", "cost_path", "second_path", "before_path", "after_path",
+)
+_BEST = STREAM_COLUMNS.index("best")
+_COST = STREAM_COLUMNS.index("cost")
+_SECOND = STREAM_COLUMNS.index("second")
+_BEFORE = STREAM_COLUMNS.index("before")
+_AFTER = STREAM_COLUMNS.index("after")
+_BEST_ROW = STREAM_COLUMNS.index("best_row")
+_COST_ROW = STREAM_COLUMNS.index("cost_row")
+_SECOND_ROW = STREAM_COLUMNS.index("second_row")
+_IN_VIEW = STREAM_COLUMNS.index("in_view")
+_RIGHT_BEST = STREAM_COLUMNS.index("right_best")
+_BEST_PATH = STREAM_COLUMNS.index("best_path")
+_COST_PATH = STREAM_COLUMNS.index("cost_path")
+_SECOND_PATH = STREAM_COLUMNS.index("second_path")
+_BEFORE_PATH = STREAM_COLUMNS.index("before_path")
+_AFTER_PATH = STREAM_COLUMNS.index("after_path")
+
+
+class StreamImages(NamedTuple):
+    """The pair that :func:`stream_rows` reads."""
+
+    grey_left: np.ndarray  # (H, W) float32
+    grey_right: np.ndarray  # (H, W) float32
+    valid_left: np.ndarray  # (H, W) bool, or (1, 1) when not checked
+    valid_right: np.ndarray  # (H, W) bool, or (1, 1)
+    check_left: bool  # pixels outside valid_left cost nearly the most
+    check_right: bool
+
+
+class StreamSettings(NamedTuple):
+    """What :func:`stream_rows` computes: disparities, pixel costs, windows, paths."""
+
+    d_min: int  # disparity k stands for d_min + k
+    n_disparities: int
+    truncation: np.int16  # largest gradient difference of a pixel pair
+    pixel_cost_max: np.int16  # cost of a pair that leaves the image: 34 + truncation
+    half_window: int
+    vertical: bool  # windows half a window up and down too
+    p1: int  # path penalties per window (sum of its pixels); p1 < 0: no paths
+    p2: int
+    path_row_step: int  # paths on every path_row_step-th row
+
+
+class RowPixels(NamedTuple):
+    """Census and Sobel of the row being added, and the buffers that make them (W,)."""
+
+    census_left: np.ndarray  # (W,) uint64
+    census_right: np.ndarray
+    sobel_left: np.ndarray  # (W,) int16
+    sobel_right: np.ndarray
+    hamming: np.ndarray  # (W,) int16, Hamming distances of a row
+    padded_rows: np.ndarray  # (5, W + 6) float32, grey rows padded for the census
+    census_bits: np.ndarray  # (2, W) uint32
+    loaded_row: np.ndarray  # (1,) int64, the row in the buffers (-1: none)
 
 @intrinsic
 def _popcount(typingctx, x):  # type: ignore[no-untyped-def]
@@ -159,88 +230,98 @@ def sobel(g):  # type: ignore[no-untyped-def]
 
 
 @nb.njit(cache=True, nogil=True)
-def _pixel_row(g, y, valid, check, census_bad, sobel_bad, cen, sob, buf,
-               acc):  # type: ignore[no-untyped-def]
+def _pixel_row(grey, y, valid, check, census_bad, sobel_bad, census, sobel_row, padded_rows,
+               census_bits):  # type: ignore[no-untyped-def]
     """Census and Sobel of row ``y``; pixels outside ``valid`` (where ``check``) get
     the values that make every pair with them cost nearly the most."""
-    _census_row(g, y, cen, buf, acc)
-    _sobel_row(g, y, sob)
+    _census_row(grey, y, census, padded_rows, census_bits)
+    _sobel_row(grey, y, sobel_row)
     if check:
-        v = valid[y]
-        for x in range(cen.shape[0]):
-            if not v[x]:
-                cen[x] = census_bad
-                sob[x] = sobel_bad
+        valid_row = valid[y]
+        for x in range(census.shape[0]):
+            if not valid_row[x]:
+                census[x] = census_bad
+                sobel_row[x] = sobel_bad
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _pixel_update(colsum, ring, cl, cr, gl, gr, trunc, tmp):  # type: ignore[no-untyped-def]
+def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, sobel_right,
+                  truncation, hamming):  # type: ignore[no-untyped-def]
     """Replace one ring row of pixel costs and update the column sums, for 1-D rows:
-    ``p[x] = H(cl[x], cr[x]) + min(|gl[x] - gr[x]|, trunc)``.  The Hamming distances
-    go through ``tmp`` so that the rest runs in 16-bit vector lanes."""
-    n = colsum.shape[0]
+    ``p[x] = H(census_left[x], census_right[x]) + min(|sobel_left[x] - sobel_right[x]|,
+    truncation)``.  The Hamming distances go through ``hamming`` so that the rest runs
+    in 16-bit vector lanes."""
+    n = column_sums.shape[0]
     for x in range(n):
-        tmp[x] = np.int16(_popcount(cl[x] ^ cr[x]))
+        hamming[x] = np.int16(_popcount(census_left[x] ^ census_right[x]))
     for x in range(n):
-        a = np.int16(gl[x])
-        b = np.int16(gr[x])
-        g = np.int16(max(a, b) - min(a, b))
-        p = np.int16(tmp[x] + np.int16(min(g, trunc)))
-        colsum[x] = np.int16(colsum[x] + np.int16(p - ring[x]))
-        ring[x] = p
+        a = np.int16(sobel_left[x])
+        b = np.int16(sobel_right[x])
+        gradient = np.int16(max(a, b) - min(a, b))
+        pixel = np.int16(hamming[x] + np.int16(min(gradient, truncation)))
+        column_sums[x] = np.int16(column_sums[x] + np.int16(pixel - ring_row[x]))
+        ring_row[x] = pixel
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _constant_update(colsum, ring, value):  # type: ignore[no-untyped-def]
-    for x in range(colsum.shape[0]):
-        colsum[x] += value - ring[x]
-        ring[x] = value
+def _constant_update(column_sums, ring_row, value):  # type: ignore[no-untyped-def]
+    for x in range(column_sums.shape[0]):
+        column_sums[x] += value - ring_row[x]
+        ring_row[x] = value
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _row_update(cl, cr, gl, gr, d0, nd, trunc, pmax, m, colsum, ring,
-                compute, tmp):  # type: ignore[no-untyped-def]
+def _row_update(pixels, settings, margin, column_sums, ring_slot,
+                compute):  # type: ignore[no-untyped-def]
     """Pixel costs of one row for every disparity into a ring slot, with the column
-    sums: ``[k, x + m]`` pairs left pixel ``x`` with right pixel ``x - d0 - k``; pairs
-    that leave the image (and every pair when not ``compute``) cost ``pmax``."""
-    w = cl.shape[0]
-    for k in range(nd):
-        d = d0 + k
-        x0 = min(max(d, 0), w)
+    sums: ``[k, x + margin]`` pairs left pixel ``x`` with right pixel ``x - d_min - k``;
+    pairs that leave the image (and every pair when not ``compute``) cost
+    ``settings.pixel_cost_max``.  ``pixels`` (:class:`RowPixels`) holds the row's
+    census and Sobel values."""
+    census_left, census_right = pixels.census_left, pixels.census_right
+    sobel_left, sobel_right = pixels.sobel_left, pixels.sobel_right
+    pixel_cost_max = settings.pixel_cost_max
+    m = margin
+    w = census_left.shape[0]
+    for k in range(settings.n_disparities):
+        d = settings.d_min + k
+        x0 = min(max(d, 0), w)  # left pixels x0 .. x1 - 1 have a right pixel x - d
         x1 = max(min(w + d, w), x0)
         if not compute:
             x0 = x1 = w
-        c = colsum[k]
-        r = ring[k]
-        _constant_update(c[m:m + x0], r[m:m + x0], pmax)
-        _constant_update(c[m + x1:m + w], r[m + x1:m + w], pmax)
+        sums = column_sums[k]
+        ring_row = ring_slot[k]
+        _constant_update(sums[m:m + x0], ring_row[m:m + x0], pixel_cost_max)
+        _constant_update(sums[m + x1:m + w], ring_row[m + x1:m + w], pixel_cost_max)
         if x1 > x0:
-            _pixel_update(c[m + x0:m + x1], r[m + x0:m + x1], cl[x0:x1], cr[x0 - d:x1 - d],
-                          gl[x0:x1], gr[x0 - d:x1 - d], trunc, tmp)
+            _pixel_update(sums[m + x0:m + x1], ring_row[m + x0:m + x1], census_left[x0:x1],
+                          census_right[x0 - d:x1 - d], sobel_left[x0:x1],
+                          sobel_right[x0 - d:x1 - d], settings.truncation, pixels.hamming)
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _box(col, out, t2, t4):  # type: ignore[no-untyped-def]
+def _box(col, out, pair_sums, quad_sums):  # type: ignore[no-untyped-def]
     """``out[x] = col[x - 4] + ... + col[x + 4]`` (nine columns) by pair sums."""
     n = col.shape[0]
     for x in range(n - 1):
-        t2[x] = col[x] + col[x + 1]
+        pair_sums[x] = col[x] + col[x + 1]
     for x in range(n - 3):
-        t4[x] = t2[x] + t2[x + 2]
+        quad_sums[x] = pair_sums[x] + pair_sums[x + 2]
     for x in range(n - 7):
-        t2[x] = t4[x] + t4[x + 4]
+        pair_sums[x] = quad_sums[x] + quad_sums[x + 4]  # eight columns
     for x in range(n - 8):
-        out[x + 4] = t2[x] + col[x + 8]
+        out[x + 4] = pair_sums[x] + col[x + 8]
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _least(bu, bm, bd, k, x, hw, vertical):  # type: ignore[no-untyped-def]
+def _least(boxes_up, boxes_mid, boxes_down, k, x, hw, vertical):  # type: ignore[no-untyped-def]
     """Least window sum at column ``x``, disparity ``k``: centred and half a window left
-    and right on the row's box sums ``bm`` (returned second), and with ``vertical``
-    also centred on the rows half a window above (``bu``) and below (``bd``)."""
-    row = np.int32(min(bm[k, x - hw], min(bm[k, x], bm[k, x + hw])))
+    and right on the row's box sums ``boxes_mid`` (returned second), and with
+    ``vertical`` also centred on the rows half a window above (``boxes_up``) and below
+    (``boxes_down``)."""
+    row = np.int32(min(boxes_mid[k, x - hw], min(boxes_mid[k, x], boxes_mid[k, x + hw])))
     if vertical:
-        return min(row, np.int32(min(bu[k, x], bd[k, x]))), row
+        return min(row, np.int32(min(boxes_up[k, x], boxes_down[k, x]))), row
     return row, row
 
 
@@ -250,263 +331,323 @@ def _path_step(cost, prev, cur, p1, p2):  # type: ignore[no-untyped-def]
     ``cur[k] = cost[k] + min(prev[k], prev[k -/+ 1] + p1, min(prev) + p2) - min(prev)``
     (``prev`` and ``cur`` distinct, ``nd >= 2``)."""
     nd = prev.shape[0]
-    mn = prev[0]
+    least = prev[0]
     for k in range(1, nd):
-        mn = min(mn, prev[k])
-    jump = mn + p2
+        least = min(least, prev[k])
+    jump = least + p2
     for k in range(1, nd - 1):
         lo = prev[k - 1]
         hi = prev[k + 1]
         c = (lo if lo < hi else hi) + p1
         v = prev[k]
         c = v if v < c else c
-        cur[k] = cost[k] + (jump if jump < c else c) - mn
+        cur[k] = cost[k] + (jump if jump < c else c) - least
     c = prev[1] + p1
     c = prev[0] if prev[0] < c else c
-    cur[0] = cost[0] + (jump if jump < c else c) - mn
+    cur[0] = cost[0] + (jump if jump < c else c) - least
     c = prev[nd - 2] + p1
     c = prev[nd - 1] if prev[nd - 1] < c else c
-    cur[nd - 1] = cost[nd - 1] + (jump if jump < c else c) - mn
+    cur[nd - 1] = cost[nd - 1] + (jump if jump < c else c) - least
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def _scanline(bm, m, w, q, p1, p2, bt, fwd, bwd, a, b, c, d):  # type: ignore[no-untyped-def]
+def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left, from_right,
+              a, b, c, d):  # type: ignore[no-untyped-def]
     """Window costs of one row aggregated along it, both ways (two paths of
-    semi-global matching): ``L_left`` into ``fwd`` and ``L_right`` into ``bwd``, both
-    (W, nd).  The two paths are stepped in one loop (independent chains), in float32
-    (exact for these sums).  With ``q > 1`` a path disparity is a bin of ``q`` whole
-    ones, its cost the least of theirs (wide ranges)."""
-    nd_fine = bm.shape[0]
+    semi-global matching): ``L_left`` into ``from_left`` and ``L_right`` into
+    ``from_right``, both (W, nd).  The two paths are stepped in one loop (independent
+    chains), in float32 (exact for these sums).  With ``bin_size > 1`` a path
+    disparity is a bin of ``bin_size`` whole ones, its cost the least of theirs (wide
+    ranges).  ``costs`` (W, nd) receives the row's costs, ``a`` ... ``d`` (nd,) are the
+    steps' buffers."""
+    nd_fine = boxes.shape[0]
     nd = a.shape[0]
-    w = (w + PATH_COLUMN_STEP - 1) // PATH_COLUMN_STEP
-    if q == 1:
-        for k in range(nd_fine):  # the row's window sums, disparity fastest
-            src = bm[k]
-            for x in range(w):
-                bt[x, k] = np.float32(src[m + PATH_COLUMN_STEP * x])
-    else:
-        for x in range(w):
-            for j in range(nd):
-                bt[x, j] = np.float32(np.inf)
+    n_columns = (width + PATH_COLUMN_STEP - 1) // PATH_COLUMN_STEP
+    # the row's window sums on every PATH_COLUMN_STEP-th column, disparity fastest
+    if bin_size == 1:
         for k in range(nd_fine):
-            src = bm[k]
-            j = k // q
-            for x in range(w):
-                bt[x, j] = min(bt[x, j], np.float32(src[m + PATH_COLUMN_STEP * x]))
-    for k in range(nd):
-        a[k] = bt[0, k]
-        fwd[0, k] = a[k]
-        c[k] = bt[w - 1, k]
-        bwd[w - 1, k] = c[k]
-    if nd >= 2:
-        for x in range(1, w):  # a, c hold the previous column, b, d the new (swapped)
-            xb = w - 1 - x
-            if x % 2:
-                _path_step(bt[x], a, b, p1, p2)
-                _path_step(bt[xb], c, d, p1, p2)
-                fwd[x] = b
-                bwd[xb] = d
-            else:
-                _path_step(bt[x], b, a, p1, p2)
-                _path_step(bt[xb], d, c, p1, p2)
-                fwd[x] = a
-                bwd[xb] = c
+            src = boxes[k]
+            for x in range(n_columns):
+                costs[x, k] = np.float32(src[margin + PATH_COLUMN_STEP * x])
     else:
-        for x in range(w):
-            fwd[x, 0] = bt[x, 0]
-            bwd[x, 0] = bt[x, 0]
+        for x in range(n_columns):
+            for j in range(nd):
+                costs[x, j] = np.float32(np.inf)
+        for k in range(nd_fine):
+            src = boxes[k]
+            j = k // bin_size
+            for x in range(n_columns):
+                costs[x, j] = min(costs[x, j], np.float32(src[margin + PATH_COLUMN_STEP * x]))
+    # the paths start at the row's two ends with the costs there
+    for k in range(nd):
+        a[k] = costs[0, k]
+        from_left[0, k] = a[k]
+        c[k] = costs[n_columns - 1, k]
+        from_right[n_columns - 1, k] = c[k]
+    # both paths a column at a time: a, c hold the previous column, b, d the new (swapped)
+    if nd >= 2:
+        for x in range(1, n_columns):
+            xb = n_columns - 1 - x
+            if x % 2:
+                _path_step(costs[x], a, b, p1, p2)
+                _path_step(costs[xb], c, d, p1, p2)
+                from_left[x] = b
+                from_right[xb] = d
+            else:
+                _path_step(costs[x], b, a, p1, p2)
+                _path_step(costs[xb], d, c, p1, p2)
+                from_left[x] = a
+                from_right[xb] = c
+    else:
+        for x in range(n_columns):
+            from_left[x, 0] = costs[x, 0]
+            from_right[x, 0] = costs[x, 0]
 
 
 @nb.njit(cache=True, nogil=True)
-def _load_row(ga, gb, va, vb, check_a, check_b, yc, cen_a, cen_b, sob_a, sob_b,
-              loaded, buf, acc):  # type: ignore[no-untyped-def]
-    """Census and Sobel rows ``yc`` of both images into the buffers (once per row)."""
-    if loaded[0] != yc:
-        _pixel_row(ga, yc, va, check_a, np.uint64(0xAAAAAAAAAAAAAAAA), np.int16(-32000),
-                   cen_a, sob_a, buf, acc)
-        _pixel_row(gb, yc, vb, check_b, np.uint64(0x5555555555555555), np.int16(32000),
-                   cen_b, sob_b, buf, acc)
-        loaded[0] = yc
+def _load_row(images, y, pixels):  # type: ignore[no-untyped-def]
+    """Census and Sobel rows ``y`` of both images (:class:`StreamImages`) into
+    ``pixels`` (:class:`RowPixels`), once per row."""
+    if pixels.loaded_row[0] != y:
+        _pixel_row(images.grey_left, y, images.valid_left, images.check_left,
+                   np.uint64(0xAAAAAAAAAAAAAAAA), np.int16(-32000), pixels.census_left,
+                   pixels.sobel_left, pixels.padded_rows, pixels.census_bits)
+        _pixel_row(images.grey_right, y, images.valid_right, images.check_right,
+                   np.uint64(0x5555555555555555), np.int16(32000), pixels.census_right,
+                   pixels.sobel_right, pixels.padded_rows, pixels.census_bits)
+        pixels.loaded_row[0] = y
 
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
-def stream_rows(ga, gb, va, vb, check_a, check_b, row_start, cols, dlo, nd, trunc, pmax,
-                 hw, vertical, p1, p2, path_step, y_first, y_last,
-                 out):  # type: ignore[no-untyped-def]
-    """One pass down rows ``y_first .. y_last - 1`` of the grey images ``ga``, ``gb``;
-    ``out[i]`` receives the summary of each edge point ``i`` on them (see
-    :class:`~robostereo.matcher.window_costs.WindowCosts`).  Census and Sobel rows
-    are made as the pass needs them."""
-    h, w = ga.shape
+def stream_rows(images, settings, row_start, columns, y_first, y_last,
+                out):  # type: ignore[no-untyped-def]
+    """One pass down rows ``y_first .. y_last - 1`` of a pair; ``out[i]`` receives the
+    summary of each left edge point ``i`` on them.
+
+    Parameters
+    ----------
+    images : StreamImages
+        The grey images and their valid pixels.
+    settings : StreamSettings
+        Disparities, cost truncation, windows and paths.
+    row_start : ndarray of int64, shape (H + 1,)
+        The edge points of row ``y`` are ``row_start[y] .. row_start[y + 1] - 1``.
+    columns : ndarray of int64, shape (N,)
+        Their columns.
+    y_first, y_last : int
+        The band of rows whose edge points this pass summarises.
+    out : ndarray of int32, shape (N, len(STREAM_COLUMNS))
+        The summary, columns named by :data:`STREAM_COLUMNS` (the fields of
+        :class:`~robostereo.matcher.window_costs.WindowCosts`); rows of edge points
+        outside the band are left alone.
+
+    Notes
+    -----
+    Census and Sobel rows are made as the pass needs them; pixel costs are kept for
+    the last ``2 * half_window + 1`` rows only (a ring), with their running column
+    sums, and window sums for as many rows.
+    """
+    grey_left = images.grey_left
+    d_min = settings.d_min
+    nd = settings.n_disparities
+    pixel_cost_max = settings.pixel_cost_max
+    hw = settings.half_window
+    vertical = settings.vertical
+    p1 = settings.p1
+    p2 = settings.p2
+    path_step = settings.path_row_step
+    h, w = grey_left.shape
     n_ring = 2 * hw + 1
-    m = 2 * hw
-    wp = w + 2 * m
+    m = 2 * hw  # margin of the padded rows: a side window reaches 2 hw columns out
+    padded_width = w + 2 * m
     big = np.int32(OUT_OF_VIEW)
-    base = 4 * n_ring  # keeps ring indices of negative rows positive
-    ring = np.zeros((n_ring, nd, wp), np.int16)   # pixel costs of the last 2 hw + 1 rows
-    colsum = np.zeros((nd, wp), np.int16)         # their column sums
-    boxes = np.zeros((n_ring, nd, wp), np.int16)  # window sums of the last 2 hw + 1 rows
-    t2 = np.zeros(wp, np.int16)
-    t4 = np.zeros(wp, np.int16)
-    s5 = np.empty(nd, np.int32)
-    s3 = np.empty(nd, np.int32)
-    cl = np.empty(w, np.uint64)  # census and Sobel of the row being added
-    cr = np.empty(w, np.uint64)
-    gl = np.empty(w, np.int16)
-    gr = np.empty(w, np.int16)
-    loaded = np.full(1, -1, np.int64)
-    buf = np.empty((5, w + 6), np.float32)  # padded grey rows for the census
-    acc = np.empty((2, w), np.uint32)
-    ptmp = np.empty(w, np.int16)  # Hamming distances of a row
-    scan = p1 >= 0  # aggregate along the rows too (p1 < 0: not)
-    ws = w if scan else 1
-    q = max(1, (nd + PATH_MAX_DISPARITIES - 1) // PATH_MAX_DISPARITIES)  # path bins
-    ndc = (nd + q - 1) // q
-    bt = np.empty((ws, ndc), np.float32)
-    fwd = np.empty((ws, ndc), np.float32)
-    bwd = np.empty((ws, ndc), np.float32)
-    pa = np.empty(ndc, np.float32)
-    pb = np.empty(ndc, np.float32)
-    pc = np.empty(ndc, np.float32)
-    pd = np.empty(ndc, np.float32)
-    s_row = np.empty(ndc, np.int32)
-    path_row = -1
-    colsum[:, :m] = n_ring * pmax
-    colsum[:, w + m:] = n_ring * pmax
+    ring_base = 4 * n_ring  # keeps ring indices of negative rows positive
+
+    # -- buffers: the ring of pixel costs and window sums, the row's census and Sobel
+    ring = np.zeros((n_ring, nd, padded_width), np.int16)  # pixel costs, last n_ring rows
+    column_sums = np.zeros((nd, padded_width), np.int16)   # their column sums
+    boxes = np.zeros((n_ring, nd, padded_width), np.int16)  # window sums, last n_ring rows
+    pair_sums = np.zeros(padded_width, np.int16)
+    quad_sums = np.zeros(padded_width, np.int16)
+    cost_all = np.empty(nd, np.int32)  # per disparity: least of the five windows
+    cost_along = np.empty(nd, np.int32)  # least of the three along the row
+    pixels = RowPixels(
+        np.empty(w, np.uint64), np.empty(w, np.uint64),  # census of the row being added
+        np.empty(w, np.int16), np.empty(w, np.int16),  # Sobel of it
+        np.empty(w, np.int16),  # Hamming distances of a row
+        np.empty((5, w + 6), np.float32),  # padded grey rows for the census
+        np.empty((2, w), np.uint32),
+        np.full(1, -1, np.int64),
+    )
+    paths = p1 >= 0  # aggregate along the rows too (p1 < 0: not)
+    path_width = w if paths else 1
+    bin_size = max(1, (nd + PATH_MAX_DISPARITIES - 1) // PATH_MAX_DISPARITIES)
+    n_bins = (nd + bin_size - 1) // bin_size
+    path_costs = np.empty((path_width, n_bins), np.float32)
+    from_left = np.empty((path_width, n_bins), np.float32)
+    from_right = np.empty((path_width, n_bins), np.float32)
+    step_a = np.empty(n_bins, np.float32)
+    step_b = np.empty(n_bins, np.float32)
+    step_c = np.empty(n_bins, np.float32)
+    step_d = np.empty(n_bins, np.float32)
+    path_sum = np.empty(n_bins, np.int32)
+    path_row = -1  # the row whose paths are in from_left, from_right
+    column_sums[:, :m] = n_ring * pixel_cost_max
+    column_sums[:, w + m:] = n_ring * pixel_cost_max
 
     def edges_in(y0, y1):  # type: ignore[no-untyped-def]
         return row_start[min(max(y1, 0), h)] > row_start[min(max(y0, 0), h)]
 
     lag = hw if vertical else 0  # rows of box sums needed below the output row
-    j0 = y_first - lag
-    # column sums of the window centred on row j0: rows j0 - hw .. j0 + hw, clamped
-    for r in range(j0 - hw, j0 + hw + 1):
-        yc = min(max(r, 0), h - 1)
-        _load_row(ga, gb, va, vb, check_a, check_b, yc, cl, cr, gl, gr, loaded, buf, acc)
-        _row_update(cl, cr, gl, gr, dlo, nd, trunc, pmax, m, colsum,
-                    ring[(r + base) % n_ring], True, ptmp)
-    for j in range(j0, y_last + lag):
-        if j > j0:
-            r = j + hw  # the new pixel row; its ring slot holds row j - hw - 1
-            yc = min(max(r, 0), h - 1)
+    first_box_row = y_first - lag
+
+    # -- column sums of the window centred on the first row: rows j0 - hw .. j0 + hw,
+    #    clamped to the image
+    for r in range(first_box_row - hw, first_box_row + hw + 1):
+        source_row = min(max(r, 0), h - 1)
+        _load_row(images, source_row, pixels)
+        _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring], True)
+
+    for box_row in range(first_box_row, y_last + lag):
+        # -- pixel costs of the new row into the ring, column sums updated (the costs
+        #    are made only where a window of an edge point will read them)
+        if box_row > first_box_row:
+            r = box_row + hw  # the new pixel row; its ring slot holds row box_row - hw - 1
+            source_row = min(max(r, 0), h - 1)
             needed = edges_in(r - hw - lag, r + hw + lag + 1)
             if needed:
-                _load_row(ga, gb, va, vb, check_a, check_b, yc, cl, cr, gl, gr, loaded, buf, acc)
-            _row_update(cl, cr, gl, gr, dlo, nd, trunc, pmax, m, colsum,
-                        ring[(r + base) % n_ring], needed, ptmp)
-        bj = boxes[(j + base) % n_ring]
-        if edges_in(j - lag, j + lag + 1):
+                _load_row(images, source_row, pixels)
+            _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring],
+                        needed)
+
+        # -- window sums of nine columns of box_row, every disparity
+        boxes_new = boxes[(box_row + ring_base) % n_ring]
+        if edges_in(box_row - lag, box_row + lag + 1):
             for k in range(nd):
-                _box(colsum[k], bj[k], t2, t4)
-        y = j - lag  # the row whose windows are all complete
+                _box(column_sums[k], boxes_new[k], pair_sums, quad_sums)
+        y = box_row - lag  # the row whose windows are all complete
         if y < y_first or row_start[y + 1] == row_start[y]:
             continue
-        bu = boxes[(y - hw + base) % n_ring]
-        bm = boxes[(y + base) % n_ring]
-        bd = boxes[(y + hw + base) % n_ring]
-        if scan:
-            # paths run on every path_step-th row; a row's edge points read those of the
-            # nearest such row (their windows share all but a few rows).  The choice
-            # depends on y alone, so bands (threads) do not change the result
+        boxes_up = boxes[(y - hw + ring_base) % n_ring]
+        boxes_mid = boxes[(y + ring_base) % n_ring]
+        boxes_down = boxes[(y + hw + ring_base) % n_ring]
+
+        # -- the paths along the row: on every path_step-th row; a row's edge points
+        #    read those of the nearest such row (their windows share all but a few
+        #    rows).  The choice depends on y alone, so bands (threads) do not change
+        #    the result
+        if paths:
             y_path = y
             if vertical:
                 y_path = min((y + path_step // 2) // path_step * path_step, h - 1)
             if y_path != path_row:
-                _scanline(boxes[(y_path + base) % n_ring], m, w, q, np.float32(p1),
-                          np.float32(p2), bt, fwd, bwd, pa, pb, pc, pd)
+                _scanline(boxes[(y_path + ring_base) % n_ring], m, w, bin_size,
+                          np.float32(p1), np.float32(p2), path_costs, from_left, from_right,
+                          step_a, step_b, step_c, step_d)
                 path_row = y_path
+
         for i in range(row_start[y], row_start[y + 1]):
-            c = cols[i]
-            xc = c + m
-            k5 = -1
-            c5 = big
-            k3 = -1
-            c3 = big
-            n_in = 0
+            column = columns[i]
+            padded_column = column + m
+            # -- every disparity: the least of the five windows and of the three along
+            #    the row, their best disparities and the disparities in view
+            best = -1
+            best_cost = big
+            best_row = -1
+            best_row_cost = big
+            n_in_view = 0
             for k in range(nd):
-                xr = c - dlo - k
-                if xr < 0 or xr >= w:
-                    s5[k] = big
-                    s3[k] = big
+                x_right = column - d_min - k
+                if x_right < 0 or x_right >= w:
+                    cost_all[k] = big
+                    cost_along[k] = big
                     continue
-                n_in += 1
-                v5, v3 = _least(bu, bm, bd, k, xc, hw, vertical)
-                s5[k] = v5
-                s3[k] = v3
-                if v5 < c5:
-                    c5 = v5
-                    k5 = k
-                if v3 < c3:
-                    c3 = v3
-                    k3 = k
-            f5 = big
-            f3 = big
+                n_in_view += 1
+                v_all, v_along = _least(boxes_up, boxes_mid, boxes_down, k, padded_column,
+                                        hw, vertical)
+                cost_all[k] = v_all
+                cost_along[k] = v_along
+                if v_all < best_cost:
+                    best_cost = v_all
+                    best = k
+                if v_along < best_row_cost:
+                    best_row_cost = v_along
+                    best_row = k
+            # -- the second best: the least more than one disparity from the best
+            second = big
+            second_row = big
             for k in range(nd):
-                if abs(k - k5) > 1 and s5[k] < f5:
-                    f5 = s5[k]
-                if abs(k - k3) > 1 and s3[k] < f3:
-                    f3 = s3[k]
+                if abs(k - best) > 1 and cost_all[k] < second:
+                    second = cost_all[k]
+                if abs(k - best_row) > 1 and cost_along[k] < second_row:
+                    second_row = cost_along[k]
             o = out[i]
-            o[0] = k5
-            o[1] = c5
-            o[2] = f5
-            o[3] = s5[k5 - 1] if k5 > 0 else big
-            o[4] = s5[k5 + 1] if 0 <= k5 < nd - 1 else big
-            o[5] = k3
-            o[6] = c3
-            o[7] = f3
-            o[8] = n_in
-            o[9] = -1
-            if k5 < 0:
+            o[_BEST] = best
+            o[_COST] = best_cost
+            o[_SECOND] = second
+            o[_BEFORE] = cost_all[best - 1] if best > 0 else big
+            o[_AFTER] = cost_all[best + 1] if 0 <= best < nd - 1 else big
+            o[_BEST_ROW] = best_row
+            o[_COST_ROW] = best_row_cost
+            o[_SECOND_ROW] = second_row
+            o[_IN_VIEW] = n_in_view
+            o[_RIGHT_BEST] = -1
+            if best < 0:
                 continue
-            # the right pixel of the best disparity against every left pixel
-            xr = c - dlo - k5
-            kr = -1
-            cb = big
+            # -- left-right check: the right pixel of the best disparity against every
+            #    left pixel
+            x_right = column - d_min - best
+            right_best = -1
+            right_cost = big
             for k in range(nd):
-                xl = xr + dlo + k
-                if xl < 0 or xl >= w:
+                x_left = x_right + d_min + k
+                if x_left < 0 or x_left >= w:
                     continue
-                v, _ = _least(bu, bm, bd, k, xl + m, hw, vertical)
-                if v < cb:
-                    cb = v
-                    kr = k
-            o[9] = kr
-            if scan:  # the aggregated costs: best, its cost, the best more than 1 off
-                sr_ = s_row
-                cq = c // PATH_COLUMN_STEP
-                for j in range(ndc):
-                    sr_[j] = np.int32(fwd[cq, j] + bwd[cq, j])
+                v, _ = _least(boxes_up, boxes_mid, boxes_down, k, x_left + m, hw, vertical)
+                if v < right_cost:
+                    right_cost = v
+                    right_best = k
+            o[_RIGHT_BEST] = right_best
+            if paths:
+                # -- the aggregated costs: the best bin, its cost, the best more than
+                #    one bin off
+                path_column = column // PATH_COLUMN_STEP
+                for j in range(n_bins):
+                    path_sum[j] = np.int32(from_left[path_column, j]
+                                           + from_right[path_column, j])
                 # a bin is in view where one of its disparities is: k in k_lo .. k_hi
-                k_lo = max(c - dlo - w + 1, 0)
-                k_hi = min(c - dlo, nd - 1)
-                js = -1
-                cs = big
-                for j in range(ndc):
-                    if j * q <= k_hi and (j + 1) * q - 1 >= k_lo and sr_[j] < cs:
-                        cs = sr_[j]
-                        js = j
-                fs = big
-                for j in range(ndc):
-                    if (j * q <= k_hi and (j + 1) * q - 1 >= k_lo and abs(j - js) > 1
-                            and sr_[j] < fs):
-                        fs = sr_[j]
-                o[11] = cs
-                o[12] = fs
-                if q == 1 or js < 0:
-                    o[10] = js
-                    o[13] = sr_[js - 1] if js > 0 else big
-                    o[14] = sr_[js + 1] if 0 <= js < ndc - 1 else big
+                k_lo = max(column - d_min - w + 1, 0)
+                k_hi = min(column - d_min, nd - 1)
+                best_bin = -1
+                best_bin_cost = big
+                for j in range(n_bins):
+                    if (j * bin_size <= k_hi and (j + 1) * bin_size - 1 >= k_lo
+                            and path_sum[j] < best_bin_cost):
+                        best_bin_cost = path_sum[j]
+                        best_bin = j
+                second_bin_cost = big
+                for j in range(n_bins):
+                    if (j * bin_size <= k_hi and (j + 1) * bin_size - 1 >= k_lo
+                            and abs(j - best_bin) > 1 and path_sum[j] < second_bin_cost):
+                        second_bin_cost = path_sum[j]
+                o[_COST_PATH] = best_bin_cost
+                o[_SECOND_PATH] = second_bin_cost
+                if bin_size == 1 or best_bin < 0:
+                    o[_BEST_PATH] = best_bin
+                    o[_BEFORE_PATH] = path_sum[best_bin - 1] if best_bin > 0 else big
+                    o[_AFTER_PATH] = (path_sum[best_bin + 1] if 0 <= best_bin < n_bins - 1
+                                      else big)
                 else:  # the bin's best whole disparity by the windows, their parabola
-                    ks = -1
-                    cb = big
-                    for k in range(js * q, min(nd, (js + 1) * q)):
-                        if s5[k] < cb:
-                            cb = s5[k]
-                            ks = k
-                    o[10] = ks
-                    o[13] = s5[ks - 1] if ks > 0 else big
-                    o[14] = s5[ks + 1] if 0 <= ks < nd - 1 else big
+                    best_in_bin = -1
+                    bin_cost = big
+                    for k in range(best_bin * bin_size, min(nd, (best_bin + 1) * bin_size)):
+                        if cost_all[k] < bin_cost:
+                            bin_cost = cost_all[k]
+                            best_in_bin = k
+                    o[_BEST_PATH] = best_in_bin
+                    o[_BEFORE_PATH] = cost_all[best_in_bin - 1] if best_in_bin > 0 else big
+                    o[_AFTER_PATH] = (cost_all[best_in_bin + 1] if 0 <= best_in_bin < nd - 1
+                                      else big)
 
 
 @nb.njit(cache=True, nogil=True)
