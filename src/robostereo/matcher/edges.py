@@ -1,13 +1,13 @@
-"""Smoothing, edge points along epipolar lines and their features (seed 3.1-3.2).
+"""Smoothing, edge points along epipolar lines and their features (thesis 3.1-3.2).
 
 Images come in as ``(H, W)`` (or ``(H, W, 3|4)`` colour) arrays of any integer bit
-depth; they are converted to grey and scaled to the seed's 0..127 grey scale so that
-the seed's gradient threshold of 8.0 means the same contrast at any bit depth.  The
+depth; they are converted to grey and scaled to the thesis's 0..127 grey scale so that
+the thesis's gradient threshold of 8.0 means the same contrast at any bit depth.  The
 rows of a rectified image are its epipolar lines; edge points are the peaks of the
 1-D intensity gradient along the rows of the smoothed image, located to sub-pixel
 precision.
 
-Each edge point ``P[i, j](d, s, m, p, a)`` (seed 3.2) carries its position ``d``
+Each edge point ``P[i, j](d, s, m, p, a)`` (thesis 3.2) carries its position ``d``
 (here ``x``, pixels), contrast sign ``s``, gradient magnitude ``m``, connectivity
 pattern type ``p`` (1..16) and 5 x 5 mean grey level ``a``; robostereo adds the
 grey levels on either side of the edge, which tell edges apart better than one mean.
@@ -47,13 +47,13 @@ _SEED_WEIGHTS = np.array(
     dtype=float,
 )
 SEED_KERNEL: NDArray[np.float64] = _SEED_WEIGHTS / _SEED_WEIGHTS.sum()
-"""The seed's 5 x 5 averaging-Gaussian filter (figure 3-1), normalised by its sum.
+"""The thesis's 5 x 5 averaging-Gaussian filter (figure 3-1), normalised by its sum.
 
 The weights 2 (16 border cells), 10 (8 inner cells) and 15 (centre) add up to 127;
 seed-notes says 126, an arithmetic slip: dividing by the true sum keeps a constant
 image constant."""
 
-#: grey levels of the seed's vision system: 0..127 (7 bit)
+#: grey levels of the thesis's vision system: 0..127 (7 bit)
 SEED_GREY_LEVELS = 128
 
 #: how far (pixels) the grey levels beside an edge are sampled, either side
@@ -120,7 +120,7 @@ def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
 def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "image") -> NDArray[
     np.float32
 ]:
-    """Convert an image to grey on the seed's 0..127 scale.
+    """Convert an image to grey on the thesis's 0..127 scale.
 
     Parameters
     ----------
@@ -139,7 +139,7 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
     -------
     ndarray of float32, shape (H, W)
         Grey levels scaled by ``127 / (2**bit_depth - 1)`` (by 127 for floats of full
-        scale 1.0): full scale at any bit depth becomes the seed's 127.
+        scale 1.0): full scale at any bit depth becomes the thesis's 127.
 
     Raises
     ------
@@ -206,7 +206,7 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
 
 
 def smooth(grey: NDArray[np.floating]) -> NDArray[np.float32]:
-    """Smooth with the seed's 5 x 5 averaging-Gaussian filter (figure 3-1).
+    """Smooth with the thesis's 5 x 5 averaging-Gaussian filter (figure 3-1).
 
     Parameters
     ----------
@@ -230,7 +230,7 @@ def smooth(grey: NDArray[np.floating]) -> NDArray[np.float32]:
 
 @dataclass(frozen=True)
 class EdgeSet:
-    """Edge points of one image with their features (seed 3.2, ``P[i, j](d, s, m, p, a)``).
+    """Edge points of one image with their features (thesis 3.2, ``P[i, j](d, s, m, p, a)``).
 
     All arrays have shape ``(N,)`` and are sorted by ``(line, x)``.
 
@@ -241,7 +241,7 @@ class EdgeSet:
     row : ndarray of int
         Image row of the line, ``line * row_step + row_offset``.
     x : ndarray of float
-        Sub-pixel position along the row (pixels; the seed's distance ``d``).
+        Sub-pixel position along the row (pixels; the thesis's distance ``d``).
     column : ndarray of int
         Pixel column of the gradient peak.
     sign : ndarray of int8
@@ -293,7 +293,7 @@ class EdgeSet:
 
 def pattern_type(up_offset: ArrayLike, down_offset: ArrayLike, has_up: ArrayLike,
                  has_down: ArrayLike) -> NDArray[np.int8]:
-    """Connectivity pattern type 1..16 (seed 3.2, figure 3-2c as read in seed-notes).
+    """Connectivity pattern type 1..16 (thesis 3.2, figure 3-2c as read in seed-notes).
 
     Types 1-9: connected above and below, ``1 + 3 (u + 1) + (v + 1)`` for offsets
     ``u, v`` in {-1, 0, 1}; 10-12: above only, ``11 + u``; 13-15: below only,
@@ -337,7 +337,7 @@ def pattern_difference(
     up_l: ArrayLike, down_l: ArrayLike, has_up_l: ArrayLike, has_down_l: ArrayLike,
     up_r: ArrayLike, down_r: ArrayLike, has_up_r: ArrayLike, has_down_r: ArrayLike,
 ) -> NDArray[np.int8]:
-    """Difference 0..6 of two connectivity patterns (seed 3.2 (b)).
+    """Difference 0..6 of two connectivity patterns (thesis 3.2 (b)).
 
     The upper neighbours are compared first: 0 when both are absent or at the same
     offset, 1 or 2 when both are present with offsets one or two apart, 3 when one
@@ -368,7 +368,7 @@ def connectivity(
     """Connect each edge point to edge points on the lines above and below.
 
     Two edge points on neighbouring lines are connected when their pixel columns
-    differ by at most one and their contrast signs agree (seed 3.2 (b)).  Where
+    differ by at most one and their contrast signs agree (thesis 3.2 (b)).  Where
     several qualify, the one straight above (below) is preferred, then the one at
     offset -1, then +1.
 
@@ -545,15 +545,15 @@ def detect_edges(
     grey: NDArray[np.float32] | None = None,
     valid: ArrayLike | None = None,
 ) -> EdgeSet:
-    """Find edge points along the rows (epipolar lines) of an image (seed 3.1-3.2).
+    """Find edge points along the rows (epipolar lines) of an image (thesis 3.1-3.2).
 
     Parameters
     ----------
     image : array_like, shape (H, W) or (H, W, 3|4)
         Rectified image: its rows are epipolar lines.
     threshold : float
-        Least gradient magnitude of an edge point, grey levels per pixel on the seed's
-        0..127 scale (seed: 8.0; figure 4-3 also shows 6).
+        Least gradient magnitude of an edge point, grey levels per pixel on the thesis's
+        0..127 scale (thesis: 8.0; figure 4-3 also shows 6).
     row_step : int
         Spacing of the epipolar lines in rows (1 = every row).
     row_offset : int
@@ -561,7 +561,7 @@ def detect_edges(
     bit_depth : int, optional
         Bit depth of the input grey levels (see :func:`to_grey`).
     subpixel : bool
-        Locate edges to sub-pixel precision (default) or at whole pixels, as the seed.
+        Locate edges to sub-pixel precision (default) or at whole pixels, as the thesis.
     grey : ndarray, optional
         The image already converted by :func:`to_grey` (saves the conversion).
     valid : array_like of bool, shape (H, W), optional

@@ -1,4 +1,4 @@
-"""The whole matcher of seed chapter 3: from a rectified pair to matched edge points.
+"""The whole matcher of thesis chapter 3: from a rectified pair to matched edge points.
 
 :func:`match_stereo` runs the stages in order and keeps each one's output for
 inspection: edge points of both images with their features (3.1-3.2), candidate
@@ -10,6 +10,7 @@ points and depth bounds (3.6-3.7).
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
@@ -64,12 +65,12 @@ DEFAULT_MIN_CONFIDENCE = {"window": 20 / 21, "relaxation": 0.7}
 """Window method: a match is accepted when it is at least 20 / 21 = 95.2 % likely right,
 the decision that weighs one false match as 20 missed ones (a decision, not a fit;
 ``benchmarks/fit_confidence.py`` shows it leave-one-scene-out).  Relaxation: the
-probability above which robostereo's relaxation accepts (the seed's mode: 0.5)."""
+probability above which robostereo's relaxation accepts (the thesis's mode: 0.5)."""
 
 
 @dataclass(frozen=True)
 class MatchParameters:
-    """Tuning of :func:`match_stereo`.  Defaults: robostereo's; :meth:`seed`: the seed's.
+    """Tuning of :func:`match_stereo`.  Defaults: robostereo's; :meth:`thesis`: the thesis's.
 
     Attributes
     ----------
@@ -77,30 +78,30 @@ class MatchParameters:
         ``"window"`` (default): every disparity of the range scored at each left edge
         point by side-aware census windows, with a left-right check and a calibrated
         confidence (:func:`robostereo.matcher.window_match.window_match`).  ``"relaxation"``: the
-        seed's matcher, right edge points as candidates, relaxation on edge
+        thesis's matcher, right edge points as candidates, relaxation on edge
         connectivity (3.2-3.5).
     threshold : float
-        Least gradient magnitude of a left edge point (0..127 grey scale; seed 8.0).
+        Least gradient magnitude of a left edge point (0..127 grey scale; thesis 8.0).
     right_threshold_ratio : float
         Right-image edge points need ``threshold * right_threshold_ratio``: a left
         edge's true partner just under the threshold stays a candidate (default
-        0.75; the seed: 1).
+        0.75; the thesis: 1).
     row_step : int
         Spacing of the epipolar lines used, in rows.
     subpixel : bool
-        Sub-pixel edge positions (the seed: whole pixels).
+        Sub-pixel edge positions (the thesis: whole pixels).
     weights : SimilarityWeights
-        Weights of GI, PI, AI in ``w`` (seed: 1/3 each).
+        Weights of GI, PI, AI in ``w`` (thesis: 1/3 each).
     profile_scale : float or None
         Edge-profile factor of ``w`` (see :func:`~robostereo.matcher.candidates.find_candidates`);
-        None for the seed's ``w``.
+        None for the thesis's ``w``.
     relaxation : RelaxationParameters
         Iterations (5) and coefficients of the relaxation; the no-match label's
-        support is 0.6 (1.0 in the seed's mode).  Used by the relaxation method.
+        support is 0.6 (1.0 in the thesis's mode).  Used by the relaxation method.
     min_confidence : float or None
         Least confidence (window method: calibrated ``P(correct)``; relaxation: the
         match probability) of an accepted match; None: the method's default,
-        :data:`DEFAULT_MIN_CONFIDENCE` (the seed's mode 0.5).  Lower it for more
+        :data:`DEFAULT_MIN_CONFIDENCE` (the thesis's mode 0.5).  Lower it for more
         matches, raise it for fewer false ones.
     gradient_truncation : int
         Window method: largest gradient difference per pixel pair (0..300).
@@ -173,10 +174,10 @@ class MatchParameters:
         return DEFAULT_MIN_CONFIDENCE[self.method]
 
     @classmethod
-    def seed(cls, **changes: object) -> MatchParameters:
-        """The seed's matcher: relaxation, whole-pixel edges, its ``w``, one threshold.
+    def thesis(cls, **changes: object) -> MatchParameters:
+        """The thesis's matcher: relaxation, whole-pixel edges, its ``w``, one threshold.
 
-        >>> p = MatchParameters.seed()
+        >>> p = MatchParameters.thesis()
         >>> p.method, p.subpixel, p.profile_scale, p.right_threshold_ratio, p.acceptance
         ('relaxation', False, None, 1.0, 0.5)
         """
@@ -185,6 +186,14 @@ class MatchParameters:
             relaxation=RelaxationParameters(no_match_support=1.0), min_confidence=0.5,
         )
         return replace(base, **changes)  # type: ignore[arg-type]
+
+    @classmethod
+    def seed(cls, **changes: object) -> MatchParameters:
+        """Deprecated name of :meth:`thesis` (it clashes with random seeds); goes in the
+        next release."""
+        warnings.warn("MatchParameters.seed() is deprecated, use MatchParameters.thesis()",
+                      DeprecationWarning, stacklevel=2)
+        return cls.thesis(**changes)
 
 
 @dataclass(frozen=True)
@@ -198,7 +207,7 @@ class MatchResult:
     Attributes
     ----------
     left_edges, right_edges : EdgeSet
-        Edge points and features of the two images (seed 3.1-3.2).
+        Edge points and features of the two images (thesis 3.1-3.2).
     edge_disparity : ndarray of float
         Disparity of each left edge point's best match, NaN where it has none.
     edge_confidence : ndarray of float
@@ -361,7 +370,7 @@ class MatchResult:
     def matches_after(self, iteration: int) -> NDArray[np.intp]:
         """The matches accepted from the probabilities after ``iteration`` iterations.
 
-        Relaxation method only.  Returns an array like :attr:`match` (the seed's
+        Relaxation method only.  Returns an array like :attr:`match` (the thesis's
         figure 4-4 shows these after 0, 1, 3 and 5 iterations); beyond the iterations
         run, the final matches.  Raises :class:`~robostereo.errors.InputError` unless
         ``iteration`` is an integer >= 0.
@@ -435,7 +444,7 @@ def match_stereo(
     valid_right: ArrayLike | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> MatchResult:
-    """Match the edge points of a rectified stereo pair (seed chapter 3).
+    """Match the edge points of a rectified stereo pair (thesis chapter 3).
 
     Parameters
     ----------
@@ -485,7 +494,7 @@ def match_stereo(
        (:mod:`~robostereo.matcher.confidence`); the no-match label wins below
        ``params.acceptance``.
 
-    Relaxation method (the seed's, ``MatchParameters.seed()``):
+    Relaxation method (the thesis's, ``MatchParameters.thesis()``):
 
     2. Candidates, similarity indices and ``w``
        (:func:`~robostereo.matcher.candidates.find_candidates`).

@@ -1,6 +1,6 @@
 """Window costs at edge points: every disparity of the range, side-aware windows.
 
-The seed compares a left edge point only with right *edge points* (3.2, 3.5).  On
+The thesis compares a left edge point only with right *edge points* (3.2, 3.5).  On
 real scenes the true partner is often not a right edge point at all (occlusion, a
 depth edge whose two sides move differently, blur), and then the best wrong
 candidate wins.  This stage scores, for each left edge point, *every* whole-pixel
@@ -299,7 +299,7 @@ def window_costs(
     Parameters
     ----------
     grey_left, grey_right : ndarray, shape (H, W)
-        Grey images on the seed's 0..127 scale (:func:`robostereo.matcher.edges.to_grey`).
+        Grey images on the thesis's 0..127 scale (:func:`robostereo.matcher.edges.to_grey`).
     rows, columns : ndarray of int, shape (N,)
         Pixels of the left edge points, sorted by row.
     disparity_range : tuple of int

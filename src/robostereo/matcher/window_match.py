@@ -127,7 +127,7 @@ def window_match(
     gradient_truncation : int
         See :func:`window_costs`.
     weights, profile_scale
-        The seed's similarity weights and robostereo's edge-profile factor, for the
+        The thesis's similarity weights and robostereo's edge-profile factor, for the
         ``similarity`` feature (:func:`robostereo.matcher.candidates.pair_similarity`).
     model : ConfidenceModel, optional
         Default :data:`robostereo.matcher.confidence.DEFAULT_MODEL`.
