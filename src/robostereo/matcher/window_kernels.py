@@ -17,6 +17,7 @@ References
 
 from __future__ import annotations
 
+from collections import namedtuple
 from typing import NamedTuple
 
 import numba as nb
@@ -36,6 +37,7 @@ __all__ = [
     "RowPixels",
     "StreamImages",
     "StreamSettings",
+    "StreamSummary",
     "census_7x5",
     "census_padded",
     "evidence",
@@ -74,6 +76,8 @@ STREAM_COLUMNS: tuple[str, ...] = (
     "right_best",
     "best_path", "cost_path", "second_path", "before_path", "after_path",
 )
+#: the summary as named columns, for the kernels that read it (:func:`evidence`)
+StreamSummary = namedtuple("StreamSummary", STREAM_COLUMNS)
 _BEST = STREAM_COLUMNS.index("best")
 _COST = STREAM_COLUMNS.index("cost")
 _SECOND = STREAM_COLUMNS.index("second")
@@ -651,89 +655,104 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
 
 
 @nb.njit(cache=True, nogil=True)
-def nearest_on_lines(l_line, l_sign, x_right, r_line, r_x, r_sign, n_lines
-                      ):  # type: ignore[no-untyped-def]
-    n = l_line.shape[0]
-    idx = np.full(n, -1, np.int64)
-    dist = np.full(n, np.inf)
-    start = np.searchsorted(r_line, np.arange(n_lines + 1))
+def nearest_on_lines(left_line, left_sign, x_right, right_line, right_x, right_sign, n_lines
+                     ):  # type: ignore[no-untyped-def]
+    """Per left edge point ``i`` the right edge point of the same line and contrast sign
+    nearest to ``x_right[i]`` among the two around it, and its distance: ``(N,)`` int64
+    (-1: none) and float (``inf``).  Right edge points are sorted by line, then by x."""
+    n = left_line.shape[0]
+    nearest = np.full(n, -1, np.int64)
+    distance = np.full(n, np.inf)
+    line_start = np.searchsorted(right_line, np.arange(n_lines + 1))
     for i in range(n):
-        q = x_right[i]
-        ln = l_line[i]
-        if not np.isfinite(q) or ln < 0 or ln >= n_lines:
+        x = x_right[i]
+        line = left_line[i]
+        if not np.isfinite(x) or line < 0 or line >= n_lines:
             continue
-        a, b = start[ln], start[ln + 1]
-        j = a + np.searchsorted(r_x[a:b], q)
-        for jj in (j - 1, j):  # the two right points around x_right on the line
-            if a <= jj < b and r_sign[jj] == l_sign[i]:
-                dd = abs(r_x[jj] - q)
-                if dd < dist[i]:
-                    dist[i] = dd
-                    idx[i] = jj
-    return idx, dist
+        first, end = line_start[line], line_start[line + 1]
+        at = first + np.searchsorted(right_x[first:end], x)
+        for j in (at - 1, at):  # the two right points around x_right on the line
+            if first <= j < end and right_sign[j] == left_sign[i]:
+                dd = abs(right_x[j] - x)
+                if dd < distance[i]:
+                    distance[i] = dd
+                    nearest[i] = j
+    return nearest, distance
 
 
 @nb.njit(cache=True, nogil=True)
-def _unique(c1, c2):  # type: ignore[no-untyped-def]
-    """``(c2 - c1) / c2`` clipped to 0..1; 0 where either is out of view."""
-    if c1 >= OUT_OF_VIEW or c2 >= OUT_OF_VIEW:
+def _unique(best, second):  # type: ignore[no-untyped-def]
+    """``(second - best) / second`` clipped to 0..1; 0 where either is out of view."""
+    if best >= OUT_OF_VIEW or second >= OUT_OF_VIEW:
         return 0.0
-    return min(max((c2 - c1) / max(c2, 1.0), 0.0), 1.0)
+    return min(max((second - best) / max(second, 1.0), 0.0), 1.0)
 
 
 @nb.njit(cache=True, nogil=True)
-def _vertex(k, cm, c0, cp, d_lo):  # type: ignore[no-untyped-def]
+def _vertex(k, before, cost, after, d_min):  # type: ignore[no-untyped-def]
     """Disparity of the parabola's vertex through the costs at ``k - 1, k, k + 1``."""
-    den = cm - 2.0 * c0 + cp
-    off = 0.0
-    if cm < OUT_OF_VIEW and cp < OUT_OF_VIEW and den > 0:
-        off = min(max(0.5 * (cm - cp) / den, -0.5), 0.5)
-    return d_lo + k + off
+    curvature = before - 2.0 * cost + after
+    offset = 0.0
+    if before < OUT_OF_VIEW and after < OUT_OF_VIEW and curvature > 0:
+        offset = min(max(0.5 * (before - after) / curvature, -0.5), 0.5)
+    return d_min + k + offset
 
 
 @nb.njit(cache=True, nogil=True)
-def evidence(best, cost, second, before, after, best_row, cost_row, second_row,
-              right_best, best_path, cost_path, second_path, before_path, after_path,
-              in_view, d_lo, nd, swap_u, feats, cols):  # type: ignore[no-untyped-def]
+def evidence(summary, d_min, nd, swap_uniqueness, features,
+             columns):  # type: ignore[no-untyped-def]
     """Per point: the whole-pixel disparity refined by its parabola (the paths' where
-    they are taken), whether there is one, and into ``feats`` (N, F) the evidence of
-    :data:`robostereo.matcher.confidence.FEATURES` but the right edge point's two
-    columns, in the columns ``cols`` (the caller's table of them)."""
+    they are taken) and whether there is one, both ``(N,)``, and into ``features``
+    (N, F) the evidence of :data:`robostereo.matcher.confidence.FEATURES` but the right
+    edge point's two columns, in the columns ``columns`` (8,) (the caller's table of
+    them, in the order written here).  ``summary`` is a :data:`StreamSummary` of the
+    window costs."""
+    best, cost, second = summary.best, summary.cost, summary.second
+    before, after, in_view = summary.before, summary.after, summary.in_view
+    right_best = summary.right_best
+    best_path = summary.best_path
     n = best.shape[0]
-    d_par = np.full(n, np.nan)
-    seen = np.zeros(n, np.bool_)
+    disparity = np.full(n, np.nan)
+    has_disparity = np.zeros(n, np.bool_)
     for i in range(n):
-        k1 = best[i]
-        s = k1 >= 0
-        uniq = _unique(float(cost[i]), float(second[i]))
-        if s:
-            d_par[i] = _vertex(k1, float(before[i]), float(cost[i]), float(after[i]), d_lo)
-        kp = best_path[i]
-        u_path = 0.0
-        agree = True
-        swap = False
-        if kp >= 0:
-            u_path = _unique(float(cost_path[i]), float(second_path[i]))
-            agree = s and abs(kp - k1) <= 1
-            swap = not agree and u_path > swap_u
-            if swap:
-                d_par[i] = _vertex(kp, float(before_path[i]), float(cost_path[i]),
-                                   float(after_path[i]), d_lo)
-        s = s or swap
-        seen[i] = s
-        # the right pixel's best disparity is the same or one off (none: only when a
-        # single disparity is searched, where there is nothing to disagree with)
-        lr_ok = abs(right_best[i] - k1) <= 1 if right_best[i] >= 0 else nd <= 1
-        u_row = 0.0
-        if s and abs(best_row[i] - k1) <= 1:
-            u_row = _unique(float(cost_row[i]), float(second_row[i]))
-        f = feats[i]
-        f[cols[0]] = uniq
-        f[cols[1]] = u_row
-        f[cols[2]] = 1.0 if u_row > 0 else 0.0
-        f[cols[3]] = 1.0 if lr_ok else 0.0
-        f[cols[4]] = 1.0 - in_view[i] / max(nd, 1)
-        f[cols[5]] = u_path
-        f[cols[6]] = 1.0 if agree else 0.0
-        f[cols[7]] = 1.0 if swap else 0.0
-    return d_par, seen
+        # -- the windows' best disparity and its parabola
+        k_best = best[i]
+        has = k_best >= 0
+        uniqueness = _unique(float(cost[i]), float(second[i]))
+        if has:
+            disparity[i] = _vertex(k_best, float(before[i]), float(cost[i]), float(after[i]),
+                                   d_min)
+        # -- the paths: their agreement, and their disparity where they disagree and
+        #    are unique enough
+        k_path = best_path[i]
+        path_uniqueness = 0.0
+        path_agree = True
+        path_swapped = False
+        if k_path >= 0:
+            path_uniqueness = _unique(float(summary.cost_path[i]),
+                                      float(summary.second_path[i]))
+            path_agree = has and abs(k_path - k_best) <= 1
+            path_swapped = not path_agree and path_uniqueness > swap_uniqueness
+            if path_swapped:
+                disparity[i] = _vertex(k_path, float(summary.before_path[i]),
+                                       float(summary.cost_path[i]),
+                                       float(summary.after_path[i]), d_min)
+        has = has or path_swapped
+        has_disparity[i] = has
+        # -- the right pixel's best disparity is the same or one off (none: only when a
+        #    single disparity is searched, where there is nothing to disagree with)
+        left_right = abs(right_best[i] - k_best) <= 1 if right_best[i] >= 0 else nd <= 1
+        # -- the three windows along the row, where they agree
+        row_uniqueness = 0.0
+        if has and abs(summary.best_row[i] - k_best) <= 1:
+            row_uniqueness = _unique(float(summary.cost_row[i]), float(summary.second_row[i]))
+        f = features[i]
+        f[columns[0]] = uniqueness
+        f[columns[1]] = row_uniqueness
+        f[columns[2]] = 1.0 if row_uniqueness > 0 else 0.0  # row_agree
+        f[columns[3]] = 1.0 if left_right else 0.0
+        f[columns[4]] = 1.0 - in_view[i] / max(nd, 1)  # out_of_view
+        f[columns[5]] = path_uniqueness
+        f[columns[6]] = 1.0 if path_agree else 0.0
+        f[columns[7]] = 1.0 if path_swapped else 0.0
+    return disparity, has_disparity

@@ -26,7 +26,12 @@ from robostereo.matcher.window_costs import (
     coarse_range,
     window_costs,
 )
-from robostereo.matcher.window_kernels import evidence, nearest_on_lines
+from robostereo.matcher.window_kernels import (
+    STREAM_COLUMNS,
+    StreamSummary,
+    evidence,
+    nearest_on_lines,
+)
 
 __all__ = [
     "COARSE_MIN_DISPARITIES",
@@ -175,11 +180,8 @@ def window_match(
                       path_penalties=path_penalties)
     n, nd = len(left), wc.n_disparities
     feats = np.zeros((n, len(FEATURES)))
-    d_par, seen = evidence(
-        wc.best, wc.cost, wc.second, wc.before, wc.after, wc.best_row, wc.cost_row,
-        wc.second_row, wc.right_best, wc.best_path, wc.cost_path, wc.second_path,
-        wc.before_path, wc.after_path, wc.in_view, d_lo, nd, SWAP_UNIQUENESS, feats,
-        _EVIDENCE_COLUMNS)
+    summary = StreamSummary(*(getattr(wc, name) for name in STREAM_COLUMNS))
+    d_par, seen = evidence(summary, d_lo, nd, SWAP_UNIQUENESS, feats, _EVIDENCE_COLUMNS)
     idx, dist = _nearest_right_edge(left, right, left.x - d_par)
     d_edge = left.x - right.x[np.maximum(idx, 0)] if len(right) else d_par
     use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel
