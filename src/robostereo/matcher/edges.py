@@ -421,40 +421,45 @@ def _abs_gradient(s, out):  # type: ignore[no-untyped-def]
 
 
 @nb.njit(cache=True, nogil=True)
-def _peaks(sr, threshold, m):  # type: ignore[no-untyped-def]
-    """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of ``sr``:
+def _peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
+    """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of
+    ``smoothed`` (the lines used, ``(L, W)`` float32):
     strictly above the left neighbour, at least the right one and ``threshold``, at
     least ``m`` pixels inside the borders.  Returns the rows, columns, ``|g|`` at the
     column and its neighbours, and ``g`` at the column (float32 arithmetic, as NumPy's
     on the same arrays)."""
-    n_rows, w = sr.shape
-    ar = np.zeros(w, np.float32)  # |g| of one row: computed again in the second pass
+    n_rows, w = smoothed.shape
+    mag_row = np.zeros(w, np.float32)  # |g| of one row: computed again in the second pass
+    # -- count the peaks
     count = 0
     for r in range(n_rows):
-        _abs_gradient(sr[r], ar)
+        _abs_gradient(smoothed[r], mag_row)
         for x in range(m, w - m):
-            if ar[x] >= threshold and ar[x] > ar[x - 1] and ar[x] >= ar[x + 1]:
+            if (mag_row[x] >= threshold and mag_row[x] > mag_row[x - 1]
+                    and mag_row[x] >= mag_row[x + 1]):
                 count += 1
-    k = np.empty(count, np.int64)
-    j = np.empty(count, np.int64)
-    am = np.empty(count, np.float32)
-    a0 = np.empty(count, np.float32)
-    ap = np.empty(count, np.float32)
-    gp = np.empty(count, np.float32)
+    # -- record them
+    line = np.empty(count, np.int64)
+    column = np.empty(count, np.int64)
+    mag_before = np.empty(count, np.float32)  # |g| at column - 1
+    mag_peak = np.empty(count, np.float32)  # |g| at the column
+    mag_after = np.empty(count, np.float32)  # |g| at column + 1
+    gradient = np.empty(count, np.float32)  # g at the column
     i = 0
     half = np.float32(0.5)
     for r in range(n_rows):
-        _abs_gradient(sr[r], ar)
+        _abs_gradient(smoothed[r], mag_row)
         for x in range(m, w - m):
-            if ar[x] >= threshold and ar[x] > ar[x - 1] and ar[x] >= ar[x + 1]:
-                k[i] = r
-                j[i] = x
-                am[i] = ar[x - 1]
-                a0[i] = ar[x]
-                ap[i] = ar[x + 1]
-                gp[i] = (sr[r, x + 1] - sr[r, x - 1]) * half
+            if (mag_row[x] >= threshold and mag_row[x] > mag_row[x - 1]
+                    and mag_row[x] >= mag_row[x + 1]):
+                line[i] = r
+                column[i] = x
+                mag_before[i] = mag_row[x - 1]
+                mag_peak[i] = mag_row[x]
+                mag_after[i] = mag_row[x + 1]
+                gradient[i] = (smoothed[r, x + 1] - smoothed[r, x - 1]) * half
                 i += 1
-    return k, j, am, a0, ap, gp
+    return line, column, mag_before, mag_peak, mag_after, gradient
 
 
 @nb.njit(cache=True, nogil=True)
@@ -479,13 +484,13 @@ def _mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
 
 
 @nb.njit(cache=True, nogil=True)
-def _features(k, j, am, a0, ap, gp, sr, g0, row_offset, row_step, subpixel,
-              n_lines):  # type: ignore[no-untyped-def]
+def _features(line, column, mag_before, mag_peak, mag_after, gradient, smoothed, grey,
+              row_offset, row_step, subpixel, n_lines):  # type: ignore[no-untyped-def]
     """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
     the grey levels before and after of the peaks (float32 arithmetic where NumPy's
     on the same arrays is float32)."""
-    n = k.shape[0]
-    w = sr.shape[1]
+    n = line.shape[0]
+    w = smoothed.shape[1]
     x = np.empty(n, np.float64)
     mag = np.empty(n, np.float64)
     sign = np.empty(n, np.int8)
@@ -495,43 +500,50 @@ def _features(k, j, am, a0, ap, gp, sr, g0, row_offset, row_step, subpixel,
     quarter = np.float32(0.25)
     two = np.float32(2.0)
     for i in range(n):
-        off = np.float32(0.0)
+        # -- sub-pixel position and magnitude: the vertex of the parabola through |g|
+        offset = np.float32(0.0)
         if subpixel:
-            den = am[i] - two * a0[i] + ap[i]
-            if den < 0:
-                off = half * (am[i] - ap[i]) / den
-                off = min(max(off, -half), half)
-            mag[i] = a0[i] - quarter * (am[i] - ap[i]) * off
+            curvature = mag_before[i] - two * mag_peak[i] + mag_after[i]
+            if curvature < 0:
+                offset = half * (mag_before[i] - mag_after[i]) / curvature
+                offset = min(max(offset, -half), half)
+            mag[i] = mag_peak[i] - quarter * (mag_before[i] - mag_after[i]) * offset
         else:
-            mag[i] = a0[i]
-        x[i] = j[i] + np.float64(off)
-        sign[i] = 1 if gp[i] > 0 else (-1 if gp[i] < 0 else 0)
-        before[i] = sr[k[i], min(max(j[i] - SIDE_OFFSET, 0), w - 1)]
-        after[i] = sr[k[i], min(max(j[i] + SIDE_OFFSET, 0), w - 1)]
-    up, down, up_off, down_off = _connect(k, j, sign, n_lines, w)
+            mag[i] = mag_peak[i]
+        x[i] = column[i] + np.float64(offset)
+        # -- contrast sign, grey levels before and after
+        sign[i] = 1 if gradient[i] > 0 else (-1 if gradient[i] < 0 else 0)
+        before[i] = smoothed[line[i], min(max(column[i] - SIDE_OFFSET, 0), w - 1)]
+        after[i] = smoothed[line[i], min(max(column[i] + SIDE_OFFSET, 0), w - 1)]
+    # -- connectivity, pattern type, mean grey
+    up, down, up_off, down_off = _connect(line, column, sign, n_lines, w)
     pattern = np.empty(n, np.int8)
     for i in range(n):
         pattern[i] = _pattern(up_off[i], down_off[i], up[i] >= 0, down[i] >= 0)
-    mean5 = _mean5_at(g0, row_offset + row_step * k, j)
+    mean5 = _mean5_at(grey, row_offset + row_step * line, column)
     return x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
 
 
 @nb.njit(cache=True, nogil=True)
-def _edge_points(src, g0, threshold, m, row_offset, row_step, subpixel, n_lines,
+def _edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_lines,
                  usable, check):  # type: ignore[no-untyped-def]
     """:func:`_peaks`, with ``check`` only those on ``usable`` pixels, then
     :func:`_features`, in one call (one release of the interpreter lock for the image,
     not one per step); also the rows."""
-    k, j, am, a0, ap, gp = _peaks(src, threshold, m)
-    r = row_offset + row_step * k
+    line, column, mag_before, mag_peak, mag_after, gradient = _peaks(smoothed, threshold, m)
+    row = row_offset + row_step * line
     if check:
-        keep = np.empty(k.shape[0], np.bool_)
-        for i in range(k.shape[0]):
-            keep[i] = usable[r[i], j[i]]
-        k, j, r, am, a0, ap, gp = k[keep], j[keep], r[keep], am[keep], a0[keep], ap[keep], gp[keep]
+        keep = np.empty(line.shape[0], np.bool_)
+        for i in range(line.shape[0]):
+            keep[i] = usable[row[i], column[i]]
+        line, column, row = line[keep], column[keep], row[keep]
+        mag_before, mag_peak, mag_after = mag_before[keep], mag_peak[keep], mag_after[keep]
+        gradient = gradient[keep]
     x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = _features(
-        k, j, am, a0, ap, gp, src, g0, row_offset, row_step, subpixel, n_lines)
-    return k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
+        line, column, mag_before, mag_peak, mag_after, gradient, smoothed, grey, row_offset,
+        row_step, subpixel, n_lines)
+    return (line, column, row, x, sign, mag, up, down, up_off, down_off, pattern, mean5,
+            before, after)
 
 
 def detect_edges(
