@@ -22,7 +22,8 @@ left and from the right, as two scanline paths of semi-global matching [3]_; a p
 carries the disparity of the row's textured parts into the ambiguous ones, and where
 the paths disagree with the windows and are unique enough their disparity is taken.
 
-The work is done in one pass down the image (a numba kernel): pixel costs of a row
+The work is done in one pass down the image (the numba kernel
+:func:`~robostereo.matcher.window_kernels.stream_rows`): pixel costs of a row
 for all disparities, vertical column sums kept running over a ring of the last nine
 rows, window sums of nine columns, the paths on every fifth row, and at each row the
 windows of that row's edge points read from the window sums of it and of the rows half
