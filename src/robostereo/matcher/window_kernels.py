@@ -132,6 +132,7 @@ class RowPixels(NamedTuple):
     census_bits: np.ndarray  # (2, W) uint32
     loaded_row: np.ndarray  # (1,) int64, the row in the buffers (-1: none)
 
+
 @intrinsic
 def _popcount(typingctx, x):  # type: ignore[no-untyped-def]
     sig = types.uint64(types.uint64)
@@ -170,7 +171,7 @@ def _shift_in(acc, nbr, centre):  # type: ignore[no-untyped-def]
 
 @nb.njit(cache=True, fastmath=True, nogil=True)
 def _census_row(g, y, out, buf, acc):  # type: ignore[no-untyped-def]
-    """Row ``y`` of the default 7 x 5 census of ``g`` into ``out`` (W,), the borders
+    """Row ``y`` of the default 7 x 5 census [1]_ of ``g`` into ``out`` (W,), the borders
     replicated.  ``buf`` (5, W + 6) float32 receives the five rows padded; ``acc``
     (2, W) uint32 collects the first two bits and the last 32, each comparison done
     along the row for all pixels at once (vector lanes as wide as the floats)."""
