@@ -19,7 +19,7 @@ fitted to the scenes it is scored on; the weights of the full score are the ones
   scanline paths of semi-global matching), their disparity where they disagree and
   are unique, their evidence in the score;
 * ``+ range narrowed``: the full matcher, a range of more than 64 disparities first
-  narrowed by the half-size pass (``robostereo.window.coarse_range``; the earlier
+  narrowed by the half-size pass (``robostereo.matcher.window_costs.coarse_range``; the earlier
   variants search the scene's whole range).
 """
 
@@ -27,12 +27,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from robostereo.confidence import DEFAULT_MODEL, FEATURES
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
-from robostereo.edges import detect_edges, to_grey
 from robostereo.evaluation import CURVE_LEVELS, coverage_curve
-from robostereo.pipeline import MatchParameters, match_stereo
-from robostereo.window import window_match
+from robostereo.matcher.confidence import DEFAULT_MODEL, FEATURES
+from robostereo.matcher.edges import detect_edges, to_grey
+from robostereo.matcher.pipeline import MatchParameters, match_stereo
+from robostereo.matcher.window_match import window_match
 
 F = {n: k for k, n in enumerate(FEATURES)}
 

@@ -25,7 +25,7 @@ from pathlib import Path
 
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.evaluation import CURVE_LEVELS, evaluate_scene
-from robostereo.pipeline import MatchParameters
+from robostereo.matcher.pipeline import MatchParameters
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -33,7 +33,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from robostereo.datasets import find_data_dir, load_scene
 from robostereo.evaluation import sgbm_disparity
-from robostereo.pipeline import MatchParameters, match_stereo
+from robostereo.matcher.pipeline import MatchParameters, match_stereo
 
 SCENES = ("tsukuba", "venus", "motorcycle", "cloth3", "reindeer", "wood2")
 
@@ -85,7 +85,7 @@ sys.path.insert(0, {tests!r})
 import numpy as np
 from bench_match import pair
 from robostereo.evaluation import sgbm_disparity
-from robostereo.pipeline import MatchParameters, match_stereo
+from robostereo.matcher.pipeline import MatchParameters, match_stereo
 params = MatchParameters(**{options!r})
 fn = ((lambda a, b, r: match_stereo(a, b, r, params=params)) if {method!r} == "robostereo"
       else sgbm_disparity)

@@ -19,7 +19,7 @@ import time
 
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.evaluation import CURVE_LEVELS, coverage_curve, score_matches
-from robostereo.pipeline import MatchParameters, match_stereo
+from robostereo.matcher.pipeline import MatchParameters, match_stereo
 
 
 def main() -> int:

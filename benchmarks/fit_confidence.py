@@ -5,7 +5,7 @@ Run:  python benchmarks/fit_confidence.py [--synthetic N]
 Every developer scene of ../shared/data/stereo (or $ROBOSTEREO_DATA) and N synthetic
 layered pairs (tests/synthetic.py: a slanted plane and boxes, occlusions, noise) give
 one sample per left edge point with ground truth and a best disparity: the evidence of
-:data:`robostereo.confidence.FEATURES` and whether the match is right by the project's
+:data:`robostereo.matcher.confidence.FEATURES` and whether the match is right by the project's
 evaluation rule.  Then
 
 1. for each real scene held out, the score weights are chosen on the *other* scenes
@@ -16,7 +16,7 @@ evaluation rule.  Then
    coverage at <= 2, 3 and 5 % false, and its operating point at each candidate
    ``min_confidence``;
 2. the weights chosen and the curve fitted on all scenes are printed as the literal
-   for ``robostereo.confidence.DEFAULT_MODEL``.
+   for ``robostereo.matcher.confidence.DEFAULT_MODEL``.
 """
 
 from __future__ import annotations
@@ -30,10 +30,10 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
-from robostereo.confidence import ConfidenceModel, calibration_table, fit_confidence
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.evaluation import coverage_curve, match_errors
-from robostereo.pipeline import MatchParameters, match_stereo
+from robostereo.matcher.confidence import ConfidenceModel, calibration_table, fit_confidence
+from robostereo.matcher.pipeline import MatchParameters, match_stereo
 
 #: (right edge, similarity, row agreement, path uniqueness, path taken): 1008 settings
 GRID = list(itertools.product((0.0, 0.1, 0.2, 0.3), (0.0, 0.1, 0.2, 0.3, 0.4, 0.6, 0.8),

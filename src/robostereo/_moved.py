@@ -34,6 +34,7 @@ MOVED: dict[str, tuple[str, ...]] = {
         "robostereo.matcher.window_match",
         "robostereo.matcher.window_costs",
         "robostereo.matcher.pipeline",
+        "robostereo.matcher.window_kernels",
     ),
     # geometry under one roof, file reading in io
     "robostereo.camera": (

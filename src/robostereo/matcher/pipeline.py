@@ -1,4 +1,4 @@
-"""The whole matcher of seed chapter 3: from a rectified pair to matched edge points.
+"""The whole matcher of thesis chapter 3: from a rectified pair to matched edge points.
 
 :func:`match_stereo` runs the stages in order and keeps each one's output for
 inspection: edge points of both images with their features (3.1-3.2), candidate
@@ -10,13 +10,13 @@ points and depth bounds (3.6-3.7).
 from __future__ import annotations
 
 import time
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.edges import EdgeSet, detect_edges, to_grey
 from robostereo.errors import (
     InputError,
     require_finite,
@@ -24,7 +24,7 @@ from robostereo.errors import (
     require_positive,
     require_range,
 )
-from robostereo.matching import (
+from robostereo.matcher.candidates import (
     Candidates,
     SimilarityWeights,
     assign_matches,
@@ -32,10 +32,12 @@ from robostereo.matching import (
     group_argmax,
     initial_probabilities,
 )
-from robostereo.parallel import run_all
-from robostereo.relaxation import RelaxationParameters, RelaxationResult, relax
+from robostereo.matcher.edges import EdgeSet, detect_edges, to_grey
+from robostereo.matcher.parallel import run_all
+from robostereo.matcher.relaxation import RelaxationParameters, RelaxationResult, relax
+from robostereo.matcher.window_costs import PATH_PENALTIES
+from robostereo.matcher.window_match import WindowMatch, window_match
 from robostereo.triangulation import StereoCamera, triangulate
-from robostereo.window import PATH_PENALTIES, WindowMatch, window_match
 
 __all__ = [
     "DEFAULT_MIN_CONFIDENCE",
@@ -45,6 +47,7 @@ __all__ = [
     "MatchResult",
     "match_stereo",
     "searched_range",
+    "warm_up",
 ]
 
 
@@ -62,56 +65,56 @@ DEFAULT_MIN_CONFIDENCE = {"window": 20 / 21, "relaxation": 0.7}
 """Window method: a match is accepted when it is at least 20 / 21 = 95.2 % likely right,
 the decision that weighs one false match as 20 missed ones (a decision, not a fit;
 ``benchmarks/fit_confidence.py`` shows it leave-one-scene-out).  Relaxation: the
-probability above which robostereo's relaxation accepts (the seed's mode: 0.5)."""
+probability above which robostereo's relaxation accepts (the thesis's mode: 0.5)."""
 
 
 @dataclass(frozen=True)
 class MatchParameters:
-    """Tuning of :func:`match_stereo`.  Defaults: robostereo's; :meth:`seed`: the seed's.
+    """Tuning of :func:`match_stereo`.  Defaults: robostereo's; :meth:`thesis`: the thesis's.
 
     Attributes
     ----------
     method : str
         ``"window"`` (default): every disparity of the range scored at each left edge
         point by side-aware census windows, with a left-right check and a calibrated
-        confidence (:func:`robostereo.window.window_match`).  ``"relaxation"``: the
-        seed's matcher, right edge points as candidates, relaxation on edge
+        confidence (:func:`robostereo.matcher.window_match.window_match`).  ``"relaxation"``: the
+        thesis's matcher, right edge points as candidates, relaxation on edge
         connectivity (3.2-3.5).
     threshold : float
-        Least gradient magnitude of a left edge point (0..127 grey scale; seed 8.0).
+        Least gradient magnitude of a left edge point (0..127 grey scale; thesis 8.0).
     right_threshold_ratio : float
         Right-image edge points need ``threshold * right_threshold_ratio``: a left
         edge's true partner just under the threshold stays a candidate (default
-        0.75; the seed: 1).
+        0.75; the thesis: 1).
     row_step : int
         Spacing of the epipolar lines used, in rows.
     subpixel : bool
-        Sub-pixel edge positions (the seed: whole pixels).
+        Sub-pixel edge positions (the thesis: whole pixels).
     weights : SimilarityWeights
-        Weights of GI, PI, AI in ``w`` (seed: 1/3 each).
+        Weights of GI, PI, AI in ``w`` (thesis: 1/3 each).
     profile_scale : float or None
-        Edge-profile factor of ``w`` (see :func:`~robostereo.matching.find_candidates`);
-        None for the seed's ``w``.
+        Edge-profile factor of ``w`` (see :func:`~robostereo.matcher.candidates.find_candidates`);
+        None for the thesis's ``w``.
     relaxation : RelaxationParameters
         Iterations (5) and coefficients of the relaxation; the no-match label's
-        support is 0.6 (1.0 in the seed's mode).  Used by the relaxation method.
+        support is 0.6 (1.0 in the thesis's mode).  Used by the relaxation method.
     min_confidence : float or None
         Least confidence (window method: calibrated ``P(correct)``; relaxation: the
         match probability) of an accepted match; None: the method's default,
-        :data:`DEFAULT_MIN_CONFIDENCE` (the seed's mode 0.5).  Lower it for more
+        :data:`DEFAULT_MIN_CONFIDENCE` (the thesis's mode 0.5).  Lower it for more
         matches, raise it for fewer false ones.
     gradient_truncation : int
         Window method: largest gradient difference per pixel pair (0..300).
     paths : bool
         Window method: also aggregate the window costs along the rows (two paths of
-        semi-global matching, :func:`robostereo.window.window_costs`), which carries
+        semi-global matching, :func:`robostereo.matcher.window_costs.window_costs`), which carries
         the disparity of textured parts into repeated patterns and weak texture.
         False: a tenth to a quarter faster, worse there; the confidence is then conservative
         (its calibration was fitted with the paths).
     coarse : bool
         Window method: a range of more than 64 whole disparities is first narrowed
         to the part the scene holds by a pass at half size
-        (:func:`robostereo.window.coarse_range`), so a generous range costs little
+        (:func:`robostereo.matcher.window_costs.coarse_range`), so a generous range costs little
         more than a tight one.  False: the whole range is searched.
     bit_depth : int or None
         Bit depth of the input grey levels; None: from the dtype.
@@ -171,10 +174,10 @@ class MatchParameters:
         return DEFAULT_MIN_CONFIDENCE[self.method]
 
     @classmethod
-    def seed(cls, **changes: object) -> MatchParameters:
-        """The seed's matcher: relaxation, whole-pixel edges, its ``w``, one threshold.
+    def thesis(cls, **changes: object) -> MatchParameters:
+        """The thesis's matcher: relaxation, whole-pixel edges, its ``w``, one threshold.
 
-        >>> p = MatchParameters.seed()
+        >>> p = MatchParameters.thesis()
         >>> p.method, p.subpixel, p.profile_scale, p.right_threshold_ratio, p.acceptance
         ('relaxation', False, None, 1.0, 0.5)
         """
@@ -183,6 +186,14 @@ class MatchParameters:
             relaxation=RelaxationParameters(no_match_support=1.0), min_confidence=0.5,
         )
         return replace(base, **changes)  # type: ignore[arg-type]
+
+    @classmethod
+    def seed(cls, **changes: object) -> MatchParameters:
+        """Deprecated name of :meth:`thesis` (it clashes with random seeds); goes in the
+        next release."""
+        warnings.warn("MatchParameters.seed() is deprecated, use MatchParameters.thesis()",
+                      DeprecationWarning, stacklevel=2)
+        return cls.thesis(**changes)
 
 
 @dataclass(frozen=True)
@@ -196,7 +207,7 @@ class MatchResult:
     Attributes
     ----------
     left_edges, right_edges : EdgeSet
-        Edge points and features of the two images (seed 3.1-3.2).
+        Edge points and features of the two images (thesis 3.1-3.2).
     edge_disparity : ndarray of float
         Disparity of each left edge point's best match, NaN where it has none.
     edge_confidence : ndarray of float
@@ -359,7 +370,7 @@ class MatchResult:
     def matches_after(self, iteration: int) -> NDArray[np.intp]:
         """The matches accepted from the probabilities after ``iteration`` iterations.
 
-        Relaxation method only.  Returns an array like :attr:`match` (the seed's
+        Relaxation method only.  Returns an array like :attr:`match` (the thesis's
         figure 4-4 shows these after 0, 1, 3 and 5 iterations); beyond the iterations
         run, the final matches.  Raises :class:`~robostereo.errors.InputError` unless
         ``iteration`` is an integer >= 0.
@@ -433,7 +444,7 @@ def match_stereo(
     valid_right: ArrayLike | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> MatchResult:
-    """Match the edge points of a rectified stereo pair (seed chapter 3).
+    """Match the edge points of a rectified stereo pair (thesis chapter 3).
 
     Parameters
     ----------
@@ -449,7 +460,7 @@ def match_stereo(
     valid_left, valid_right : array_like of bool, shape (H, W), optional
         Pixels that hold image data, e.g. the part of a rectified image that has a
         source; edge points whose features would see other pixels are not used
-        (:func:`~robostereo.edges.usable_pixels`), so the fill of a rectification
+        (:func:`~robostereo.matcher.edges.usable_pixels`), so the fill of a rectification
         makes no false edges.
     progress : callable, optional
         Called with the name of each stage as it starts.
@@ -463,32 +474,34 @@ def match_stereo(
     InputError
         Images that are not (H, W) or (H, W, 3|4) real-valued arrays of one size, a
         float image outside 0..1 without ``params.bit_depth`` (see
-        :func:`~robostereo.edges.to_grey`), NaN grey levels, a malformed or empty
+        :func:`~robostereo.matcher.edges.to_grey`), NaN grey levels, a malformed or empty
         `disparity_range` or one outside the image's (one line naming the parameter).
     TypeError
         `params` or `camera` of the wrong type.
 
     Notes
     -----
-    1. Edge points and features in both images (:func:`~robostereo.edges.detect_edges`).
+    1. Edge points and features in both images (:func:`~robostereo.matcher.edges.detect_edges`).
 
     Window method (default):
 
     2. Every whole-pixel disparity of the range scored at each left edge point with
        side-aware census + gradient windows, the left-right check, the window costs
        aggregated along the rows (two scanline paths; ``params.paths``), sub-pixel
-       disparity from the right edge point there (:func:`~robostereo.window.window_match`).
+       disparity from the right edge point there
+       (:func:`~robostereo.matcher.window_match.window_match`).
     3. Confidence ``P(correct)`` from the evidence by the calibrated model
-       (:mod:`~robostereo.confidence`); the no-match label wins below
+       (:mod:`~robostereo.matcher.confidence`); the no-match label wins below
        ``params.acceptance``.
 
-    Relaxation method (the seed's, ``MatchParameters.seed()``):
+    Relaxation method (the thesis's, ``MatchParameters.thesis()``):
 
-    2. Candidates, similarity indices and ``w`` (:func:`~robostereo.matching.find_candidates`).
+    2. Candidates, similarity indices and ``w``
+       (:func:`~robostereo.matcher.candidates.find_candidates`).
     3. Initial probabilities, eq. (1)-(3).
-    4. Relaxation, eq. (4)-(5) (:func:`~robostereo.relaxation.relax`).
+    4. Relaxation, eq. (4)-(5) (:func:`~robostereo.matcher.relaxation.relax`).
     5. Acceptance: one match per left and per right edge point
-       (:func:`~robostereo.matching.assign_matches`).
+       (:func:`~robostereo.matcher.candidates.assign_matches`).
 
     A pair with no edge points gives an empty result, not an error.
 
@@ -574,3 +587,10 @@ def match_stereo(
         camera=camera, image_shape=(int(a.shape[0]), int(a.shape[1])),
         disparity_range=(float(lo), float(hi)), parameters=p, timings=t,
     )
+
+
+def warm_up() -> None:
+    """Load (or compile) the numba kernels once, on a tiny pair, so that the first real
+    match is timed like the others (``robostereo evaluate`` calls it)."""
+    g = np.random.default_rng(0).integers(0, 255, (128, 96)).astype(np.uint8)
+    match_stereo(g, np.roll(g, -2, axis=1), (0.0, 4.0))

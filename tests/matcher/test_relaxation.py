@@ -5,10 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robostereo.edges import detect_edges
 from robostereo.errors import InputError
-from robostereo.matching import find_candidates, group_sum, initial_probabilities
-from robostereo.relaxation import (
+from robostereo.matcher.candidates import find_candidates, group_sum, initial_probabilities
+from robostereo.matcher.edges import detect_edges
+from robostereo.matcher.relaxation import (
     RelaxationParameters,
     connectivity_coefficient,
     neighbours,

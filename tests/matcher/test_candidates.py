@@ -5,9 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robostereo.edges import detect_edges
 from robostereo.errors import InputError
-from robostereo.matching import (
+from robostereo.matcher.candidates import (
     SimilarityWeights,
     assign_matches,
     find_candidates,
@@ -15,6 +14,7 @@ from robostereo.matching import (
     group_sum,
     initial_probabilities,
 )
+from robostereo.matcher.edges import detect_edges
 
 
 def _row_image(columns_levels, width=60, height=7):
@@ -78,7 +78,7 @@ def test_profile_factor_tells_apart_edges_with_other_sides():
 
 
 def test_initial_probabilities_eq_1_to_3():
-    from robostereo.matching import Candidates
+    from robostereo.matcher.candidates import Candidates
 
     w = np.array([0.9, 0.3, 0.6])
     c = Candidates(
@@ -99,7 +99,7 @@ def test_group_helpers_handle_empty_groups():
 
 
 def test_assign_one_match_per_right_edge_and_threshold():
-    from robostereo.matching import Candidates
+    from robostereo.matcher.candidates import Candidates
 
     c = Candidates(
         left=np.array([0, 1, 2, 2]), right=np.array([7, 7, 8, 9]), disparity=np.arange(4.0),
@@ -128,8 +128,8 @@ def test_bad_range_and_weights():
 def test_pair_similarity_is_the_seed_formula_and_checks_its_indices(rng):
     """GI, PI, AI, the profile factor and w of random pairs, against the formulas of
     3.2-3.3 written out in NumPy; indices outside the edge sets are refused."""
-    from robostereo.edges import pattern_difference
-    from robostereo.matching import SimilarityWeights, pair_similarity
+    from robostereo.matcher.candidates import SimilarityWeights, pair_similarity
+    from robostereo.matcher.edges import pattern_difference
 
     img = (rng.uniform(0, 1, (40, 90)) > 0.5).astype(np.uint8) * 200
     left, right = detect_edges(img), detect_edges(np.roll(img, 3, axis=0))

@@ -1,8 +1,8 @@
-"""Match candidates, similarity indices and initial probabilities (seed 3.2-3.3, 3.5).
+"""Match candidates, similarity indices and initial probabilities (thesis 3.2-3.3, 3.5).
 
 For every edge point of the left image, the candidates are the edge points of the
 right image on the same epipolar line, with the same contrast sign, inside the
-disparity search range (the seed's matchable region, 3.5).  Each candidate gets the
+disparity search range (the thesis's matchable region, 3.5).  Each candidate gets the
 similarity indices GI, PI and AI of section 3.2, their weighted sum ``w`` (3.3), and
 an initial probability by eq. (1)-(3) as read in seed-notes (after Barnard and
 Thompson, 1980).
@@ -20,8 +20,8 @@ import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.edges import EdgeSet
 from robostereo.errors import InputError, require_finite
+from robostereo.matcher.edges import EdgeSet
 
 __all__ = [
     "Candidates",
@@ -38,9 +38,9 @@ __all__ = [
 
 @dataclass(frozen=True)
 class SimilarityWeights:
-    """Weights ``lambda`` of the similarity indices in ``w`` (seed 3.3).
+    """Weights ``lambda`` of the similarity indices in ``w`` (thesis 3.3).
 
-    ``w = gradient * GI + pattern * PI + mean_grey * AI``; the seed uses 1/3 each.
+    ``w = gradient * GI + pattern * PI + mean_grey * AI``; the thesis uses 1/3 each.
     Weights must be >= 0 with a positive sum; they are normalised to sum 1.
 
     Examples
@@ -78,17 +78,17 @@ class Candidates:
     Attributes
     ----------
     left, right : ndarray of int
-        Edge indices in the left and right :class:`~robostereo.edges.EdgeSet`.
+        Edge indices in the left and right :class:`~robostereo.matcher.edges.EdgeSet`.
     disparity : ndarray of float
         ``x_left - x_right`` in pixels.
     gi, pi, ai : ndarray of float
-        Similarity indices (seed 3.2 (a)-(c)).
+        Similarity indices (thesis 3.2 (a)-(c)).
     profile : ndarray of float
         robostereo's edge-profile factor ``exp(-e / profile_scale)`` in ``(0, 1]``,
         ``e`` the mean absolute difference of the grey levels before and after the
         two edges (1 when ``profile_scale`` is None).
     w : ndarray of float
-        Combined similarity (seed 3.3) times the profile factor, in ``[0, 1]``.
+        Combined similarity (thesis 3.3) times the profile factor, in ``[0, 1]``.
     starts : ndarray of int
         Pairs of left edge ``i`` are ``starts[i]:starts[i + 1]``.
     """
@@ -168,7 +168,7 @@ def find_candidates(
     weights: SimilarityWeights | None = None,
     profile_scale: float | None = 10.0,
 ) -> Candidates:
-    """Candidate pairs and their similarity indices (seed 3.2, 3.3, 3.5).
+    """Candidate pairs and their similarity indices (thesis 3.2, 3.3, 3.5).
 
     Parameters
     ----------
@@ -178,10 +178,10 @@ def find_candidates(
         ``(min, max)`` disparity ``x_left - x_right`` in pixels, whole-pixel bounds:
         candidates within half a pixel outside them are kept, as a pixel matcher would.
     weights : SimilarityWeights, optional
-        Weights of the indices in ``w``; default the seed's 1/3 each.
+        Weights of the indices in ``w``; default the thesis's 1/3 each.
     profile_scale : float or None
         Scale (grey levels, 0..127 scale) of the edge-profile factor that multiplies
-        ``w``; None leaves ``w`` as the seed has it.
+        ``w``; None leaves ``w`` as the thesis has it.
 
     Returns
     -------
@@ -195,7 +195,7 @@ def find_candidates(
        ``PI = 1 / (1 + diff)`` with the pattern difference 0..6,
        ``AI = 1 / (1 + |A_l - A_r|)`` of the 5 x 5 mean grey levels (3.2).
     3. ``w = sum(lambda_k * index_k)`` with the normalised weights (3.3).
-    4. Beyond the seed: ``w`` is multiplied by ``exp(-e / profile_scale)``, with
+    4. Beyond the thesis: ``w`` is multiplied by ``exp(-e / profile_scale)``, with
        ``e = (|B_l - B_r| + |F_l - F_r|) / 2`` the difference of the smoothed grey
        levels four pixels before (B) and after (F) the two edges.  One 5 x 5 mean
        cannot tell a dark-to-bright edge from another with other grey levels on
@@ -249,7 +249,7 @@ def pair_similarity(
     weights: SimilarityWeights | None = None,
     profile_scale: float | None = 10.0,
 ) -> tuple[NDArray[np.float64], ...]:
-    """Similarity indices of edge pairs ``(li[k], ri[k])`` (seed 3.2-3.3).
+    """Similarity indices of edge pairs ``(li[k], ri[k])`` (thesis 3.2-3.3).
 
     Returns
     -------
@@ -261,7 +261,7 @@ def pair_similarity(
     --------
     An edge point compared with itself is similar in every respect:
 
-    >>> from robostereo.edges import detect_edges
+    >>> from robostereo.matcher.edges import detect_edges
     >>> img = np.zeros((9, 20), np.uint8); img[:, 10:] = 200
     >>> e = detect_edges(img)
     >>> [round(float(v[0]), 3) for v in pair_similarity(e, e, np.array([4]), np.array([4]))]
@@ -335,7 +335,7 @@ def initial_probabilities(
     Notes
     -----
     ``P(l_i | match) = w_i / sum_j w_j`` (eq. 3) and ``P(no match) = 1 - max_i w_i``
-    (eq. 2, the seed's ``P_m``).  The probabilities of each left edge and its
+    (eq. 2, the thesis's ``P_m``).  The probabilities of each left edge and its
     no-match label sum to 1 only when it has a single candidate; they are
     renormalised in the first relaxation step.
 
@@ -365,7 +365,7 @@ def assign_matches(
     *,
     min_probability: float = 0.5,
 ) -> NDArray[np.intp]:
-    """Accept at most one match per left edge and per right edge (seed 3.4, 3.5).
+    """Accept at most one match per left edge and per right edge (thesis 3.4, 3.5).
 
     Parameters
     ----------

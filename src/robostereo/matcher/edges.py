@@ -1,13 +1,13 @@
-"""Smoothing, edge points along epipolar lines and their features (seed 3.1-3.2).
+"""Smoothing, edge points along epipolar lines and their features (thesis 3.1-3.2).
 
 Images come in as ``(H, W)`` (or ``(H, W, 3|4)`` colour) arrays of any integer bit
-depth; they are converted to grey and scaled to the seed's 0..127 grey scale so that
-the seed's gradient threshold of 8.0 means the same contrast at any bit depth.  The
+depth; they are converted to grey and scaled to the thesis's 0..127 grey scale so that
+the thesis's gradient threshold of 8.0 means the same contrast at any bit depth.  The
 rows of a rectified image are its epipolar lines; edge points are the peaks of the
 1-D intensity gradient along the rows of the smoothed image, located to sub-pixel
 precision.
 
-Each edge point ``P[i, j](d, s, m, p, a)`` (seed 3.2) carries its position ``d``
+Each edge point ``P[i, j](d, s, m, p, a)`` (thesis 3.2) carries its position ``d``
 (here ``x``, pixels), contrast sign ``s``, gradient magnitude ``m``, connectivity
 pattern type ``p`` (1..16) and 5 x 5 mean grey level ``a``; robostereo adds the
 grey levels on either side of the edge, which tell edges apart better than one mean.
@@ -47,13 +47,13 @@ _SEED_WEIGHTS = np.array(
     dtype=float,
 )
 SEED_KERNEL: NDArray[np.float64] = _SEED_WEIGHTS / _SEED_WEIGHTS.sum()
-"""The seed's 5 x 5 averaging-Gaussian filter (figure 3-1), normalised by its sum.
+"""The thesis's 5 x 5 averaging-Gaussian filter (figure 3-1), normalised by its sum.
 
 The weights 2 (16 border cells), 10 (8 inner cells) and 15 (centre) add up to 127;
 seed-notes says 126, an arithmetic slip: dividing by the true sum keeps a constant
 image constant."""
 
-#: grey levels of the seed's vision system: 0..127 (7 bit)
+#: grey levels of the thesis's vision system: 0..127 (7 bit)
 SEED_GREY_LEVELS = 128
 
 #: how far (pixels) the grey levels beside an edge are sampled, either side
@@ -120,7 +120,7 @@ def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
 def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "image") -> NDArray[
     np.float32
 ]:
-    """Convert an image to grey on the seed's 0..127 scale.
+    """Convert an image to grey on the thesis's 0..127 scale.
 
     Parameters
     ----------
@@ -139,7 +139,7 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
     -------
     ndarray of float32, shape (H, W)
         Grey levels scaled by ``127 / (2**bit_depth - 1)`` (by 127 for floats of full
-        scale 1.0): full scale at any bit depth becomes the seed's 127.
+        scale 1.0): full scale at any bit depth becomes the thesis's 127.
 
     Raises
     ------
@@ -206,7 +206,7 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
 
 
 def smooth(grey: NDArray[np.floating]) -> NDArray[np.float32]:
-    """Smooth with the seed's 5 x 5 averaging-Gaussian filter (figure 3-1).
+    """Smooth with the thesis's 5 x 5 averaging-Gaussian filter (figure 3-1).
 
     Parameters
     ----------
@@ -230,7 +230,7 @@ def smooth(grey: NDArray[np.floating]) -> NDArray[np.float32]:
 
 @dataclass(frozen=True)
 class EdgeSet:
-    """Edge points of one image with their features (seed 3.2, ``P[i, j](d, s, m, p, a)``).
+    """Edge points of one image with their features (thesis 3.2, ``P[i, j](d, s, m, p, a)``).
 
     All arrays have shape ``(N,)`` and are sorted by ``(line, x)``.
 
@@ -241,7 +241,7 @@ class EdgeSet:
     row : ndarray of int
         Image row of the line, ``line * row_step + row_offset``.
     x : ndarray of float
-        Sub-pixel position along the row (pixels; the seed's distance ``d``).
+        Sub-pixel position along the row (pixels; the thesis's distance ``d``).
     column : ndarray of int
         Pixel column of the gradient peak.
     sign : ndarray of int8
@@ -293,7 +293,7 @@ class EdgeSet:
 
 def pattern_type(up_offset: ArrayLike, down_offset: ArrayLike, has_up: ArrayLike,
                  has_down: ArrayLike) -> NDArray[np.int8]:
-    """Connectivity pattern type 1..16 (seed 3.2, figure 3-2c as read in seed-notes).
+    """Connectivity pattern type 1..16 (thesis 3.2, figure 3-2c as read in seed-notes).
 
     Types 1-9: connected above and below, ``1 + 3 (u + 1) + (v + 1)`` for offsets
     ``u, v`` in {-1, 0, 1}; 10-12: above only, ``11 + u``; 13-15: below only,
@@ -337,7 +337,7 @@ def pattern_difference(
     up_l: ArrayLike, down_l: ArrayLike, has_up_l: ArrayLike, has_down_l: ArrayLike,
     up_r: ArrayLike, down_r: ArrayLike, has_up_r: ArrayLike, has_down_r: ArrayLike,
 ) -> NDArray[np.int8]:
-    """Difference 0..6 of two connectivity patterns (seed 3.2 (b)).
+    """Difference 0..6 of two connectivity patterns (thesis 3.2 (b)).
 
     The upper neighbours are compared first: 0 when both are absent or at the same
     offset, 1 or 2 when both are present with offsets one or two apart, 3 when one
@@ -368,7 +368,7 @@ def connectivity(
     """Connect each edge point to edge points on the lines above and below.
 
     Two edge points on neighbouring lines are connected when their pixel columns
-    differ by at most one and their contrast signs agree (seed 3.2 (b)).  Where
+    differ by at most one and their contrast signs agree (thesis 3.2 (b)).  Where
     several qualify, the one straight above (below) is preferred, then the one at
     offset -1, then +1.
 
@@ -421,40 +421,45 @@ def _abs_gradient(s, out):  # type: ignore[no-untyped-def]
 
 
 @nb.njit(cache=True, nogil=True)
-def _peaks(sr, threshold, m):  # type: ignore[no-untyped-def]
-    """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of ``sr``:
+def _peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
+    """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of
+    ``smoothed`` (the lines used, ``(L, W)`` float32):
     strictly above the left neighbour, at least the right one and ``threshold``, at
     least ``m`` pixels inside the borders.  Returns the rows, columns, ``|g|`` at the
     column and its neighbours, and ``g`` at the column (float32 arithmetic, as NumPy's
     on the same arrays)."""
-    n_rows, w = sr.shape
-    ar = np.zeros(w, np.float32)  # |g| of one row: computed again in the second pass
+    n_rows, w = smoothed.shape
+    mag_row = np.zeros(w, np.float32)  # |g| of one row: computed again in the second pass
+    # -- count the peaks
     count = 0
     for r in range(n_rows):
-        _abs_gradient(sr[r], ar)
+        _abs_gradient(smoothed[r], mag_row)
         for x in range(m, w - m):
-            if ar[x] >= threshold and ar[x] > ar[x - 1] and ar[x] >= ar[x + 1]:
+            if (mag_row[x] >= threshold and mag_row[x] > mag_row[x - 1]
+                    and mag_row[x] >= mag_row[x + 1]):
                 count += 1
-    k = np.empty(count, np.int64)
-    j = np.empty(count, np.int64)
-    am = np.empty(count, np.float32)
-    a0 = np.empty(count, np.float32)
-    ap = np.empty(count, np.float32)
-    gp = np.empty(count, np.float32)
+    # -- record them
+    line = np.empty(count, np.int64)
+    column = np.empty(count, np.int64)
+    mag_before = np.empty(count, np.float32)  # |g| at column - 1
+    mag_peak = np.empty(count, np.float32)  # |g| at the column
+    mag_after = np.empty(count, np.float32)  # |g| at column + 1
+    gradient = np.empty(count, np.float32)  # g at the column
     i = 0
     half = np.float32(0.5)
     for r in range(n_rows):
-        _abs_gradient(sr[r], ar)
+        _abs_gradient(smoothed[r], mag_row)
         for x in range(m, w - m):
-            if ar[x] >= threshold and ar[x] > ar[x - 1] and ar[x] >= ar[x + 1]:
-                k[i] = r
-                j[i] = x
-                am[i] = ar[x - 1]
-                a0[i] = ar[x]
-                ap[i] = ar[x + 1]
-                gp[i] = (sr[r, x + 1] - sr[r, x - 1]) * half
+            if (mag_row[x] >= threshold and mag_row[x] > mag_row[x - 1]
+                    and mag_row[x] >= mag_row[x + 1]):
+                line[i] = r
+                column[i] = x
+                mag_before[i] = mag_row[x - 1]
+                mag_peak[i] = mag_row[x]
+                mag_after[i] = mag_row[x + 1]
+                gradient[i] = (smoothed[r, x + 1] - smoothed[r, x - 1]) * half
                 i += 1
-    return k, j, am, a0, ap, gp
+    return line, column, mag_before, mag_peak, mag_after, gradient
 
 
 @nb.njit(cache=True, nogil=True)
@@ -479,13 +484,13 @@ def _mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
 
 
 @nb.njit(cache=True, nogil=True)
-def _features(k, j, am, a0, ap, gp, sr, g0, row_offset, row_step, subpixel,
-              n_lines):  # type: ignore[no-untyped-def]
+def _features(line, column, mag_before, mag_peak, mag_after, gradient, smoothed, grey,
+              row_offset, row_step, subpixel, n_lines):  # type: ignore[no-untyped-def]
     """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
     the grey levels before and after of the peaks (float32 arithmetic where NumPy's
     on the same arrays is float32)."""
-    n = k.shape[0]
-    w = sr.shape[1]
+    n = line.shape[0]
+    w = smoothed.shape[1]
     x = np.empty(n, np.float64)
     mag = np.empty(n, np.float64)
     sign = np.empty(n, np.int8)
@@ -495,43 +500,50 @@ def _features(k, j, am, a0, ap, gp, sr, g0, row_offset, row_step, subpixel,
     quarter = np.float32(0.25)
     two = np.float32(2.0)
     for i in range(n):
-        off = np.float32(0.0)
+        # -- sub-pixel position and magnitude: the vertex of the parabola through |g|
+        offset = np.float32(0.0)
         if subpixel:
-            den = am[i] - two * a0[i] + ap[i]
-            if den < 0:
-                off = half * (am[i] - ap[i]) / den
-                off = min(max(off, -half), half)
-            mag[i] = a0[i] - quarter * (am[i] - ap[i]) * off
+            curvature = mag_before[i] - two * mag_peak[i] + mag_after[i]
+            if curvature < 0:
+                offset = half * (mag_before[i] - mag_after[i]) / curvature
+                offset = min(max(offset, -half), half)
+            mag[i] = mag_peak[i] - quarter * (mag_before[i] - mag_after[i]) * offset
         else:
-            mag[i] = a0[i]
-        x[i] = j[i] + np.float64(off)
-        sign[i] = 1 if gp[i] > 0 else (-1 if gp[i] < 0 else 0)
-        before[i] = sr[k[i], min(max(j[i] - SIDE_OFFSET, 0), w - 1)]
-        after[i] = sr[k[i], min(max(j[i] + SIDE_OFFSET, 0), w - 1)]
-    up, down, up_off, down_off = _connect(k, j, sign, n_lines, w)
+            mag[i] = mag_peak[i]
+        x[i] = column[i] + np.float64(offset)
+        # -- contrast sign, grey levels before and after
+        sign[i] = 1 if gradient[i] > 0 else (-1 if gradient[i] < 0 else 0)
+        before[i] = smoothed[line[i], min(max(column[i] - SIDE_OFFSET, 0), w - 1)]
+        after[i] = smoothed[line[i], min(max(column[i] + SIDE_OFFSET, 0), w - 1)]
+    # -- connectivity, pattern type, mean grey
+    up, down, up_off, down_off = _connect(line, column, sign, n_lines, w)
     pattern = np.empty(n, np.int8)
     for i in range(n):
         pattern[i] = _pattern(up_off[i], down_off[i], up[i] >= 0, down[i] >= 0)
-    mean5 = _mean5_at(g0, row_offset + row_step * k, j)
+    mean5 = _mean5_at(grey, row_offset + row_step * line, column)
     return x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
 
 
 @nb.njit(cache=True, nogil=True)
-def _edge_points(src, g0, threshold, m, row_offset, row_step, subpixel, n_lines,
+def _edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_lines,
                  usable, check):  # type: ignore[no-untyped-def]
     """:func:`_peaks`, with ``check`` only those on ``usable`` pixels, then
     :func:`_features`, in one call (one release of the interpreter lock for the image,
     not one per step); also the rows."""
-    k, j, am, a0, ap, gp = _peaks(src, threshold, m)
-    r = row_offset + row_step * k
+    line, column, mag_before, mag_peak, mag_after, gradient = _peaks(smoothed, threshold, m)
+    row = row_offset + row_step * line
     if check:
-        keep = np.empty(k.shape[0], np.bool_)
-        for i in range(k.shape[0]):
-            keep[i] = usable[r[i], j[i]]
-        k, j, r, am, a0, ap, gp = k[keep], j[keep], r[keep], am[keep], a0[keep], ap[keep], gp[keep]
+        keep = np.empty(line.shape[0], np.bool_)
+        for i in range(line.shape[0]):
+            keep[i] = usable[row[i], column[i]]
+        line, column, row = line[keep], column[keep], row[keep]
+        mag_before, mag_peak, mag_after = mag_before[keep], mag_peak[keep], mag_after[keep]
+        gradient = gradient[keep]
     x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = _features(
-        k, j, am, a0, ap, gp, src, g0, row_offset, row_step, subpixel, n_lines)
-    return k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
+        line, column, mag_before, mag_peak, mag_after, gradient, smoothed, grey, row_offset,
+        row_step, subpixel, n_lines)
+    return (line, column, row, x, sign, mag, up, down, up_off, down_off, pattern, mean5,
+            before, after)
 
 
 def detect_edges(
@@ -545,15 +557,15 @@ def detect_edges(
     grey: NDArray[np.float32] | None = None,
     valid: ArrayLike | None = None,
 ) -> EdgeSet:
-    """Find edge points along the rows (epipolar lines) of an image (seed 3.1-3.2).
+    """Find edge points along the rows (epipolar lines) of an image (thesis 3.1-3.2).
 
     Parameters
     ----------
     image : array_like, shape (H, W) or (H, W, 3|4)
         Rectified image: its rows are epipolar lines.
     threshold : float
-        Least gradient magnitude of an edge point, grey levels per pixel on the seed's
-        0..127 scale (seed: 8.0; figure 4-3 also shows 6).
+        Least gradient magnitude of an edge point, grey levels per pixel on the thesis's
+        0..127 scale (thesis: 8.0; figure 4-3 also shows 6).
     row_step : int
         Spacing of the epipolar lines in rows (1 = every row).
     row_offset : int
@@ -561,7 +573,7 @@ def detect_edges(
     bit_depth : int, optional
         Bit depth of the input grey levels (see :func:`to_grey`).
     subpixel : bool
-        Locate edges to sub-pixel precision (default) or at whole pixels, as the seed.
+        Locate edges to sub-pixel precision (default) or at whole pixels, as the thesis.
     grey : ndarray, optional
         The image already converted by :func:`to_grey` (saves the conversion).
     valid : array_like of bool, shape (H, W), optional

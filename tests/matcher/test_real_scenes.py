@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 from conftest import SCENES
 
-from robostereo.confidence import DEFAULT_MODEL, calibration_table, fit_confidence
 from robostereo.evaluation import (
     coverage_curve,
     match_errors,
@@ -22,7 +21,8 @@ from robostereo.evaluation import (
     sgbm_curve,
     sgbm_disparity,
 )
-from robostereo.pipeline import MatchParameters, match_stereo
+from robostereo.matcher.confidence import DEFAULT_MODEL, calibration_table, fit_confidence
+from robostereo.matcher.pipeline import MatchParameters, match_stereo
 
 
 @pytest.fixture(scope="module")
@@ -158,7 +158,7 @@ def test_a_generous_range_costs_little_and_loses_nothing(matched):
     """Every scene searched over 0..128 and 0..256 instead of its own range: the
     half-size pass narrows either to about the scene's own range (a lone far match
     does not widen it), and the curve at <= 3 % false stays within a point."""
-    from robostereo.window import COARSE_MARGIN
+    from robostereo.matcher.window_costs import COARSE_MARGIN
 
     if not matched:
         pytest.skip("no real scenes")

@@ -8,7 +8,7 @@ from synthetic import synthetic_pair
 
 from robostereo.errors import InputError
 from robostereo.evaluation import score_matches
-from robostereo.pipeline import MatchParameters, match_stereo
+from robostereo.matcher.pipeline import MatchParameters, match_stereo
 from robostereo.triangulation import StereoCamera
 
 
@@ -52,10 +52,10 @@ def test_synthetic_pairs_relaxation_method(seed):
                           equal_nan=True)
 
 
-def test_seed_mode_whole_pixels_is_coarser_than_subpixel(rng):
+def test_thesis_mode_whole_pixels_is_coarser_than_subpixel(rng):
     left, right, gt = synthetic_pair(rng, disparities=(7.3, 11.65), noise=1.0)
     sub = match_stereo(left, right, (4, 16), params=MatchParameters(method="relaxation"))
-    pix = match_stereo(left, right, (4, 16), params=MatchParameters.seed())
+    pix = match_stereo(left, right, (4, 16), params=MatchParameters.thesis())
     assert np.all(pix.left_edges.x == np.round(pix.left_edges.x))
     s_sub = score_matches(sub.left_edges.row, sub.left_edges.x, sub.disparity_of(sub.match), gt)
     s_pix = score_matches(pix.left_edges.row, pix.left_edges.x, pix.disparity_of(pix.match), gt)
@@ -144,7 +144,7 @@ def test_parabola_disparities_get_a_wider_depth_bound():
     """A match that lands on no right edge point takes its sub-pixel disparity from a
     cost parabola; its eq. (9) bound uses PARABOLA_DISPARITY_UNCERTAINTY_PX, and with
     it every correct match of a half-pixel synthetic pair is within its bound."""
-    from robostereo.pipeline import PARABOLA_DISPARITY_UNCERTAINTY_PX
+    from robostereo.matcher.pipeline import PARABOLA_DISPARITY_UNCERTAINTY_PX
     from robostereo.triangulation import triangulate
 
     left, right, gt = synthetic_pair(np.random.default_rng(3), disparities=(6.5, 9.25))
@@ -160,3 +160,10 @@ def test_parabola_disparities_get_a_wider_depth_bound():
     truth, _ = triangulate(cam, res.x_left, res.x_left - g, res.rows, res.image_shape)
     dz = np.abs(xyz[:, 2] - truth[:, 2])
     assert ok.sum() > 100 and np.all(dz[ok] <= bound[ok])
+
+
+def test_seed_is_a_deprecated_alias_of_thesis():
+    with pytest.warns(DeprecationWarning, match=r"thesis\(\)"):
+        old = MatchParameters.seed(threshold=6.0)
+    assert old == MatchParameters.thesis(threshold=6.0)
+    assert old.method == "relaxation" and old.threshold == 6.0

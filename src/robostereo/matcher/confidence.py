@@ -1,6 +1,6 @@
-"""Calibrated match confidence: the probability that a match is right (seed 3.3, eq. 2).
+"""Calibrated match confidence: the probability that a match is right (thesis 3.3, eq. 2).
 
-The seed turns similarity into an initial match probability and keeps a no-match
+The thesis turns similarity into an initial match probability and keeps a no-match
 label beside it (eq. 1-3).  robostereo's window matcher does the same with the
 evidence it has about each left edge point's best disparity:
 
@@ -8,7 +8,7 @@ evidence it has about each left edge point's best disparity:
   along the row alone (and whether the two agree on the disparity);
 * whether the right pixel agrees (left-right check);
 * whether a right edge point of the same contrast sign lies there, and how similar
-  it is by the seed's indices GI, PI, AI and the edge profile (3.2-3.3).
+  it is by the thesis's indices GI, PI, AI and the edge profile (3.2-3.3).
 
 These make one evidence score (:meth:`ConfidenceModel.score`), and a non-decreasing
 curve maps the score to ``P(correct)`` (isotonic regression [1]_); ``1 - P`` is the
@@ -41,14 +41,15 @@ __all__ = [
     "isotonic",
 ]
 
-#: names of the evidence, the columns of :attr:`robostereo.window.WindowMatch.features`
+#: names of the evidence, the columns of
+#: :attr:`robostereo.matcher.window_match.WindowMatch.features`
 FEATURES: tuple[str, ...] = (
     "uniqueness",      # (c2 - c1) / c2: best cost c1, best c2 more than 1 px away
     "uniqueness_row",  # the same with the three windows along the row, where they agree
     "row_agree",       # uniqueness_row > 0: the row windows agree, with some uniqueness
     "left_right",      # the right pixel's best disparity is the same (or one off)
     "right_edge",      # a right edge point of the same sign lies there
-    "similarity",      # the seed's w (3.3) of that edge pair, 0 without one
+    "similarity",      # the thesis's w (3.3) of that edge pair, 0 without one
     "out_of_view",     # fraction of the search range whose right pixel is outside
     "path_uniqueness",  # uniqueness of the costs aggregated along the row (paths)
     "path_agree",      # the paths' best disparity is the windows' (or one off)

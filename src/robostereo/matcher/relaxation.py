@@ -1,4 +1,4 @@
-"""Relaxation of match probabilities by edge connectivity (seed 3.4, eq. 4-5).
+"""Relaxation of match probabilities by edge connectivity (thesis 3.4, eq. 4-5).
 
 For a left edge point ``N`` on epipolar line ``i`` and a neighbouring left edge point
 ``M`` on line ``i - 1`` or ``i + 1``, with candidates ``Q_i`` (of ``N``) and ``R_j``
@@ -7,7 +7,7 @@ candidate pairs whose connectivity in the right image mirrors that of ``M`` and 
 in the left image.  The probabilities of ``N``'s candidates are then updated by eq. (5)
 with the support ``sum_j P_j(M) r_ij`` and renormalised by eq. (4).
 
-Choices where the seed is silent (documented in the README):
+Choices where the thesis is silent (documented in the README):
 
 * *Neighbours.*  On each of the two adjacent lines, ``N``'s neighbour ``M`` is the
   edge point it is connected to (case I), or else the nearest edge point of the same
@@ -31,9 +31,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.edges import EdgeSet
 from robostereo.errors import InputError, require_finite, require_int
-from robostereo.matching import Candidates, group_sum
+from robostereo.matcher.candidates import Candidates, group_sum
+from robostereo.matcher.edges import EdgeSet
 
 __all__ = [
     "RelaxationParameters",
@@ -47,12 +47,12 @@ __all__ = [
 
 @dataclass(frozen=True)
 class RelaxationParameters:
-    """Tuning of the relaxation (seed 3.4).
+    """Tuning of the relaxation (thesis 3.4).
 
     Attributes
     ----------
     iterations : int
-        Largest number of updates (the seed: 5).
+        Largest number of updates (the thesis: 5).
     tolerance : float
         Stop early once no probability changes by more than this.
     neighbour_radius : float
@@ -61,7 +61,7 @@ class RelaxationParameters:
         Support of the no-match label from each neighbour (see module notes): 0 or
         1e-6 .. 1e6.
     b_connected, b_partial, b_none : float
-        The values 1, 0.2 and 0 of ``b_ij`` (seed 3.4.1), in 0 .. 1e6 (as are
+        The values 1, 0.2 and 0 of ``b_ij`` (thesis 3.4.1), in 0 .. 1e6 (as are
         ``tolerance`` and ``neighbour_radius``).
     """
 
@@ -172,7 +172,7 @@ def connectivity_coefficient(
     r_elsewhere: NDArray[np.bool_],
     params: RelaxationParameters | None = None,
 ) -> NDArray[np.float64]:
-    """The connectivity term ``b_ij`` of the relaxation coefficient (seed 3.4.1).
+    """The connectivity term ``b_ij`` of the relaxation coefficient (thesis 3.4.1).
 
     Parameters
     ----------
@@ -269,7 +269,7 @@ def relax(
     *,
     params: RelaxationParameters | None = None,
 ) -> RelaxationResult:
-    """Iterate the relaxation update of eq. (4)-(5) (seed 3.4.2).
+    """Iterate the relaxation update of eq. (4)-(5) (thesis 3.4.2).
 
     Parameters
     ----------

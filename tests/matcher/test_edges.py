@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from synthetic import render_profile
 
-from robostereo.edges import (
+from robostereo.errors import InputError
+from robostereo.matcher.edges import (
     SEED_KERNEL,
     detect_edges,
     pattern_difference,
@@ -14,7 +15,6 @@ from robostereo.edges import (
     smooth,
     to_grey,
 )
-from robostereo.errors import InputError
 
 
 def test_seed_kernel_is_figure_3_1_normalised():

@@ -1,0 +1,141 @@
+"""The matcher: from a rectified stereo pair to matched edge points (the thesis, chapter 3).
+
+The modules in pipeline order:
+
+* :mod:`~robostereo.matcher.edges`: grey levels, edge points along the epipolar lines
+  and their features (3.1-3.2);
+* :mod:`~robostereo.matcher.window_costs`: side-aware census + gradient window costs
+  of every disparity at the left edge points, the paths along the rows, the half-size
+  pass that narrows a wide range (checks, bands, threads);
+* :mod:`~robostereo.matcher.window_kernels`: its numba kernels (census, Sobel, the
+  pass down the image, the evidence), constants first;
+* :mod:`~robostereo.matcher.window_match`: the best disparity of each left edge point
+  made sub-pixel, its evidence and its confidence (the default method);
+* :mod:`~robostereo.matcher.confidence`: the calibrated model from evidence to
+  ``P(correct)`` (3.3, eq. 2);
+* :mod:`~robostereo.matcher.candidates`: the thesis's right-edge candidates, similarity
+  indices GI, PI, AI, initial probabilities and acceptance (3.2-3.3, 3.5);
+* :mod:`~robostereo.matcher.relaxation`: relaxation on edge connectivity (3.4);
+* :mod:`~robostereo.matcher.pipeline`: :func:`match_stereo`, all stages in one call,
+  and its parameters and result;
+* :mod:`~robostereo.matcher.parallel`: the threads the stages share.
+"""
+
+from robostereo.matcher.candidates import (
+    Candidates,
+    SimilarityWeights,
+    assign_matches,
+    find_candidates,
+    group_argmax,
+    group_max,
+    group_sum,
+    initial_probabilities,
+    pair_similarity,
+)
+from robostereo.matcher.confidence import (
+    DEFAULT_MODEL,
+    FEATURES,
+    ConfidenceModel,
+    calibration_table,
+    fit_confidence,
+    isotonic,
+)
+from robostereo.matcher.edges import (
+    SEED_KERNEL,
+    EdgeSet,
+    connectivity,
+    detect_edges,
+    pattern_difference,
+    pattern_type,
+    smooth,
+    to_grey,
+    usable_pixels,
+)
+from robostereo.matcher.parallel import n_threads, run_all
+from robostereo.matcher.pipeline import (
+    DEFAULT_MIN_CONFIDENCE,
+    METHODS,
+    PARABOLA_DISPARITY_UNCERTAINTY_PX,
+    MatchParameters,
+    MatchResult,
+    match_stereo,
+    searched_range,
+    warm_up,
+)
+from robostereo.matcher.relaxation import (
+    RelaxationParameters,
+    RelaxationResult,
+    connectivity_coefficient,
+    neighbours,
+    relax,
+    support_structure,
+)
+from robostereo.matcher.window_costs import (
+    COARSE_MARGIN,
+    PATH_PENALTIES,
+    WindowCosts,
+    census_transform,
+    coarse_range,
+    sobel_x,
+    window_costs,
+)
+from robostereo.matcher.window_match import (
+    COARSE_MIN_DISPARITIES,
+    SWAP_UNIQUENESS,
+    WindowMatch,
+    window_match,
+)
+
+__all__ = [
+    "COARSE_MARGIN",
+    "COARSE_MIN_DISPARITIES",
+    "DEFAULT_MIN_CONFIDENCE",
+    "DEFAULT_MODEL",
+    "FEATURES",
+    "METHODS",
+    "PARABOLA_DISPARITY_UNCERTAINTY_PX",
+    "PATH_PENALTIES",
+    "SEED_KERNEL",
+    "SWAP_UNIQUENESS",
+    "Candidates",
+    "ConfidenceModel",
+    "EdgeSet",
+    "MatchParameters",
+    "MatchResult",
+    "RelaxationParameters",
+    "RelaxationResult",
+    "SimilarityWeights",
+    "WindowCosts",
+    "WindowMatch",
+    "assign_matches",
+    "calibration_table",
+    "census_transform",
+    "coarse_range",
+    "connectivity",
+    "connectivity_coefficient",
+    "detect_edges",
+    "find_candidates",
+    "fit_confidence",
+    "group_argmax",
+    "group_max",
+    "group_sum",
+    "initial_probabilities",
+    "isotonic",
+    "match_stereo",
+    "n_threads",
+    "neighbours",
+    "pair_similarity",
+    "pattern_difference",
+    "pattern_type",
+    "relax",
+    "run_all",
+    "searched_range",
+    "smooth",
+    "sobel_x",
+    "support_structure",
+    "to_grey",
+    "usable_pixels",
+    "warm_up",
+    "window_costs",
+    "window_match",
+]

@@ -1,0 +1,759 @@
+"""Numba kernels of the window matcher: census, Sobel, window sums, paths, evidence.
+
+The compiled part of :mod:`robostereo.matcher.window_costs` (one pass down the image
+that leaves a summary of the window costs per left edge point, :func:`stream_rows`) and
+of :mod:`robostereo.matcher.window_match` (the evidence read from that summary,
+:func:`evidence`, and the right edge point next to a disparity,
+:func:`nearest_on_lines`).  Only numba functions and the constants they compile in;
+the checks, bands and threads are in the Python modules that call them.
+
+References
+----------
+.. [1] R. Zabih and J. Woodfill, "Non-parametric local transforms for computing
+   visual correspondence", ECCV 1994.
+.. [2] H. Hirschmüller, "Stereo processing by semiglobal matching and mutual
+   information", IEEE TPAMI 30(2), 2008.
+"""
+
+from __future__ import annotations
+
+from collections import namedtuple
+from typing import NamedTuple
+
+import numba as nb
+import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
+
+__all__ = [
+    "CENSUS_SIZE",
+    "HALF_WINDOW",
+    "OUT_OF_VIEW",
+    "PATH_COLUMN_STEP",
+    "PATH_MAX_DISPARITIES",
+    "PATH_ROW_STEP",
+    "STREAM_COLUMNS",
+    "RowPixels",
+    "StreamImages",
+    "StreamSettings",
+    "StreamSummary",
+    "census_7x5",
+    "census_padded",
+    "evidence",
+    "nearest_on_lines",
+    "sobel",
+    "stream_rows",
+]
+
+#: census neighbourhood (width, height): 7 x 5 minus the centre = 34 bits
+CENSUS_SIZE = (7, 5)
+#: half size of the aggregation window (9 x 9) and the shift of the side windows
+HALF_WINDOW = 4
+
+#: cost value of a disparity whose right pixel lies outside the image
+OUT_OF_VIEW = 2**30
+
+#: paths run on every fifth row, over every second column (a step of the path is two
+#: columns); edge points read the nearest path row (at most two rows away, within the
+#: nine rows of their windows)
+PATH_ROW_STEP = 5
+PATH_COLUMN_STEP = 2
+
+#: paths over at most this many disparities: a wider range is binned (a path
+#: disparity stands for 2, 3, ... whole ones, its cost their least), so their cost stops
+#: growing with the range; the developer scenes (up to 97) are not binned
+PATH_MAX_DISPARITIES = 128
+
+#: the columns of :func:`stream_rows`' summary of an edge point, in order: the fields of
+#: :class:`~robostereo.matcher.window_costs.WindowCosts` (its docstring says what each
+#: holds): with the five windows, with the three along the row, the disparities in view,
+#: the left-right check and the paths
+STREAM_COLUMNS: tuple[str, ...] = (
+    "best", "cost", "second", "before", "after",
+    "best_row", "cost_row", "second_row",
+    "in_view",
+    "right_best",
+    "best_path", "cost_path", "second_path", "before_path", "after_path",
+)
+#: the summary as named columns, for the kernels that read it (:func:`evidence`)
+StreamSummary = namedtuple("StreamSummary", STREAM_COLUMNS)
+_BEST = STREAM_COLUMNS.index("best")
+_COST = STREAM_COLUMNS.index("cost")
+_SECOND = STREAM_COLUMNS.index("second")
+_BEFORE = STREAM_COLUMNS.index("before")
+_AFTER = STREAM_COLUMNS.index("after")
+_BEST_ROW = STREAM_COLUMNS.index("best_row")
+_COST_ROW = STREAM_COLUMNS.index("cost_row")
+_SECOND_ROW = STREAM_COLUMNS.index("second_row")
+_IN_VIEW = STREAM_COLUMNS.index("in_view")
+_RIGHT_BEST = STREAM_COLUMNS.index("right_best")
+_BEST_PATH = STREAM_COLUMNS.index("best_path")
+_COST_PATH = STREAM_COLUMNS.index("cost_path")
+_SECOND_PATH = STREAM_COLUMNS.index("second_path")
+_BEFORE_PATH = STREAM_COLUMNS.index("before_path")
+_AFTER_PATH = STREAM_COLUMNS.index("after_path")
+
+
+class StreamImages(NamedTuple):
+    """The pair that :func:`stream_rows` reads."""
+
+    grey_left: np.ndarray  # (H, W) float32
+    grey_right: np.ndarray  # (H, W) float32
+    valid_left: np.ndarray  # (H, W) bool, or (1, 1) when not checked
+    valid_right: np.ndarray  # (H, W) bool, or (1, 1)
+    check_left: bool  # pixels outside valid_left cost nearly the most
+    check_right: bool
+
+
+class StreamSettings(NamedTuple):
+    """What :func:`stream_rows` computes: disparities, pixel costs, windows, paths."""
+
+    d_min: int  # disparity k stands for d_min + k
+    n_disparities: int
+    truncation: np.int16  # largest gradient difference of a pixel pair
+    pixel_cost_max: np.int16  # cost of a pair that leaves the image: 34 + truncation
+    half_window: int
+    vertical: bool  # windows half a window up and down too
+    p1: int  # path penalties per window (sum of its pixels); p1 < 0: no paths
+    p2: int
+    path_row_step: int  # paths on every path_row_step-th row
+
+
+class RowPixels(NamedTuple):
+    """Census and Sobel of the row being added, and the buffers that make them (W,)."""
+
+    census_left: np.ndarray  # (W,) uint64
+    census_right: np.ndarray
+    sobel_left: np.ndarray  # (W,) int16
+    sobel_right: np.ndarray
+    hamming: np.ndarray  # (W,) int16, Hamming distances of a row
+    padded_rows: np.ndarray  # (5, W + 6) float32, grey rows padded for the census
+    census_bits: np.ndarray  # (2, W) uint32
+    loaded_row: np.ndarray  # (1,) int64, the row in the buffers (-1: none)
+
+
+@intrinsic
+def _popcount(typingctx, x):  # type: ignore[no-untyped-def]
+    sig = types.uint64(types.uint64)
+
+    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+        fn = builder.module.declare_intrinsic("llvm.ctpop", [ir.IntType(64)])
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _census_bits(acc, nbr, centre):  # type: ignore[no-untyped-def]
+    for x in range(acc.shape[0]):
+        acc[x] = (acc[x] << np.uint64(1)) | np.uint64(nbr[x] < centre[x])
+
+
+@nb.njit(cache=True, nogil=True)
+def census_padded(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
+    out = np.zeros((h, w), np.uint64)
+    for y in range(h):
+        centre = padded[y + hh, hw:hw + w]
+        for dy in range(-hh, hh + 1):
+            for dx in range(-hw, hw + 1):
+                if dy != 0 or dx != 0:
+                    _census_bits(out[y], padded[y + hh + dy, hw + dx:hw + dx + w], centre)
+    return out
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _shift_in(acc, nbr, centre):  # type: ignore[no-untyped-def]
+    """``acc = acc << 1 | (nbr < centre)`` along a row (32-bit lanes, as the floats)."""
+    for x in range(acc.shape[0]):
+        acc[x] = (acc[x] << np.uint32(1)) | np.uint32(nbr[x] < centre[x])
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _census_row(g, y, out, buf, acc):  # type: ignore[no-untyped-def]
+    """Row ``y`` of the default 7 x 5 census [1]_ of ``g`` into ``out`` (W,), the borders
+    replicated.  ``buf`` (5, W + 6) float32 receives the five rows padded; ``acc``
+    (2, W) uint32 collects the first two bits and the last 32, each comparison done
+    along the row for all pixels at once (vector lanes as wide as the floats)."""
+    h, w = g.shape
+    for dy in range(5):
+        src = g[min(max(y + dy - 2, 0), h - 1)]
+        b = buf[dy]
+        b[3:w + 3] = src
+        for k in range(3):
+            b[k] = src[0]
+            b[w + 3 + k] = src[w - 1]
+    centre = buf[2, 3:w + 3]
+    hi = acc[0]
+    lo = acc[1]
+    hi[:] = 0
+    lo[:] = 0
+    bit = 0
+    for dy in range(5):
+        for dx in range(7):
+            if dy != 2 or dx != 3:
+                _shift_in(hi if bit < 2 else lo, buf[dy, dx:dx + w], centre)
+                bit += 1
+    for x in range(w):
+        out[x] = (np.uint64(hi[x]) << np.uint64(32)) | np.uint64(lo[x])
+
+
+@nb.njit(cache=True, nogil=True)
+def census_7x5(g):  # type: ignore[no-untyped-def]
+    h, w = g.shape
+    out = np.empty((h, w), np.uint64)
+    buf = np.empty((5, w + 6), np.float32)
+    acc = np.empty((2, w), np.uint32)
+    for y in range(h):
+        _census_row(g, y, out[y], buf, acc)
+    return out
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _sobel_row(g, y, out):  # type: ignore[no-untyped-def]
+    """Row ``y`` of the horizontal 3 x 3 Sobel derivative of ``g``, rounded to int16,
+    the border reflected without repeating the edge pixel (``BORDER_REFLECT_101``)."""
+    h, w = g.shape
+    ya = (1 if h > 1 else 0) if y == 0 else y - 1
+    yb = (h - 2 if h > 1 else 0) if y == h - 1 else y + 1
+    a, b, c = g[ya], g[y], g[yb]
+    two = np.float32(2.0)
+    for x in range(w):
+        xl = (1 if w > 1 else 0) if x == 0 else x - 1
+        xr = (w - 2 if w > 1 else 0) if x == w - 1 else x + 1
+        v = (a[xr] - a[xl]) + two * (b[xr] - b[xl]) + (c[xr] - c[xl])
+        out[x] = np.int16(min(max(np.rint(v), -32767.0), 32767.0))
+
+
+@nb.njit(cache=True, nogil=True)
+def sobel(g):  # type: ignore[no-untyped-def]
+    h, w = g.shape
+    out = np.empty((h, w), np.int16)
+    for y in range(h):
+        _sobel_row(g, y, out[y])
+    return out
+
+
+@nb.njit(cache=True, nogil=True)
+def _pixel_row(grey, y, valid, check, census_bad, sobel_bad, census, sobel_row, padded_rows,
+               census_bits):  # type: ignore[no-untyped-def]
+    """Census and Sobel of row ``y``; pixels outside ``valid`` (where ``check``) get
+    the values that make every pair with them cost nearly the most."""
+    _census_row(grey, y, census, padded_rows, census_bits)
+    _sobel_row(grey, y, sobel_row)
+    if check:
+        valid_row = valid[y]
+        for x in range(census.shape[0]):
+            if not valid_row[x]:
+                census[x] = census_bad
+                sobel_row[x] = sobel_bad
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, sobel_right,
+                  truncation, hamming):  # type: ignore[no-untyped-def]
+    """Replace one ring row of pixel costs and update the column sums, for 1-D rows:
+    ``p[x] = H(census_left[x], census_right[x]) + min(|sobel_left[x] - sobel_right[x]|,
+    truncation)``.  The Hamming distances go through ``hamming`` so that the rest runs
+    in 16-bit vector lanes."""
+    n = column_sums.shape[0]
+    for x in range(n):
+        hamming[x] = np.int16(_popcount(census_left[x] ^ census_right[x]))
+    for x in range(n):
+        a = np.int16(sobel_left[x])
+        b = np.int16(sobel_right[x])
+        gradient = np.int16(max(a, b) - min(a, b))
+        pixel = np.int16(hamming[x] + np.int16(min(gradient, truncation)))
+        column_sums[x] = np.int16(column_sums[x] + np.int16(pixel - ring_row[x]))
+        ring_row[x] = pixel
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _constant_update(column_sums, ring_row, value):  # type: ignore[no-untyped-def]
+    for x in range(column_sums.shape[0]):
+        column_sums[x] += value - ring_row[x]
+        ring_row[x] = value
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _row_update(pixels, settings, margin, column_sums, ring_slot,
+                compute):  # type: ignore[no-untyped-def]
+    """Pixel costs of one row for every disparity into a ring slot, with the column
+    sums: ``[k, x + margin]`` pairs left pixel ``x`` with right pixel ``x - d_min - k``;
+    pairs that leave the image (and every pair when not ``compute``) cost
+    ``settings.pixel_cost_max``.  ``pixels`` (:class:`RowPixels`) holds the row's
+    census and Sobel values."""
+    census_left, census_right = pixels.census_left, pixels.census_right
+    sobel_left, sobel_right = pixels.sobel_left, pixels.sobel_right
+    pixel_cost_max = settings.pixel_cost_max
+    m = margin
+    w = census_left.shape[0]
+    for k in range(settings.n_disparities):
+        d = settings.d_min + k
+        x0 = min(max(d, 0), w)  # left pixels x0 .. x1 - 1 have a right pixel x - d
+        x1 = max(min(w + d, w), x0)
+        if not compute:
+            x0 = x1 = w
+        sums = column_sums[k]
+        ring_row = ring_slot[k]
+        _constant_update(sums[m:m + x0], ring_row[m:m + x0], pixel_cost_max)
+        _constant_update(sums[m + x1:m + w], ring_row[m + x1:m + w], pixel_cost_max)
+        if x1 > x0:
+            _pixel_update(sums[m + x0:m + x1], ring_row[m + x0:m + x1], census_left[x0:x1],
+                          census_right[x0 - d:x1 - d], sobel_left[x0:x1],
+                          sobel_right[x0 - d:x1 - d], settings.truncation, pixels.hamming)
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _box(col, out, pair_sums, quad_sums):  # type: ignore[no-untyped-def]
+    """``out[x] = col[x - 4] + ... + col[x + 4]`` (nine columns) by pair sums."""
+    n = col.shape[0]
+    for x in range(n - 1):
+        pair_sums[x] = col[x] + col[x + 1]
+    for x in range(n - 3):
+        quad_sums[x] = pair_sums[x] + pair_sums[x + 2]
+    for x in range(n - 7):
+        pair_sums[x] = quad_sums[x] + quad_sums[x + 4]  # eight columns
+    for x in range(n - 8):
+        out[x + 4] = pair_sums[x] + col[x + 8]
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _least(boxes_up, boxes_mid, boxes_down, k, x, hw, vertical):  # type: ignore[no-untyped-def]
+    """Least window sum at column ``x``, disparity ``k``: centred and half a window left
+    and right on the row's box sums ``boxes_mid`` (returned second), and with
+    ``vertical`` also centred on the rows half a window above (``boxes_up``) and below
+    (``boxes_down``)."""
+    row = np.int32(min(boxes_mid[k, x - hw], min(boxes_mid[k, x], boxes_mid[k, x + hw])))
+    if vertical:
+        return min(row, np.int32(min(boxes_up[k, x], boxes_down[k, x]))), row
+    return row, row
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True, inline="always")
+def _path_step(cost, prev, cur, p1, p2):  # type: ignore[no-untyped-def]
+    """One step of a scanline path (semi-global matching, [2]_ eq. 13):
+    ``cur[k] = cost[k] + min(prev[k], prev[k -/+ 1] + p1, min(prev) + p2) - min(prev)``
+    (``prev`` and ``cur`` distinct, ``nd >= 2``)."""
+    nd = prev.shape[0]
+    least = prev[0]
+    for k in range(1, nd):
+        least = min(least, prev[k])
+    jump = least + p2
+    for k in range(1, nd - 1):
+        lo = prev[k - 1]
+        hi = prev[k + 1]
+        c = (lo if lo < hi else hi) + p1
+        v = prev[k]
+        c = v if v < c else c
+        cur[k] = cost[k] + (jump if jump < c else c) - least
+    c = prev[1] + p1
+    c = prev[0] if prev[0] < c else c
+    cur[0] = cost[0] + (jump if jump < c else c) - least
+    c = prev[nd - 2] + p1
+    c = prev[nd - 1] if prev[nd - 1] < c else c
+    cur[nd - 1] = cost[nd - 1] + (jump if jump < c else c) - least
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left, from_right,
+              a, b, c, d):  # type: ignore[no-untyped-def]
+    """Window costs of one row aggregated along it, both ways (two paths of
+    semi-global matching): ``L_left`` into ``from_left`` and ``L_right`` into
+    ``from_right``, both (W, nd).  The two paths are stepped in one loop (independent
+    chains), in float32 (exact for these sums).  With ``bin_size > 1`` a path
+    disparity is a bin of ``bin_size`` whole ones, its cost the least of theirs (wide
+    ranges).  ``costs`` (W, nd) receives the row's costs, ``a`` ... ``d`` (nd,) are the
+    steps' buffers."""
+    nd_fine = boxes.shape[0]
+    nd = a.shape[0]
+    n_columns = (width + PATH_COLUMN_STEP - 1) // PATH_COLUMN_STEP
+    # the row's window sums on every PATH_COLUMN_STEP-th column, disparity fastest
+    if bin_size == 1:
+        for k in range(nd_fine):
+            src = boxes[k]
+            for x in range(n_columns):
+                costs[x, k] = np.float32(src[margin + PATH_COLUMN_STEP * x])
+    else:
+        for x in range(n_columns):
+            for j in range(nd):
+                costs[x, j] = np.float32(np.inf)
+        for k in range(nd_fine):
+            src = boxes[k]
+            j = k // bin_size
+            for x in range(n_columns):
+                costs[x, j] = min(costs[x, j], np.float32(src[margin + PATH_COLUMN_STEP * x]))
+    # the paths start at the row's two ends with the costs there
+    for k in range(nd):
+        a[k] = costs[0, k]
+        from_left[0, k] = a[k]
+        c[k] = costs[n_columns - 1, k]
+        from_right[n_columns - 1, k] = c[k]
+    # both paths a column at a time: a, c hold the previous column, b, d the new (swapped)
+    if nd >= 2:
+        for x in range(1, n_columns):
+            xb = n_columns - 1 - x
+            if x % 2:
+                _path_step(costs[x], a, b, p1, p2)
+                _path_step(costs[xb], c, d, p1, p2)
+                from_left[x] = b
+                from_right[xb] = d
+            else:
+                _path_step(costs[x], b, a, p1, p2)
+                _path_step(costs[xb], d, c, p1, p2)
+                from_left[x] = a
+                from_right[xb] = c
+    else:
+        for x in range(n_columns):
+            from_left[x, 0] = costs[x, 0]
+            from_right[x, 0] = costs[x, 0]
+
+
+@nb.njit(cache=True, nogil=True)
+def _load_row(images, y, pixels):  # type: ignore[no-untyped-def]
+    """Census and Sobel rows ``y`` of both images (:class:`StreamImages`) into
+    ``pixels`` (:class:`RowPixels`), once per row."""
+    if pixels.loaded_row[0] != y:
+        _pixel_row(images.grey_left, y, images.valid_left, images.check_left,
+                   np.uint64(0xAAAAAAAAAAAAAAAA), np.int16(-32000), pixels.census_left,
+                   pixels.sobel_left, pixels.padded_rows, pixels.census_bits)
+        _pixel_row(images.grey_right, y, images.valid_right, images.check_right,
+                   np.uint64(0x5555555555555555), np.int16(32000), pixels.census_right,
+                   pixels.sobel_right, pixels.padded_rows, pixels.census_bits)
+        pixels.loaded_row[0] = y
+
+
+@nb.njit(cache=True, fastmath=True, nogil=True)
+def stream_rows(images, settings, row_start, columns, y_first, y_last,
+                out):  # type: ignore[no-untyped-def]
+    """One pass down rows ``y_first .. y_last - 1`` of a pair; ``out[i]`` receives the
+    summary of each left edge point ``i`` on them.
+
+    Parameters
+    ----------
+    images : StreamImages
+        The grey images and their valid pixels.
+    settings : StreamSettings
+        Disparities, cost truncation, windows and paths.
+    row_start : ndarray of int64, shape (H + 1,)
+        The edge points of row ``y`` are ``row_start[y] .. row_start[y + 1] - 1``.
+    columns : ndarray of int64, shape (N,)
+        Their columns.
+    y_first, y_last : int
+        The band of rows whose edge points this pass summarises.
+    out : ndarray of int32, shape (N, len(STREAM_COLUMNS))
+        The summary, columns named by :data:`STREAM_COLUMNS` (the fields of
+        :class:`~robostereo.matcher.window_costs.WindowCosts`); rows of edge points
+        outside the band are left alone.
+
+    Notes
+    -----
+    Census and Sobel rows are made as the pass needs them; pixel costs are kept for
+    the last ``2 * half_window + 1`` rows only (a ring), with their running column
+    sums, and window sums for as many rows.
+    """
+    grey_left = images.grey_left
+    d_min = settings.d_min
+    nd = settings.n_disparities
+    pixel_cost_max = settings.pixel_cost_max
+    hw = settings.half_window
+    vertical = settings.vertical
+    p1 = settings.p1
+    p2 = settings.p2
+    path_step = settings.path_row_step
+    h, w = grey_left.shape
+    n_ring = 2 * hw + 1
+    m = 2 * hw  # margin of the padded rows: a side window reaches 2 hw columns out
+    padded_width = w + 2 * m
+    big = np.int32(OUT_OF_VIEW)
+    ring_base = 4 * n_ring  # keeps ring indices of negative rows positive
+
+    # -- buffers: the ring of pixel costs and window sums, the row's census and Sobel
+    ring = np.zeros((n_ring, nd, padded_width), np.int16)  # pixel costs, last n_ring rows
+    column_sums = np.zeros((nd, padded_width), np.int16)   # their column sums
+    boxes = np.zeros((n_ring, nd, padded_width), np.int16)  # window sums, last n_ring rows
+    pair_sums = np.zeros(padded_width, np.int16)
+    quad_sums = np.zeros(padded_width, np.int16)
+    cost_all = np.empty(nd, np.int32)  # per disparity: least of the five windows
+    cost_along = np.empty(nd, np.int32)  # least of the three along the row
+    pixels = RowPixels(
+        np.empty(w, np.uint64), np.empty(w, np.uint64),  # census of the row being added
+        np.empty(w, np.int16), np.empty(w, np.int16),  # Sobel of it
+        np.empty(w, np.int16),  # Hamming distances of a row
+        np.empty((5, w + 6), np.float32),  # padded grey rows for the census
+        np.empty((2, w), np.uint32),
+        np.full(1, -1, np.int64),
+    )
+    paths = p1 >= 0  # aggregate along the rows too (p1 < 0: not)
+    path_width = w if paths else 1
+    bin_size = max(1, (nd + PATH_MAX_DISPARITIES - 1) // PATH_MAX_DISPARITIES)
+    n_bins = (nd + bin_size - 1) // bin_size
+    path_costs = np.empty((path_width, n_bins), np.float32)
+    from_left = np.empty((path_width, n_bins), np.float32)
+    from_right = np.empty((path_width, n_bins), np.float32)
+    step_a = np.empty(n_bins, np.float32)
+    step_b = np.empty(n_bins, np.float32)
+    step_c = np.empty(n_bins, np.float32)
+    step_d = np.empty(n_bins, np.float32)
+    path_sum = np.empty(n_bins, np.int32)
+    path_row = -1  # the row whose paths are in from_left, from_right
+    column_sums[:, :m] = n_ring * pixel_cost_max
+    column_sums[:, w + m:] = n_ring * pixel_cost_max
+
+    def edges_in(y0, y1):  # type: ignore[no-untyped-def]
+        return row_start[min(max(y1, 0), h)] > row_start[min(max(y0, 0), h)]
+
+    lag = hw if vertical else 0  # rows of box sums needed below the output row
+    first_box_row = y_first - lag
+
+    # -- column sums of the window centred on the first row: rows j0 - hw .. j0 + hw,
+    #    clamped to the image
+    for r in range(first_box_row - hw, first_box_row + hw + 1):
+        source_row = min(max(r, 0), h - 1)
+        _load_row(images, source_row, pixels)
+        _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring], True)
+
+    for box_row in range(first_box_row, y_last + lag):
+        # -- pixel costs of the new row into the ring, column sums updated (the costs
+        #    are made only where a window of an edge point will read them)
+        if box_row > first_box_row:
+            r = box_row + hw  # the new pixel row; its ring slot holds row box_row - hw - 1
+            source_row = min(max(r, 0), h - 1)
+            needed = edges_in(r - hw - lag, r + hw + lag + 1)
+            if needed:
+                _load_row(images, source_row, pixels)
+            _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring],
+                        needed)
+
+        # -- window sums of nine columns of box_row, every disparity
+        boxes_new = boxes[(box_row + ring_base) % n_ring]
+        if edges_in(box_row - lag, box_row + lag + 1):
+            for k in range(nd):
+                _box(column_sums[k], boxes_new[k], pair_sums, quad_sums)
+        y = box_row - lag  # the row whose windows are all complete
+        if y < y_first or row_start[y + 1] == row_start[y]:
+            continue
+        boxes_up = boxes[(y - hw + ring_base) % n_ring]
+        boxes_mid = boxes[(y + ring_base) % n_ring]
+        boxes_down = boxes[(y + hw + ring_base) % n_ring]
+
+        # -- the paths along the row: on every path_step-th row; a row's edge points
+        #    read those of the nearest such row (their windows share all but a few
+        #    rows).  The choice depends on y alone, so bands (threads) do not change
+        #    the result
+        if paths:
+            y_path = y
+            if vertical:
+                y_path = min((y + path_step // 2) // path_step * path_step, h - 1)
+            if y_path != path_row:
+                _scanline(boxes[(y_path + ring_base) % n_ring], m, w, bin_size,
+                          np.float32(p1), np.float32(p2), path_costs, from_left, from_right,
+                          step_a, step_b, step_c, step_d)
+                path_row = y_path
+
+        for i in range(row_start[y], row_start[y + 1]):
+            column = columns[i]
+            padded_column = column + m
+            # -- every disparity: the least of the five windows and of the three along
+            #    the row, their best disparities and the disparities in view
+            best = -1
+            best_cost = big
+            best_row = -1
+            best_row_cost = big
+            n_in_view = 0
+            for k in range(nd):
+                x_right = column - d_min - k
+                if x_right < 0 or x_right >= w:
+                    cost_all[k] = big
+                    cost_along[k] = big
+                    continue
+                n_in_view += 1
+                v_all, v_along = _least(boxes_up, boxes_mid, boxes_down, k, padded_column,
+                                        hw, vertical)
+                cost_all[k] = v_all
+                cost_along[k] = v_along
+                if v_all < best_cost:
+                    best_cost = v_all
+                    best = k
+                if v_along < best_row_cost:
+                    best_row_cost = v_along
+                    best_row = k
+            # -- the second best: the least more than one disparity from the best
+            second = big
+            second_row = big
+            for k in range(nd):
+                if abs(k - best) > 1 and cost_all[k] < second:
+                    second = cost_all[k]
+                if abs(k - best_row) > 1 and cost_along[k] < second_row:
+                    second_row = cost_along[k]
+            o = out[i]
+            o[_BEST] = best
+            o[_COST] = best_cost
+            o[_SECOND] = second
+            o[_BEFORE] = cost_all[best - 1] if best > 0 else big
+            o[_AFTER] = cost_all[best + 1] if 0 <= best < nd - 1 else big
+            o[_BEST_ROW] = best_row
+            o[_COST_ROW] = best_row_cost
+            o[_SECOND_ROW] = second_row
+            o[_IN_VIEW] = n_in_view
+            o[_RIGHT_BEST] = -1
+            if best < 0:
+                continue
+            # -- left-right check: the right pixel of the best disparity against every
+            #    left pixel
+            x_right = column - d_min - best
+            right_best = -1
+            right_cost = big
+            for k in range(nd):
+                x_left = x_right + d_min + k
+                if x_left < 0 or x_left >= w:
+                    continue
+                v, _ = _least(boxes_up, boxes_mid, boxes_down, k, x_left + m, hw, vertical)
+                if v < right_cost:
+                    right_cost = v
+                    right_best = k
+            o[_RIGHT_BEST] = right_best
+            if paths:
+                # -- the aggregated costs: the best bin, its cost, the best more than
+                #    one bin off
+                path_column = column // PATH_COLUMN_STEP
+                for j in range(n_bins):
+                    path_sum[j] = np.int32(from_left[path_column, j]
+                                           + from_right[path_column, j])
+                # a bin is in view where one of its disparities is: k in k_lo .. k_hi
+                k_lo = max(column - d_min - w + 1, 0)
+                k_hi = min(column - d_min, nd - 1)
+                best_bin = -1
+                best_bin_cost = big
+                for j in range(n_bins):
+                    if (j * bin_size <= k_hi and (j + 1) * bin_size - 1 >= k_lo
+                            and path_sum[j] < best_bin_cost):
+                        best_bin_cost = path_sum[j]
+                        best_bin = j
+                second_bin_cost = big
+                for j in range(n_bins):
+                    if (j * bin_size <= k_hi and (j + 1) * bin_size - 1 >= k_lo
+                            and abs(j - best_bin) > 1 and path_sum[j] < second_bin_cost):
+                        second_bin_cost = path_sum[j]
+                o[_COST_PATH] = best_bin_cost
+                o[_SECOND_PATH] = second_bin_cost
+                if bin_size == 1 or best_bin < 0:
+                    o[_BEST_PATH] = best_bin
+                    o[_BEFORE_PATH] = path_sum[best_bin - 1] if best_bin > 0 else big
+                    o[_AFTER_PATH] = (path_sum[best_bin + 1] if 0 <= best_bin < n_bins - 1
+                                      else big)
+                else:  # the bin's best whole disparity by the windows, their parabola
+                    best_in_bin = -1
+                    bin_cost = big
+                    for k in range(best_bin * bin_size, min(nd, (best_bin + 1) * bin_size)):
+                        if cost_all[k] < bin_cost:
+                            bin_cost = cost_all[k]
+                            best_in_bin = k
+                    o[_BEST_PATH] = best_in_bin
+                    o[_BEFORE_PATH] = cost_all[best_in_bin - 1] if best_in_bin > 0 else big
+                    o[_AFTER_PATH] = (cost_all[best_in_bin + 1] if 0 <= best_in_bin < nd - 1
+                                      else big)
+
+
+@nb.njit(cache=True, nogil=True)
+def nearest_on_lines(left_line, left_sign, x_right, right_line, right_x, right_sign, n_lines
+                     ):  # type: ignore[no-untyped-def]
+    """Per left edge point ``i`` the right edge point of the same line and contrast sign
+    nearest to ``x_right[i]`` among the two around it, and its distance: ``(N,)`` int64
+    (-1: none) and float (``inf``).  Right edge points are sorted by line, then by x."""
+    n = left_line.shape[0]
+    nearest = np.full(n, -1, np.int64)
+    distance = np.full(n, np.inf)
+    line_start = np.searchsorted(right_line, np.arange(n_lines + 1))
+    for i in range(n):
+        x = x_right[i]
+        line = left_line[i]
+        if not np.isfinite(x) or line < 0 or line >= n_lines:
+            continue
+        first, end = line_start[line], line_start[line + 1]
+        at = first + np.searchsorted(right_x[first:end], x)
+        for j in (at - 1, at):  # the two right points around x_right on the line
+            if first <= j < end and right_sign[j] == left_sign[i]:
+                dd = abs(right_x[j] - x)
+                if dd < distance[i]:
+                    distance[i] = dd
+                    nearest[i] = j
+    return nearest, distance
+
+
+@nb.njit(cache=True, nogil=True)
+def _unique(best, second):  # type: ignore[no-untyped-def]
+    """``(second - best) / second`` clipped to 0..1; 0 where either is out of view."""
+    if best >= OUT_OF_VIEW or second >= OUT_OF_VIEW:
+        return 0.0
+    return min(max((second - best) / max(second, 1.0), 0.0), 1.0)
+
+
+@nb.njit(cache=True, nogil=True)
+def _vertex(k, before, cost, after, d_min):  # type: ignore[no-untyped-def]
+    """Disparity of the parabola's vertex through the costs at ``k - 1, k, k + 1``."""
+    curvature = before - 2.0 * cost + after
+    offset = 0.0
+    if before < OUT_OF_VIEW and after < OUT_OF_VIEW and curvature > 0:
+        offset = min(max(0.5 * (before - after) / curvature, -0.5), 0.5)
+    return d_min + k + offset
+
+
+@nb.njit(cache=True, nogil=True)
+def evidence(summary, d_min, nd, swap_uniqueness, features,
+             columns):  # type: ignore[no-untyped-def]
+    """Per point: the whole-pixel disparity refined by its parabola (the paths' where
+    they are taken) and whether there is one, both ``(N,)``, and into ``features``
+    (N, F) the evidence of :data:`robostereo.matcher.confidence.FEATURES` but the right
+    edge point's two columns, in the columns ``columns`` (8,) (the caller's table of
+    them, in the order written here).  ``summary`` is a :data:`StreamSummary` of the
+    window costs."""
+    best, cost, second = summary.best, summary.cost, summary.second
+    before, after, in_view = summary.before, summary.after, summary.in_view
+    right_best = summary.right_best
+    best_path = summary.best_path
+    n = best.shape[0]
+    disparity = np.full(n, np.nan)
+    has_disparity = np.zeros(n, np.bool_)
+    for i in range(n):
+        # -- the windows' best disparity and its parabola
+        k_best = best[i]
+        has = k_best >= 0
+        uniqueness = _unique(float(cost[i]), float(second[i]))
+        if has:
+            disparity[i] = _vertex(k_best, float(before[i]), float(cost[i]), float(after[i]),
+                                   d_min)
+        # -- the paths: their agreement, and their disparity where they disagree and
+        #    are unique enough
+        k_path = best_path[i]
+        path_uniqueness = 0.0
+        path_agree = True
+        path_swapped = False
+        if k_path >= 0:
+            path_uniqueness = _unique(float(summary.cost_path[i]),
+                                      float(summary.second_path[i]))
+            path_agree = has and abs(k_path - k_best) <= 1
+            path_swapped = not path_agree and path_uniqueness > swap_uniqueness
+            if path_swapped:
+                disparity[i] = _vertex(k_path, float(summary.before_path[i]),
+                                       float(summary.cost_path[i]),
+                                       float(summary.after_path[i]), d_min)
+        has = has or path_swapped
+        has_disparity[i] = has
+        # -- the right pixel's best disparity is the same or one off (none: only when a
+        #    single disparity is searched, where there is nothing to disagree with)
+        left_right = abs(right_best[i] - k_best) <= 1 if right_best[i] >= 0 else nd <= 1
+        # -- the three windows along the row, where they agree
+        row_uniqueness = 0.0
+        if has and abs(summary.best_row[i] - k_best) <= 1:
+            row_uniqueness = _unique(float(summary.cost_row[i]), float(summary.second_row[i]))
+        f = features[i]
+        f[columns[0]] = uniqueness
+        f[columns[1]] = row_uniqueness
+        f[columns[2]] = 1.0 if row_uniqueness > 0 else 0.0  # row_agree
+        f[columns[3]] = 1.0 if left_right else 0.0
+        f[columns[4]] = 1.0 - in_view[i] / max(nd, 1)  # out_of_view
+        f[columns[5]] = path_uniqueness
+        f[columns[6]] = 1.0 if path_agree else 0.0
+        f[columns[7]] = 1.0 if path_swapped else 0.0
+    return disparity, has_disparity

@@ -1,0 +1,200 @@
+"""The window matcher's answer per left edge point: disparity, evidence, confidence.
+
+:func:`window_match` reads the summary of the window costs
+(:func:`~robostereo.matcher.window_costs.window_costs`, a wide range first narrowed by
+:func:`~robostereo.matcher.window_costs.coarse_range`) as evidence about each left edge
+point's best disparity: how unique it is, whether the right pixel and the paths along
+the row agree, whether a right edge point of the same sign lies there and how similar
+it is by the thesis's indices (3.2-3.3).  The disparity is made sub-pixel from that right
+edge point or from the parabola of the costs, and the evidence becomes a calibrated
+confidence (:mod:`robostereo.matcher.confidence`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from robostereo.matcher.candidates import SimilarityWeights, pair_similarity
+from robostereo.matcher.confidence import DEFAULT_MODEL, FEATURES, ConfidenceModel
+from robostereo.matcher.edges import EdgeSet
+from robostereo.matcher.window_costs import (
+    PATH_PENALTIES,
+    WindowCosts,
+    coarse_range,
+    window_costs,
+)
+from robostereo.matcher.window_kernels import (
+    STREAM_COLUMNS,
+    StreamSummary,
+    evidence,
+    nearest_on_lines,
+)
+
+__all__ = [
+    "COARSE_MIN_DISPARITIES",
+    "SWAP_UNIQUENESS",
+    "WindowMatch",
+    "window_match",
+]
+
+#: the feature columns that :func:`~robostereo.matcher.window_kernels.evidence` fills,
+#: in the order it computes them, and the two that the right edge point gives
+_EVIDENCE_COLUMNS = np.array([FEATURES.index(name) for name in (
+    "uniqueness", "uniqueness_row", "row_agree", "left_right", "out_of_view",
+    "path_uniqueness", "path_agree", "path_swapped")], np.int64)
+_RIGHT_EDGE, _SIMILARITY = FEATURES.index("right_edge"), FEATURES.index("similarity")
+
+#: where the paths' best disparity is more than a pixel from the windows', it is taken
+#: instead when its uniqueness exceeds this (leave-one-scene-out, as the penalties)
+SWAP_UNIQUENESS = 0.1
+
+#: a search range of more whole disparities than this is first narrowed by a pass at
+#: half resolution (:func:`coarse_range`); narrower ones are searched whole
+COARSE_MIN_DISPARITIES = 64
+
+
+@dataclass(frozen=True)
+class WindowMatch:
+    """Best disparity of every left edge point, its evidence and its confidence.
+
+    Attributes
+    ----------
+    disparity : ndarray of float, shape (N,)
+        Sub-pixel disparity ``x_left - x_right`` of the best window cost: from the
+        right edge point it lands on where there is one (edge positions are precise
+        to a twentieth of a pixel), else the vertex of the parabola through the costs
+        at the best disparity and its two neighbours.  NaN where the whole search
+        range is out of view.
+    right_edge : ndarray of int, shape (N,)
+        Index of that right edge point, -1 where there is none.
+    features : ndarray of float, shape (N, F)
+        The evidence, columns named by :data:`robostereo.matcher.confidence.FEATURES`.
+    confidence : ndarray of float, shape (N,)
+        Calibrated ``P(correct)`` of the best disparity; NaN where there is none.
+    costs : WindowCosts
+        The window costs the match was read from.
+    """
+
+    disparity: NDArray[np.float64]
+    right_edge: NDArray[np.intp]
+    features: NDArray[np.float64]
+    confidence: NDArray[np.float64]
+    costs: WindowCosts
+
+
+def _nearest_right_edge(left: EdgeSet, right: EdgeSet, x_right: NDArray[np.float64]
+                        ) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+    """Per left edge point, the right edge point next to ``x_right`` on its line (the
+    nearer of the two around it, if it has the same contrast sign), and the distance
+    (``inf`` where none)."""
+    if len(left) == 0 or len(right) == 0:
+        return np.full(len(left), -1, dtype=np.intp), np.full(len(left), np.inf)
+    n_lines = int(max(int(left.line.max()), int(right.line.max())) + 1)
+    idx, dist = nearest_on_lines(
+        np.ascontiguousarray(left.line, np.int64), np.ascontiguousarray(left.sign, np.int8),
+        np.ascontiguousarray(x_right, np.float64), np.ascontiguousarray(right.line, np.int64),
+        np.ascontiguousarray(right.x, np.float64), np.ascontiguousarray(right.sign, np.int8),
+        n_lines)
+    return idx.astype(np.intp), dist
+
+
+def window_match(
+    left: EdgeSet,
+    right: EdgeSet,
+    grey_left: NDArray[np.floating],
+    grey_right: NDArray[np.floating],
+    disparity_range: tuple[float, float],
+    *,
+    gradient_truncation: int = 64,
+    weights: SimilarityWeights | None = None,
+    profile_scale: float | None = 10.0,
+    model: ConfidenceModel | None = None,
+    valid_left: NDArray[np.bool_] | None = None,
+    valid_right: NDArray[np.bool_] | None = None,
+    vertical: bool = True,
+    path_penalties: tuple[float, float] | None = PATH_PENALTIES,
+    coarse: bool = True,
+) -> WindowMatch:
+    """Best disparity and calibrated confidence of every left edge point.
+
+    Parameters
+    ----------
+    left, right : EdgeSet
+        Edge points of the two images (:func:`robostereo.matcher.edges.detect_edges`).
+    grey_left, grey_right : ndarray, shape (H, W)
+        The grey images they were found in (0..127 scale).
+    disparity_range : tuple of float
+        ``(min, max)`` disparity; every whole pixel from ``floor(min)`` to ``ceil(max)``
+        is scored, and results more than half a pixel outside are dropped.
+    gradient_truncation : int
+        See :func:`window_costs`.
+    weights, profile_scale
+        The thesis's similarity weights and robostereo's edge-profile factor, for the
+        ``similarity`` feature (:func:`robostereo.matcher.candidates.pair_similarity`).
+    model : ConfidenceModel, optional
+        Default :data:`robostereo.matcher.confidence.DEFAULT_MODEL`.
+    valid_left, valid_right : ndarray of bool, shape (H, W), optional
+        Pixels that hold image data (see :func:`window_costs`).
+    vertical : bool
+        Windows above and below too (see :func:`window_costs`).
+    path_penalties : tuple of float or None
+        Paths along the rows (see :func:`window_costs`); None: none.
+    coarse : bool
+        Narrow a range of more than :data:`COARSE_MIN_DISPARITIES` whole disparities
+        to the part the scene holds by a pass at half size first
+        (:func:`coarse_range`); False: search it all.
+
+    Returns
+    -------
+    WindowMatch
+
+    Notes
+    -----
+    1. Window costs over the range (:func:`window_costs`), a wide range first
+       narrowed at half size (:func:`coarse_range`).
+    2. Best disparity ``d1`` (cost ``c1``); ``c2`` the best cost more than one pixel
+       away; uniqueness ``(c2 - c1) / c2`` (0 when no such disparity is in view).
+    3. Left-right check: the right pixel ``x - d1`` scored against every left pixel;
+       its best disparity should be ``d1`` (or one pixel off).
+    4. Sub-pixel disparity from the right edge point within half a pixel of
+       ``x - d`` (same contrast sign), else from the parabola of the costs.
+    5. Paths along the row (:func:`window_costs`, Notes 6): where their best
+       disparity is more than a pixel from the windows' and their uniqueness is above
+       :data:`SWAP_UNIQUENESS`, theirs is taken (parabola of the path costs, then the
+       right edge point there as in 4); their agreement and uniqueness are evidence.
+    6. Confidence from the evidence by the calibrated model
+       (:mod:`robostereo.matcher.confidence`).
+    """
+    lo, hi = float(disparity_range[0]), float(disparity_range[1])
+    d_lo, d_hi = int(np.floor(lo)), int(np.ceil(hi))
+    if coarse and d_hi - d_lo + 1 > COARSE_MIN_DISPARITIES:
+        d_lo, d_hi = coarse_range(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
+                                  gradient_truncation=gradient_truncation,
+                                  valid_left=valid_left, valid_right=valid_right)
+    wc = window_costs(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
+                      gradient_truncation=gradient_truncation, valid_left=valid_left,
+                      valid_right=valid_right, vertical=vertical,
+                      path_penalties=path_penalties)
+    n, nd = len(left), wc.n_disparities
+    feats = np.zeros((n, len(FEATURES)))
+    summary = StreamSummary(*(getattr(wc, name) for name in STREAM_COLUMNS))
+    d_par, seen = evidence(summary, d_lo, nd, SWAP_UNIQUENESS, feats, _EVIDENCE_COLUMNS)
+    idx, dist = _nearest_right_edge(left, right, left.x - d_par)
+    d_edge = left.x - right.x[np.maximum(idx, 0)] if len(right) else d_par
+    use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel
+    disparity = np.where(use_edge, d_edge, d_par)
+    in_range = (disparity >= lo - 0.5) & (disparity <= hi + 0.5) & seen
+    disparity = np.where(in_range, disparity, np.nan)
+    right_edge = np.where(use_edge & in_range, idx, -1).astype(np.intp)
+    feats[:, _RIGHT_EDGE] = use_edge
+    if np.any(use_edge):
+        sel = np.nonzero(use_edge)[0]
+        feats[sel, _SIMILARITY] = pair_similarity(left, right, sel, idx[sel], weights=weights,
+                                                  profile_scale=profile_scale)[4]
+    conf = (model or DEFAULT_MODEL)(feats)
+    conf = np.where(np.isfinite(disparity), conf, np.nan)
+    return WindowMatch(disparity=disparity, right_edge=right_edge, features=feats,
+                       confidence=conf, costs=wc)

@@ -1,0 +1,167 @@
+"""Window costs against brute force: placements, bands, paths and the half-size pass."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from synthetic import layered_pair
+
+from robostereo.errors import InputError
+from robostereo.matcher.edges import detect_edges, to_grey
+from robostereo.matcher.pipeline import MatchParameters, match_stereo
+from robostereo.matcher.window_costs import (
+    COARSE_MARGIN,
+    _halve,
+    census_transform,
+    coarse_range,
+    sobel_x,
+    window_costs,
+)
+from robostereo.matcher.window_kernels import OUT_OF_VIEW, PATH_MAX_DISPARITIES
+
+
+def _brute(left, right, rows, cols, d_lo, d_hi, vertical, trunc=64):
+    """Every window cost by plain numpy: pixel costs, 9 x 9 sums, the placements."""
+    h, w = left.shape
+    cl, cr = census_transform(left), census_transform(right)
+    sl, sr = sobel_x(left).astype(int), sobel_x(right).astype(int)
+    popcount = np.vectorize(lambda v: bin(int(v)).count("1"))
+    nd = d_hi - d_lo + 1
+    pix = np.full((nd, h, w), 34 + trunc)
+    for k, d in enumerate(range(d_lo, d_hi + 1)):
+        x = np.arange(max(d, 0), min(w, w + d))
+        pix[k][:, x] = popcount(cl[:, x] ^ cr[:, x - d]) + np.minimum(
+            np.abs(sl[:, x] - sr[:, x - d]), trunc)
+
+    def box(k, y, x):
+        ys = np.clip(np.arange(y - 4, y + 5), 0, h - 1)
+        return sum(pix[k][ys, xx].sum() if 0 <= xx < w else 9 * (34 + trunc)
+                   for xx in range(x - 4, x + 5))
+
+    offs = [(0, -4), (0, 0), (0, 4)] + ([(-4, 0), (4, 0)] if vertical else [])
+    out = np.full((len(rows), nd), OUT_OF_VIEW)
+    for i, (y, c) in enumerate(zip(rows, cols, strict=True)):
+        for k in range(nd):
+            if 0 <= c - d_lo - k < w:
+                out[i, k] = min(box(k, y + dy, c + dx) for dy, dx in offs)
+    return out
+
+
+@pytest.mark.parametrize("vertical", [False, True])
+def test_window_costs_equal_brute_force(vertical):
+    rng = np.random.default_rng(3)
+    left = rng.uniform(0, 127, (40, 70)).astype(np.float32)
+    right = np.roll(left, -5, axis=1) + rng.normal(0, 3, left.shape).astype(np.float32)
+    rows, cols = np.array([2, 10, 10, 20, 37]), np.array([15, 20, 40, 33, 50])
+    wc = window_costs(left, right, rows, cols, (0, 12), vertical=vertical)
+    ref = _brute(left, right, rows, cols, 0, 12, vertical)
+    k1 = np.argmin(ref, axis=1)
+    assert np.array_equal(wc.best, k1)
+    assert np.array_equal(wc.cost, ref[np.arange(5), k1])
+    far = np.abs(np.arange(13)[None] - k1[:, None]) > 1
+    assert np.array_equal(wc.second, np.where(far, ref, OUT_OF_VIEW).min(axis=1))
+    assert np.array_equal(wc.before, ref[np.arange(5), k1 - 1])
+    row = _brute(left, right, rows, cols, 0, 12, False)
+    assert np.array_equal(wc.best_row, np.argmin(row, axis=1))
+    assert np.all(wc.in_view == (ref < OUT_OF_VIEW).sum(axis=1))
+
+
+@pytest.mark.parametrize("threads", ["2", "3"])
+def test_bands_on_threads_give_the_same_costs(monkeypatch, threads):
+    """One band or several: the kernel's output is the same (bands repeat a few rows),
+    and so is the whole match."""
+    left, right, _ = layered_pair(np.random.default_rng(5), height=200, width=200)
+    g = [np.asarray(im, np.float32) * np.float32(127 / 255) for im in (left, right)]
+    monkeypatch.setenv("ROBOSTEREO_THREADS", "1")
+    res1 = match_stereo(left, right, (4.0, 27.0))
+    e = res1.left_edges
+    one = window_costs(*g, e.row, e.column, (4, 27))
+    monkeypatch.setenv("ROBOSTEREO_THREADS", threads)
+    res2 = match_stereo(left, right, (4.0, 27.0))
+    two = window_costs(*g, e.row, e.column, (4, 27))
+    for name in ("best", "cost", "second", "best_row", "right_best"):
+        assert np.array_equal(getattr(one, name), getattr(two, name)), name
+    assert np.array_equal(res1.edge_disparity, res2.edge_disparity, equal_nan=True)
+    assert np.array_equal(res1.edge_confidence, res2.edge_confidence, equal_nan=True)
+
+
+def test_census_and_out_of_view():
+    g = np.arange(35, dtype=np.float32).reshape(5, 7)
+    c = census_transform(g)
+    # the centre pixel (2, 3): the 17 neighbours before it in raster order are darker
+    assert bin(int(c[2, 3])).count("1") == 17
+    with pytest.raises(InputError, match="census size"):
+        census_transform(g, size=(8, 5))
+    # a point whose every right pixel is outside the image has no best disparity
+    wc = window_costs(g, g, np.array([2]), np.array([1]), (5, 6))
+    assert wc.best[0] == -1 and wc.in_view[0] == 0
+
+
+def test_path_penalties_are_validated():
+    g = np.zeros((20, 30), np.float32)
+    for bad in [(5.0,), (-1.0, 2.0), (5.0, 1.0), (np.nan, 2.0), (5.0, 1e6)]:
+        with pytest.raises(InputError, match="path_penalties"):
+            window_costs(g, g, np.array([10]), np.array([15]), (0, 4), path_penalties=bad)
+    with pytest.raises(InputError, match="paths"):
+        MatchParameters(paths="yes")  # type: ignore[arg-type]
+
+
+def test_paths_bin_a_wide_range():
+    """Over more than PATH_MAX_DISPARITIES the path disparities are bins; the best
+    whole disparity inside the best bin is still the true one."""
+    rng = np.random.default_rng(8)
+    d, w = 150, 420
+    scene = rng.uniform(0, 127, (40, w + d)).astype(np.float32)
+    left, right = scene[:, :w], scene[:, d:]
+    rows = np.repeat(np.arange(10, 30), 5)
+    cols = np.tile(np.array([200, 240, 280, 320, 360]), 20)
+    wide = (0, 2 * PATH_MAX_DISPARITIES)
+    wc = window_costs(left, right, rows, cols, wide)
+    assert np.all(wc.best_path == d) and np.all(wc.best == d)
+    assert np.all(wc.second_path > wc.cost_path)
+
+
+def test_coarse_range_holds_the_scene_and_drops_the_rest():
+    """Layered scenes (disparities 5..26) searched over 0..150: the half-size pass keeps
+    every disparity the edge points have and cuts most of the rest."""
+
+    rng = np.random.default_rng(21)
+    for _ in range(3):
+        left, right, gt = layered_pair(rng, height=200, width=360)
+        e = detect_edges(left, threshold=8.0)
+        lo, hi = coarse_range(to_grey(left), to_grey(right), e.row, e.column, (0, 150))
+        true = gt[e.row, e.column]
+        true = true[np.isfinite(true)]
+        # some edge points at the far left are out of view; all the rest are kept
+        assert lo <= np.quantile(true, 0.01) and hi >= np.quantile(true, 0.99)
+        assert 0 <= lo and hi <= 26 + 2 * COARSE_MARGIN + 1
+
+
+def test_coarse_range_leaves_narrow_ranges_and_degenerate_input_whole():
+    g = np.zeros((12, 30), np.float32)  # too small to halve into a window
+    assert coarse_range(g, g, np.array([5]), np.array([9]), (0, 100)) == (0, 100)
+    rng = np.random.default_rng(3)
+    big = rng.uniform(0, 127, (60, 120)).astype(np.float32)
+    none = np.array([], np.int64)
+    assert coarse_range(big, big, none, none, (0, 100)) == (0, 100)
+
+
+def test_coarse_range_with_masks_and_odd_sizes():
+    """All-valid masks change nothing; the binning drops an odd last row and column
+    and a mask keeps a binned pixel only where its four sources are valid."""
+
+    rng = np.random.default_rng(9)
+    left, right, _ = layered_pair(rng, height=161, width=331)
+    gl, gr = to_grey(left), to_grey(right)
+    e = detect_edges(left, threshold=8.0)
+    ones = np.ones(gl.shape, bool)
+    plain = coarse_range(gl, gr, e.row, e.column, (0, 120))
+    assert coarse_range(gl, gr, e.row, e.column, (0, 120), valid_left=ones,
+                        valid_right=ones) == plain
+    assert _halve(gl).shape == (80, 165)
+    assert np.allclose(_halve(gl)[3, 7], gl[6:8, 14:16].mean())
+    m = ones.copy()
+    m[10, 21] = False
+    hm = _halve(m, mask=True)
+    assert not hm[5, 10] and hm.sum() == hm.size - 1
+
