@@ -1,10 +1,10 @@
 """The analytic primitives of the simulated scenes: table, discs, cylinders, boxes, boards.
 
 Every primitive is a frozen dataclass that validates itself and answers three questions
-of the renderer (:func:`robostereo.simulation.render.render`): ``_bounds()``, a (2, 3)
-array of world min/max corners (None when unbounded); ``_hit(o, dx, dy, dz)``, the ray
+of the renderer (:func:`robostereo.simulation.render.render`): ``bounds()``, a (2, 3)
+array of world min/max corners (None when unbounded); ``hit(o, dx, dy, dz)``, the ray
 parameter of the nearest intersection in front of the origin (inf where the ray misses)
-and the surface normal; and ``_albedo_at(x, y)``, the grey reflectance at world points.
+and the surface normal; and ``albedo_at(x, y)``, the grey reflectance at world points.
 
 World coordinates are millimetres with Z up; the table top is at ``z = 0`` in the
 scenes of :mod:`robostereo.simulation.scenes`.
@@ -145,11 +145,12 @@ class NoiseTexture:
 
 # --------------------------------------------------------------------------- primitives
 #
-# Every primitive has ``_bounds()`` (a (2, 3) array of world min/max corners, or None
-# when unbounded) and ``_hit(o, dx, dy, dz)`` which returns the ray parameter t of the
+# Every primitive has ``bounds()`` (a (2, 3) array of world min/max corners, or None
+# when unbounded) and ``hit(o, dx, dy, dz)`` which returns the ray parameter t of the
 # nearest intersection in front of the origin (inf where the ray misses) and the
-# surface normal (three arrays or scalars, any orientation).  Rays are
-# ``o + t * d`` with d scaled so that t is the depth along the optical axis.
+# surface normal (three arrays or scalars, any orientation); ``albedo_at(x, y)`` gives
+# the reflectance at world points.  Rays are ``o + t * d`` with d scaled so that t is
+# the depth along the optical axis.  These three are what the renderer calls.
 
 
 @dataclass(frozen=True)
@@ -174,16 +175,16 @@ class TablePlane:
         require_finite("z", self.z)
         _require_albedo(self.albedo)
 
-    def _bounds(self) -> _Arr | None:
+    def bounds(self) -> _Arr | None:
         return None
 
-    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+    def hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (self.z - o[2]) / dz
         t = np.where(t > _EPS, t, np.inf)
         return t, (0.0, 0.0, 1.0)
 
-    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr | float:
+    def albedo_at(self, x: _Arr, y: _Arr) -> _Arr | float:
         if self.texture is None:
             return self.albedo
         return self.albedo * self.texture.factor(x, y)
@@ -234,12 +235,12 @@ class Disc:
         object.__setattr__(self, "holes", holes)
         _require_albedo(self.albedo)
 
-    def _bounds(self) -> _Arr | None:
+    def bounds(self) -> _Arr | None:
         cx, cy = self.center
         r = self.radius
         return np.array([[cx - r, cy - r, self.z], [cx + r, cy + r, self.z]])
 
-    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+    def hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (self.z - o[2]) / dz
         px = o[0] + t * dx - self.center[0]
@@ -250,7 +251,7 @@ class Disc:
             ok &= (px - hx) ** 2 + (py - hy) ** 2 > hr * hr
         return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
 
-    def _albedo_at(self, x: _Arr, y: _Arr) -> float:
+    def albedo_at(self, x: _Arr, y: _Arr) -> float:
         return self.albedo
 
 
@@ -300,12 +301,12 @@ class Cylinder:
         """Height of the top face, millimetres."""
         return self.z_base + self.height
 
-    def _bounds(self) -> _Arr | None:
+    def bounds(self) -> _Arr | None:
         cx, cy = self.center
         r = self.radius
         return np.array([[cx - r, cy - r, self.z_base], [cx + r, cy + r, self.z_top]])
 
-    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+    def hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
         ox, oy = o[0] - self.center[0], o[1] - self.center[1]
         z0, z1 = self.z_base, self.z_top
         a = dx * dx + dy * dy
@@ -347,7 +348,7 @@ class Cylinder:
                 take(np.where(ok, t, np.inf), 0.0, 0.0, mz)
         return best, (nx, ny, nz)
 
-    def _albedo_at(self, x: _Arr, y: _Arr) -> float:
+    def albedo_at(self, x: _Arr, y: _Arr) -> float:
         return self.albedo
 
 
@@ -411,11 +412,11 @@ class Box:
                     )
         return np.array(out)
 
-    def _bounds(self) -> _Arr | None:
+    def bounds(self) -> _Arr | None:
         p = self.corners()
         return np.array([p.min(axis=0), p.max(axis=0)])
 
-    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+    def hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
         c, s = math.cos(self.yaw), math.sin(self.yaw)
         ox, oy = o[0] - self.center[0], o[1] - self.center[1]
         lo = (c * ox + s * oy, -s * ox + c * oy, o[2] - self.z_base)
@@ -445,7 +446,7 @@ class Box:
         lnz = np.where(axis == 2, -np.sign(ld[2]), 0.0)
         return t, (c * lnx - s * lny, s * lnx + c * lny, lnz)
 
-    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr | float:
+    def albedo_at(self, x: _Arr, y: _Arr) -> _Arr | float:
         if self.texture is None:
             return self.albedo
         return self.albedo * self.texture.factor(x, y)
@@ -467,7 +468,7 @@ class _FlatPatch:
         px, py = x - self.origin[0], y - self.origin[1]
         return c * px + s * py, s * px - c * py
 
-    def _bounds(self) -> _Arr | None:
+    def bounds(self) -> _Arr | None:
         x0, x1, y0, y1 = self._extent()
         c, s = math.cos(self.yaw), math.sin(self.yaw)
         pts = np.array([[bx, by] for bx in (x0, x1) for by in (y0, y1)])
@@ -475,7 +476,7 @@ class _FlatPatch:
         wy = self.origin[1] + s * pts[:, 0] - c * pts[:, 1]
         return np.array([[wx.min(), wy.min(), self.z], [wx.max(), wy.max(), self.z]])
 
-    def _hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
+    def hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (self.z - o[2]) / dz
         bx, by = self._local(o[0] + t * dx, o[1] + t * dy)
@@ -532,7 +533,7 @@ class Checkerboard(_FlatPatch):
         c, r = self.inner_corners
         return -2 * q, c * q + q, -2 * q, r * q + q
 
-    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
+    def albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
         bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         q = self.square_mm
         c, r = self.inner_corners
@@ -597,7 +598,7 @@ class ImagePlane(_FlatPatch):
         m = self.margin_mm
         return -m, w * self.mm_per_px + m, -m, h * self.mm_per_px + m
 
-    def _albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
+    def albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
         bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         h, w = self.image.shape
         j = np.floor(bx / self.mm_per_px).astype(np.int64)

@@ -92,7 +92,7 @@ def sample_offsets(supersample: int) -> _Arr:
 def _window(prim: Primitive, camera: Camera, pose: Pose) -> tuple[slice, slice]:
     """Pixel rows and columns whose rays may hit `prim` (a conservative box)."""
     full = (slice(0, camera.height), slice(0, camera.width))
-    bounds = prim._bounds()
+    bounds = prim.bounds()
     if bounds is None:
         return full
     (x0, y0, z0), (x1, y1, z1) = bounds
@@ -157,7 +157,7 @@ def _cast(
         if rows.stop - rows.start <= 0 or cols.stop - cols.start <= 0:
             continue
         wdx, wdy, wdz = dx[:, rows, cols], dy[:, rows, cols], dz[:, rows, cols]
-        t, normal = prim._hit(o, wdx, wdy, wdz)
+        t, normal = prim.hit(o, wdx, wdy, wdz)
         tb = t_best[:, rows, cols]
         closer = t < tb
         if not closer.any():
@@ -169,7 +169,7 @@ def _cast(
         nx, ny, nz = (np.broadcast_to(np.asarray(n, dtype=float), t.shape)[closer] for n in normal)
         facing = np.where(nx * sdx + ny * sdy + nz * sdz > 0, -1.0, 1.0)
         cos = facing * (nx * light[0] + ny * light[1] + nz * light[2])
-        albedo = prim._albedo_at(o[0] + tc * sdx, o[1] + tc * sdy)
+        albedo = prim.albedo_at(o[0] + tc * sdx, o[1] + tc * sdy)
         radiance[:, rows, cols][closer] = albedo * (
             scene.ambient + scene.light_intensity * np.maximum(cos, 0.0)
         )
