@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import pytest
 
@@ -11,7 +9,7 @@ from robostereo.camera import SEED_CAMERA, Camera, EpipolarGeometry, Pose
 from robostereo.cli import main
 from robostereo.edges import detect_edges
 from robostereo.experiments import run_block_experiment
-from robostereo.robot.capture import fill_invalid_rows, locate, read_capture, rectify_pair
+from robostereo.robot.capture import fill_invalid_rows, locate, rectify_pair
 from robostereo.robot.simulated_scara import RigSetup, SimulatedCapture, simulate_capture
 
 
@@ -81,17 +79,6 @@ def test_cli_capture_then_locate_gives_the_demo_points(tmp_path, capsys):
     # default output: DIR/located.csv
     assert main(["locate", str(d)]) == 0
     assert (d / "located.csv").is_file()
-
-
-def test_cli_pulley_capture_options(tmp_path):
-    d = tmp_path / "pulley"
-    assert main(["capture", "--out", str(d), "--scene", "pulley", "--direction", "30",
-                 "--roll", "10", "--baseline", "25", "--center", "350", "100"]) == 0
-    cap = read_capture(d)
-    g = cap.epipolar
-    assert g.baseline_mm == pytest.approx(25.0) and math.degrees(g.alpha) == pytest.approx(30.0)
-    assert math.degrees(g.theta_l) == pytest.approx(10.0, abs=2.5)
-    assert (g.origin[0], g.origin[1]) == pytest.approx((350.0, 100.0))
 
 
 def test_demo_command(tmp_path, capsys):
