@@ -1,25 +1,37 @@
-"""The robot side of robostereo: arm models, camera poses, capture folders.
+"""The robot side of robostereo: arm models, camera poses, captures, the simulated rigs.
 
 Submodules
 ----------
 :mod:`~robostereo.robot.scara`
-    The seed's AdeptOne SCARA (seed 4.1), the :class:`Robot` and :class:`CameraDevice`
-    protocols, the simulated camera and the seed's acquisition program.
+    The thesis's AdeptOne SCARA (the thesis, 4.1), the :class:`Robot` and
+    :class:`CameraDevice` protocols, the simulated camera and the thesis's acquisition
+    program.
+:mod:`~robostereo.robot.capture_folder`
+    :class:`~robostereo.robot.capture_folder.Capture` (two grabbed views, the camera and
+    the poses) and capture folders (``capture.yaml``).
 :mod:`~robostereo.robot.capture`
-    Capture folders and locating object points in the robot's world frame.
+    Locating object points of a capture in the robot's world frame (rectify, match,
+    eq. 6-9); re-exports the capture folder names.
 :mod:`~robostereo.robot.poses`
     :class:`~robostereo.robot.poses.SE3` rigid transforms (6-DoF poses) and their file
     forms (matrix, quaternion, rotation vector, ROS, the SCARA form).
 :mod:`~robostereo.robot.geometry`
     Rectification of two general poses (OpenCV ``stereoRectify`` with distortion).
+:mod:`~robostereo.robot.handeye_views`
+    Calibration boards (chessboard, ChArUco), their detection, hand-eye views folders.
 :mod:`~robostereo.robot.handeye`
-    Eye-in-hand calibration: chessboard views, ``calibrateCamera``, AX = XB.
+    Eye-in-hand calibration: ``calibrateCamera`` and AX = XB; re-exports the names of
+    :mod:`~robostereo.robot.handeye_views`.
 :mod:`~robostereo.robot.sixaxis`
     A UR5-like six-axis arm (DH, joint limits, inverse kinematics) and its wrist camera.
 :mod:`~robostereo.robot.planning`
     Eq. 9 inverted for the baseline, the baseline direction, fusing two captures.
+:mod:`~robostereo.robot.simulated_scara`
+    The simulated AdeptOne rig: the thesis's set-up (:class:`RigSetup`), its block and
+    hub-pulley scenes and its captures (:func:`simulate_capture`).
 :mod:`~robostereo.robot.simulated`
-    The simulated six-axis experiments (hand-eye views, tilted captures, the demo).
+    The simulated six-axis experiments (hand-eye views, tilted captures, the demo) and
+    the block fused from two baselines.
 
 The names of :mod:`robostereo.robot.scara` are re-exported here, so
 ``from robostereo.robot import AdeptOne`` works as before the subpackage existed.

@@ -1,6 +1,6 @@
 """Eye-in-hand calibration: the camera's pose on the robot's flange (AX = XB).
 
-The seed's camera pose came from the robot alone (a fixed forearm mount, seed 4.1).
+The thesis's camera pose came from the robot alone (a fixed forearm mount, 4.1).
 A camera bolted to any arm's flange needs the flange-to-camera transform
 ``X = T_flange_camera``.  With the flange poses ``F_i = T_base_flange`` the robot
 reports and the board poses ``C_i = T_camera_board`` seen in each view,
@@ -22,7 +22,8 @@ For ``'tsai'`` and ``'park'`` the translation is the least-squares solution of
 
 :func:`calibrate_eye_in_hand` runs the whole calibration from board images: corner
 detection, :func:`cv2.calibrateCamera` (intrinsics and distortion, per-view board
-poses) and AX = XB.
+poses) and AX = XB.  The boards, their detection and the views folders it reads are in
+:mod:`robostereo.robot.handeye_views`; their names are re-exported here.
 """
 
 from __future__ import annotations
@@ -40,6 +41,19 @@ from scipy.spatial.transform import Rotation
 
 from robostereo.camera import Camera
 from robostereo.errors import InputError
+from robostereo.robot.handeye_views import (
+    MIN_VIEWS,
+    VIEWS_YAML,
+    Board,
+    Charuco,
+    Chessboard,
+    HandEyeViews,
+    describe_board,
+    detect_board,
+    detect_chessboard,
+    read_views,
+    write_views,
+)
 from robostereo.robot.poses import SE3
 
 __all__ = [
@@ -73,8 +87,6 @@ DEFAULT_METHOD: HandEyeMethod = "park"
 """The default method: the most accurate of the three on the simulated views (see
 the README's hand-eye table; Park-Martin and Daniilidis are within a few percent,
 Tsai-Lenz behind)."""
-MIN_VIEWS = 3
-"""Fewest usable views: two motions with non-parallel rotation axes need three poses."""
 MIN_AXIS_SPREAD_DEG = 2.0
 """Least angle between rotation axes of the motions for the rotation to be determined."""
 
@@ -317,168 +329,6 @@ def handeye_residuals(A: Sequence[SE3], B: Sequence[SE3], X: SE3) -> HandEyeResi
     return HandEyeResiduals(np.asarray(rot), np.asarray(tr))
 
 
-# ------------------------------------------------------------------------ boards
-
-
-@dataclass(frozen=True)
-class Chessboard:
-    """A chessboard calibration target.
-
-    Parameters
-    ----------
-    inner_corners : tuple of int
-        ``(columns, rows)`` of inner corners (OpenCV's ``patternSize``).
-    square_mm : float
-        Side of one square, millimetres.
-
-    The board frame has its origin at the first inner corner, x along the columns,
-    y along the rows, z into the board (the right-handed frame of OpenCV's
-    ``objectPoints``).  The square diagonally outside the first inner corner is dark,
-    the one outside the last is light when ``columns + rows`` is odd (e.g. 9 x 6):
-    that fixes the order of the detected corners.
-    """
-
-    inner_corners: tuple[int, int] = (9, 6)
-    square_mm: float = 20.0
-
-    def __post_init__(self) -> None:
-        c, r = self.inner_corners
-        if int(c) != c or int(r) != r or c < 2 or r < 2:
-            raise InputError(f"inner_corners must be (columns, rows) >= 2, got "
-                             f"{self.inner_corners}")
-        if not (math.isfinite(self.square_mm) and self.square_mm > 0):
-            raise InputError(f"square_mm must be a finite number > 0, got {self.square_mm}")
-        object.__setattr__(self, "inner_corners", (int(c), int(r)))
-
-    @property
-    def object_points(self) -> NDArray[np.float64]:
-        """Inner corners in the board frame, shape ``(columns * rows, 3)``, mm."""
-        c, r = self.inner_corners
-        xs, ys = np.meshgrid(np.arange(c), np.arange(r))
-        return np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)]) * self.square_mm
-
-
-@dataclass(frozen=True)
-class Charuco:
-    """A ChArUco calibration target (a chessboard with ArUco markers in its light squares).
-
-    Parameters
-    ----------
-    squares : tuple of int
-        ``(columns, rows)`` of squares (OpenCV's ``CharucoBoard`` size).
-    square_mm, marker_mm : float
-        Side of a square and of a marker, millimetres.
-    dictionary : str
-        Name of an OpenCV predefined ArUco dictionary, e.g. ``'DICT_5X5_100'``.
-
-    The board frame is OpenCV's: origin at the board's top-left corner, x along the
-    columns, y along the rows, z into the board.  Each detected corner has an id, so a
-    partly seen board still gives corners in a known order.
-    """
-
-    squares: tuple[int, int] = (8, 6)
-    square_mm: float = 12.0
-    marker_mm: float = 9.0
-    dictionary: str = "DICT_5X5_100"
-
-    def __post_init__(self) -> None:
-        c, r = self.squares
-        if int(c) != c or int(r) != r or c < 3 or r < 3:
-            raise InputError(f"squares must be (columns, rows) >= 3, got {self.squares}")
-        object.__setattr__(self, "squares", (int(c), int(r)))
-        for name in ("square_mm", "marker_mm"):
-            v = getattr(self, name)
-            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
-                raise InputError(f"{name} must be a finite number > 0, got {v!r}")
-        if not self.marker_mm < self.square_mm:
-            raise InputError(f"marker_mm must be below square_mm, got {self.marker_mm} and "
-                             f"{self.square_mm}")
-        if not str(self.dictionary).startswith("DICT_") or not hasattr(cv2.aruco,
-                                                                       self.dictionary):
-            raise InputError(f"dictionary must name an OpenCV ArUco dictionary such as "
-                             f"DICT_5X5_100, got {self.dictionary!r}")
-
-    def cv_board(self) -> Any:
-        """The :class:`cv2.aruco.CharucoBoard`."""
-        d = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, self.dictionary))
-        return cv2.aruco.CharucoBoard(self.squares, float(self.square_mm),
-                                      float(self.marker_mm), d)
-
-    @property
-    def object_points(self) -> NDArray[np.float64]:
-        """Inner corners in the board frame, shape ``((cols - 1) (rows - 1), 3)``, mm."""
-        return np.asarray(self.cv_board().getChessboardCorners(), dtype=np.float64)
-
-    def image(self, px_per_mm: float = 10.0) -> NDArray[np.uint8]:
-        """The board drawn at `px_per_mm` (no margin), for printing or rendering."""
-        c, r = self.squares
-        size = (round(c * self.square_mm * px_per_mm), round(r * self.square_mm * px_per_mm))
-        return self.cv_board().generateImage(size, marginSize=0, borderBits=1)
-
-
-Board = Chessboard | Charuco
-MIN_CHARUCO_CORNERS = 6
-"""Fewest ChArUco corners for a view to count (a pose needs a few, spread out)."""
-
-
-def detect_board(
-    image: ArrayLike, board: Board
-) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
-    """Board corners found in a grey image: ``(object points (K, 3), pixels (K, 2))``.
-
-    None if the board is not found (a chessboard must be whole; a ChArUco board needs
-    :data:`MIN_CHARUCO_CORNERS` corners).
-    """
-    if isinstance(board, Chessboard):
-        c = detect_chessboard(image, board)
-        return None if c is None else (board.object_points, c)
-    if not isinstance(board, Charuco):
-        raise InputError(f"board must be a Chessboard or a Charuco, got {type(board).__name__}")
-    img = _as_uint8(image)
-    corners, ids, _mc, _mi = cv2.aruco.CharucoDetector(board.cv_board()).detectBoard(img)
-    if corners is None or ids is None or len(ids) < MIN_CHARUCO_CORNERS:
-        return None
-    return board.object_points[ids.ravel()], corners.reshape(-1, 2).astype(np.float64)
-
-
-def _as_uint8(image: ArrayLike) -> NDArray[np.uint8]:
-    img = np.asarray(image)
-    if img.ndim != 2:
-        raise InputError(f"image must be a grey (H, W) image, got shape {img.shape}")
-    if img.dtype != np.uint8:
-        top = float(img.max()) if img.size else 1.0
-        return np.clip(img.astype(np.float64) * (255.0 / max(top, 1.0)), 0, 255).astype(
-            np.uint8)
-    if img.size and img.max() < 128:  # 7-bit grey levels: stretch for the detector
-        return (img.astype(np.uint16) * 2).astype(np.uint8)
-    return img
-
-
-def detect_chessboard(image: ArrayLike, board: Chessboard) -> NDArray[np.float64] | None:
-    """Sub-pixel inner corners of `board` in a grey image, ``(N, 2)``, or None.
-
-    :func:`cv2.findChessboardCornersSB` (the sector-based detector, sub-pixel), in
-    the order of :attr:`Chessboard.object_points`.
-    """
-    img = _as_uint8(image)
-    ok, corners = cv2.findChessboardCornersSB(img, board.inner_corners,
-                                              flags=cv2.CALIB_CB_ACCURACY)
-    if not ok or corners is None:
-        return None
-    c = corners.reshape(-1, 2).astype(np.float64)
-    # 180-degree ambiguity of the grid: the square diagonally outside the first inner
-    # corner is the dark one (robostereo's board convention, :class:`Chessboard`)
-    cols, rows = board.inner_corners
-    grid = c.reshape(rows, cols, 2)
-    out0 = grid[0, 0] - 0.5 * (grid[0, 1] - grid[0, 0]) - 0.5 * (grid[1, 0] - grid[0, 0])
-    out1 = grid[-1, -1] + 0.5 * (grid[-1, -1] - grid[-1, -2]) \
-        + 0.5 * (grid[-1, -1] - grid[-2, -1])
-    g = img.astype(np.float64)
-    v0, v1 = (float(cv2.getRectSubPix(g.astype(np.float32), (3, 3), (float(p[0]), float(p[1])))
-                    .mean()) for p in (out0, out1))
-    return c[::-1].copy() if v0 > v1 else c
-
-
 @dataclass(frozen=True, eq=False)
 class EyeInHandCalibration:
     """Result of :func:`calibrate_eye_in_hand`.
@@ -527,14 +377,6 @@ class EyeInHandCalibration:
                 "translation_mm_rms": round(self.residuals.rms_translation_mm, 6),
             },
         }
-
-
-def describe_board(board: Board) -> str:
-    """One line naming a board for messages, e.g. ``chessboard 9 x 6``."""
-    if isinstance(board, Chessboard):
-        return f"chessboard {board.inner_corners[0]} x {board.inner_corners[1]}"
-    return (f"ChArUco board {board.squares[0]} x {board.squares[1]} (at least "
-            f"{MIN_CHARUCO_CORNERS} corners)")
 
 
 def calibrate_eye_in_hand(
@@ -631,138 +473,6 @@ def calibrate_eye_in_hand(
         per_view_rms_px=np.asarray(per_view), board_poses=tuple(C), residuals=res,
         base_board=SE3(mean_R, mean_t),
     )
-
-
-# ------------------------------------------------------------------ views folders
-
-VIEWS_YAML = "views.yaml"
-
-
-@dataclass(frozen=True, eq=False)
-class HandEyeViews:
-    """A hand-eye views folder: board images with the flange pose of each.
-
-    Folder format (``DIR/``)::
-
-        views.yaml   board:          {type: chessboard, inner_corners: [cols, rows],
-                                      square_mm} or {type: charuco, squares:
-                                      [cols, rows], square_mm, marker_mm, dictionary}
-                     pixel_pitch_mm: horizontal pitch of the sensor, mm (data sheet)
-                     grey_levels:    optional, default 256
-                     views:          - {image: view_00.png, flange: POSE}
-                                     ...   POSE in any form of robostereo.robot.poses
-                                     (T_base_flange as the robot reports it; mm, or
-                                     the ROS form in m)
-        view_00.png ...
-
-    Attributes
-    ----------
-    images : tuple of ndarray, shape (H, W)
-    flange_poses : tuple of SE3
-    names : tuple of str
-        Image file names.
-    board : Chessboard or Charuco
-    pixel_pitch_mm : float
-    grey_levels : int
-    """
-
-    images: tuple[NDArray[Any], ...]
-    flange_poses: tuple[SE3, ...]
-    names: tuple[str, ...]
-    board: Board
-    pixel_pitch_mm: float = 0.01
-    grey_levels: int = 256
-
-
-def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | None = None
-                ) -> None:
-    """Write a views folder (the folder must not exist or be empty; written whole).
-
-    `extra` maps further file names to mappings written as YAML (e.g. ``truth.yaml``).
-    """
-    import yaml
-
-    from robostereo.io import write_image_folder
-    from robostereo.robot.poses import pose_to_dict
-
-    b = views.board
-    board: dict[str, Any]
-    if isinstance(b, Chessboard):
-        board = {"type": "chessboard", "inner_corners": list(b.inner_corners),
-                 "square_mm": float(b.square_mm)}
-    else:
-        board = {"type": "charuco", "squares": list(b.squares), "square_mm": float(b.square_mm),
-                 "marker_mm": float(b.marker_mm), "dictionary": b.dictionary}
-    data = {
-        "board": board,
-        "pixel_pitch_mm": float(views.pixel_pitch_mm),
-        "grey_levels": int(views.grey_levels),
-        "views": [{"image": n, "flange": pose_to_dict(f)}
-                  for n, f in zip(views.names, views.flange_poses, strict=True)],
-    }
-    texts = {VIEWS_YAML: yaml.safe_dump(data, sort_keys=False)}
-    texts.update({fname: yaml.safe_dump(mapping, sort_keys=False)
-                  for fname, mapping in (extra or {}).items()})
-    write_image_folder(directory, dict(zip(views.names, views.images, strict=True)), texts)
-
-
-def read_views(directory: Any) -> HandEyeViews:
-    """Read a views folder (:class:`HandEyeViews`); one-line InputError on bad input."""
-
-
-    from robostereo.datasets import load_image
-    from robostereo.io import read_folder_yaml
-    from robostereo.robot.poses import as_se3, pose_from_dict
-
-    data, ypath = read_folder_yaml(directory, VIEWS_YAML, folder="views")
-    d = ypath.parent
-    src = str(ypath)
-    if not isinstance(data, dict) or "board" not in data or "views" not in data:
-        raise InputError(f"{src}: expected a mapping with keys board, pixel_pitch_mm, views")
-    b = data["board"]
-    kind = b.get("type", "chessboard") if isinstance(b, dict) else None
-    if kind not in ("chessboard", "charuco"):
-        raise InputError(f"{src}: board must be {{type: chessboard, inner_corners: [c, r], "
-                         "square_mm} or {type: charuco, squares: [c, r], square_mm, "
-                         "marker_mm, dictionary}")
-    board: Board
-    try:
-        if kind == "chessboard":
-            board = Chessboard(tuple(b["inner_corners"]), float(b["square_mm"]))  # type: ignore[arg-type]
-        else:
-            board = Charuco(tuple(b["squares"]), float(b["square_mm"]),  # type: ignore[arg-type]
-                            float(b["marker_mm"]), str(b.get("dictionary", "DICT_5X5_100")))
-    except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{src}: board: missing or bad key ({exc})") from None
-    except InputError as exc:
-        raise InputError(f"{src}: board: {exc}") from None
-    pitch = data.get("pixel_pitch_mm", 0.01)
-    if isinstance(pitch, list):
-        pitch = pitch[0] if pitch else None
-    if not isinstance(pitch, int | float) or isinstance(pitch, bool) or not pitch > 0:
-        raise InputError(f"{src}: pixel_pitch_mm must be a number > 0, got {pitch!r}")
-    grey = data.get("grey_levels", 256)
-    if not isinstance(grey, int) or isinstance(grey, bool) or grey < 2:
-        raise InputError(f"{src}: grey_levels must be an integer >= 2, got {grey!r}")
-    views = data["views"]
-    if not isinstance(views, list):
-        raise InputError(f"{src}: views must be a list of {{image, flange}}")
-    images, poses, names = [], [], []
-    for i, v in enumerate(views):
-        if not isinstance(v, dict) or "image" not in v or "flange" not in v:
-            raise InputError(f"{src}: views[{i}] must be a mapping {{image, flange}}")
-        name = str(v["image"])
-        poses.append(as_se3(pose_from_dict(v["flange"], source=f"{src}: views[{i}].flange")))
-        img, _bits = load_image(d / name)
-        if img.ndim == 3:
-            img = cv2.cvtColor(np.ascontiguousarray(img[..., :3]), cv2.COLOR_RGB2GRAY)
-        images.append(np.asarray(img))
-        names.append(str(d / name))
-    if len(images) < MIN_VIEWS:
-        raise InputError(f"{src}: hand-eye needs at least {MIN_VIEWS} usable views, got "
-                         f"{len(images)}")
-    return HandEyeViews(images=tuple(images), flange_poses=tuple(poses), names=tuple(names),
-                        board=board, pixel_pitch_mm=float(pitch), grey_levels=grey)
 
 
 def save_handeye_yaml(path: Any, calibration: EyeInHandCalibration) -> None:

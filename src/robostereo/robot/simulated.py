@@ -1,6 +1,6 @@
 """Simulated six-axis experiments: hand-eye views and the block from tilted viewpoints.
 
-The seed's block experiment (5.2) redone with a UR5-like arm
+The thesis's block experiment (5.2) redone with a UR5-like arm
 (:class:`~robostereo.robot.sixaxis.SixAxisArm`) carrying a distorting wrist camera:
 
 * :func:`simulate_handeye_views` renders a chessboard on the table from tilted views
@@ -40,6 +40,12 @@ from robostereo.robot.handeye import (
     calibrate_eye_in_hand,
 )
 from robostereo.robot.poses import SE3, pose_to_dict
+from robostereo.robot.simulated_scara import (
+    SEED_LIFT_MM,
+    RigSetup,
+    block_scene,
+    simulate_capture,
+)
 from robostereo.robot.sixaxis import WRIST_CAMERA, WRIST_HAND_EYE, SixAxisArm
 from robostereo.simulation import (
     Box,
@@ -80,7 +86,6 @@ BOARD_ORIGIN_XY = (300.0, 150.0)
 BLOCK_CENTER_XY = (430.0, 120.0)
 """Where the block stands on the table (world mm; the arm's base at the origin)."""
 _BLOCK_SIZE = (23.6, 80.0, 50.0)
-SEED_LIFT_MM = 79.65
 
 
 def board_scene(
@@ -211,7 +216,7 @@ def simulate_handeye_views(
 
 
 def six_axis_block_scene(*, lift_mm: float = 0.0) -> Scene:
-    """The seed's precision block (23.6 x 80 mm, 50 mm tall plus `lift_mm`) on the table
+    """The thesis's precision block (23.6 x 80 mm, 50 mm tall plus `lift_mm`) on the table
     at :data:`BLOCK_CENTER_XY`."""
     require_finite("lift_mm", lift_mm)
     sx, sy, sz = _BLOCK_SIZE
@@ -493,8 +498,8 @@ def run_six_axis_block(
     method : {'park', 'tsai', 'daniilidis'}
     viewpoints : SixAxisViewpoints, optional
     params : LocateParameters, optional
-        Default: the seed's matcher (relaxation), as the SCARA block experiment
-        (:data:`robostereo.experiments.SEED_EXPERIMENT`).
+        Default: the thesis's matcher (relaxation), as the SCARA block experiment
+        (``robostereo.experiments.SEED_EXPERIMENT``).
 
     Notes
     -----
@@ -508,7 +513,7 @@ def run_six_axis_block(
 
     References
     ----------
-    Seed 5.2 (the block at two heights, table 5-1), 3.7 (eq. 9).
+    Kim (1989), the thesis, 5.2 (the block at two heights, table 5-1), 3.7 (eq. 9).
     """
     hv, _truth = simulate_handeye_views(views=views, seed=seed)
     cal = calibrate_eye_in_hand(hv.images, hv.flange_poses, hv.board,
@@ -520,7 +525,7 @@ def run_six_axis_block(
         sim = simulate_six_axis_capture("block", lift_mm=lift, seed=seed,
                                         viewpoints=viewpoints, hand_eye=cal.hand_eye,
                                         camera=cal.camera)
-        # the seed's block experiment, with the seed's matcher as robostereo demo uses it
+        # the thesis's block experiment, with the thesis's matcher as robostereo demo uses it
         loc = locate(sim.capture, params=params or LocateParameters(
             match=MatchParameters(method="relaxation")))
         top = _BLOCK_SIZE[2] + lift
@@ -575,15 +580,14 @@ class FusedBlockGain:
 
 
 def run_fused_block(*, seed: int = 0) -> FusedBlockGain:
-    """The seed's block (on the simulated AdeptOne) captured with the baseline along
-    world X (the seed's) and along Y, located and fused.
+    """The thesis's block (on the simulated AdeptOne) captured with the baseline along
+    world X (the thesis's) and along Y, located and fused.
 
-    The seed's baseline runs along the block's short top edges, which lie along the
+    The thesis's baseline runs along the block's short top edges, which lie along the
     epipolar lines and are lost; the second baseline crosses them.
     """
     from scipy.spatial import cKDTree
 
-    from robostereo.experiments import RigSetup, block_scene, simulate_capture
     from robostereo.robot.planning import fuse_located
 
     scene = block_scene(RigSetup())

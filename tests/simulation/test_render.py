@@ -1,4 +1,4 @@
-"""Tests of the simulated camera: geometry against Camera.project, exact depth, noise."""
+"""Tests of rendering: geometry against Camera.project, exact depth, shading, noise."""
 
 from __future__ import annotations
 
@@ -13,10 +13,8 @@ from robostereo.simulation import (
     Box,
     Cylinder,
     Disc,
-    NoiseTexture,
     Scene,
     TablePlane,
-    hub_pulley_scene,
     render,
     sample_offsets,
     seed_block_scene,
@@ -86,68 +84,6 @@ def test_without_supersampling_the_edge_is_off() -> None:
     assert err > 0.2  # u_left = 173.91: the step lies between columns 173 and 174
 
 
-def test_labels_of_yawed_box_seen_from_yawed_camera() -> None:
-    box = Box((10.0, -20.0), 0.0, (40.0, 25.0, 30.0), yaw=0.5, albedo=0.9)
-    scene = Scene((TablePlane(0.0, 0.2), box))
-    pose = Pose(0.0, 0.0, 900.0, phi=-0.7)
-    r = render(scene, CAM, pose)
-    c, s = math.cos(0.5), math.sin(0.5)
-    for scale, label in ((0.9, 1), (1.1, 0)):
-        lx = np.array([-1, 1, 1, -1, 0.0, 0.0]) * 20.0 * scale
-        ly = np.array([-1, -1, 1, 1, 1, -1]) * 12.5 * scale
-        pts = np.column_stack([10 + c * lx - s * ly, -20 + s * lx + c * ly, np.full(6, 30.0)])
-        if label == 0:
-            pts[:, 2] = 0.0  # just outside the box, on the table
-        uv, _ = CAM.project(pts, pose)
-        ij = np.rint(uv[:, ::-1]).astype(int)
-        assert (r.labels[ij[:, 0], ij[:, 1]] == label).all()
-    # depth on the top face is exactly camera height - top
-    assert np.all(r.depth[r.labels == 1] >= 870.0 - 1e-9)
-    assert np.sum(np.isclose(r.depth[r.labels == 1], 870.0, atol=1e-9)) > 1000
-
-
-def test_hit_points_lie_on_their_surfaces() -> None:
-    # back-projecting every pixel centre with its depth lands on the labelled primitive
-    scene = hub_pulley_scene(center_xy=(200.0, -50.0))
-    pose = Pose(230.0, -40.0, 1070.0, phi=0.3)
-    r = render(scene, CAM, pose, supersample=1)
-    jj, ii = np.meshgrid(np.arange(CAM.width), np.arange(CAM.height))
-    pts = CAM.backproject(np.column_stack([jj.ravel(), ii.ravel()]), r.depth.ravel(), pose)
-    lab = r.labels.ravel()
-    prims = scene.primitives
-    rr = np.hypot(pts[:, 0] - 200.0, pts[:, 1] + 50.0)
-    assert np.allclose(pts[lab == 0, 2], 0.0, atol=1e-9)  # table
-    hub = prims[9]
-    assert isinstance(hub, Cylinder)
-    on_hub = lab == 9
-    # hub: either its top annulus (z = 70, r in [10, 24]) or the inside of its bore
-    top = np.isclose(pts[:, 2], 70.0, atol=1e-9)
-    assert np.all(rr[on_hub & top] <= 24 + 1e-6) and np.all(rr[on_hub & top] >= 10 - 1e-6)
-    # walls: the bore's (r = 10) and the outer one above the boss (r = 24, z >= 32)
-    wall = on_hub & ~top
-    bore = np.isclose(rr, 10.0, atol=1e-6)
-    outer = np.isclose(rr, 24.0, atol=1e-6) & (pts[:, 2] >= 32.0 - 1e-6)
-    assert np.all(bore[wall] | outer[wall])
-    assert np.any(bore & wall) and np.any(outer & wall)  # both seen from the side
-    web = prims[4]
-    assert isinstance(web, Disc)
-    assert np.allclose(pts[lab == 4, 2], 20.0, atol=1e-9)
-    assert np.all(rr[lab == 4] >= 24 - 1e-6) and np.all(rr[lab == 4] <= 76 + 1e-6)
-
-
-def test_holes_and_bores_show_the_table() -> None:
-    scene = hub_pulley_scene()
-    pose = scene.view_pose
-    r = render(scene, CAM, pose, supersample=1)
-    hole_centres = [
-        (56 * math.cos(a), 56 * math.sin(a), 0.0) for a in np.deg2rad(np.arange(8) * 45 + 22.5)
-    ]
-    uv, _ = CAM.project([*hole_centres, (0.0, 0.0, 0.0)], pose)
-    ij = np.rint(uv[:, ::-1]).astype(int)
-    assert (r.labels[ij[:, 0], ij[:, 1]] == 0).all()
-    assert r.depth[240, 254] == 1070.0  # the principal ray, straight down the bore
-
-
 # ----------------------------------------------------------------------------- depth
 
 
@@ -169,35 +105,6 @@ def test_no_hit_gives_inf_depth_and_label_minus_one() -> None:
     assert r.labels[240, 254] == 0
     assert r.labels[240, 254 + 14] == 0 and r.labels[240, 254 + 15] == -1
     assert r.labels[240 + 18, 254] == 0 and r.labels[240 + 19, 254] == -1
-
-
-def test_lift_moves_the_block_top_by_lift_mm() -> None:
-    base = seed_block_scene()
-    lifted = seed_block_scene(lift_mm=79.65)
-    assert lifted.top_z - base.top_z == pytest.approx(79.65, abs=1e-12)
-    assert (lifted.left_x, lifted.right_x, lifted.width) == (base.left_x, base.right_x, 23.6)
-    pose = base.view_pose
-    assert lifted.view_pose == pose
-    uv, _ = CAM.project([[0.0, 0.0, base.top_z]], pose)  # block centre column/row
-    i, j = round(uv[0, 1]), round(uv[0, 0])
-    d0 = render(base, CAM, pose, supersample=1).depth[i, j]
-    d1 = render(lifted, CAM, pose, supersample=1).depth[i, j]
-    assert d0 == pytest.approx(1000.0, abs=1e-9)
-    assert d0 - d1 == pytest.approx(79.65, abs=1e-9)
-
-
-def test_block_seen_where_table_5_1_puts_it() -> None:
-    scene = seed_block_scene()
-    pose = scene.view_pose
-    assert scene.left_x - pose.x == pytest.approx(-55.1)
-    assert scene.right_x - pose.x == pytest.approx(-31.5)
-    # epipolar Y = -world Y for alpha = 0: table 5-1's y from +55 to -10 mm is covered
-    assert scene.front_y - pose.y < -55.0 and scene.back_y - pose.y > 10.0
-    r = render(scene, CAM, pose)
-    cols = np.nonzero((r.labels == 1).any(axis=0))[0]
-    assert cols.max() < 254 - 40  # left of the image centre
-    rows = np.nonzero((r.labels == 1).any(axis=1))[0]
-    assert len(range(rows.min(), rows.max() + 1, 8)) >= 13  # crosses >= 13 lines
 
 
 def test_true_disparity_matches_rendered_stereo_pair() -> None:
@@ -258,20 +165,6 @@ def test_determinism_with_same_rng() -> None:
     assert not np.array_equal(a.image, d.image)  # another texture
 
 
-def test_texture_modulates_the_table_smoothly() -> None:
-    tex = NoiseTexture.from_rng(np.random.default_rng(3), amplitude=0.2)
-    assert tex.factor(np.array([0.0]), np.array([0.0]))[0] == pytest.approx(
-        1 + 0.2 * tex.values[0, 0]
-    )
-    # periodic: one period (64 cells of 4 mm) further gives the same factor
-    x = np.array([1.3, 77.7])
-    assert np.allclose(tex.factor(x, x), tex.factor(x + 256.0, x - 512.0))
-    scene = Scene((TablePlane(0.0, 0.5, texture=tex),), light_direction=(0, 0, 1))
-    img = render(scene, CAM, Pose(0.0, 0.0, 1000.0)).intensity
-    assert img.std() > 2.0  # visible pattern
-    assert np.abs(np.diff(img, axis=1)).max() < 3.0  # but no edges (threshold 8)
-
-
 def test_noise_statistics() -> None:
     pose = Pose(0.0, 0.0, 1000.0)
     r = render(flat(0.5), CAM, pose, noise_sigma=2.0, rng=np.random.default_rng(0))
@@ -298,20 +191,6 @@ def test_quantisation_range_and_dtype() -> None:
     cam8 = Camera(grey_levels=256)
     assert render(bright, cam8, pose).image.max() == 255
     assert render(flat(0.5), cam8, pose).image[0, 0] == round(0.475 * 255)
-
-
-def test_hub_pulley_gives_several_hundred_edge_points() -> None:
-    from robostereo.edges import detect_edges
-
-    scene = hub_pulley_scene()
-    mid = scene.view_pose
-    counts = []
-    for dx in (-10.0, 10.0):
-        pose = Pose(mid.x + dx, mid.y, mid.z)
-        img = render(scene, CAM, pose, noise_sigma=0.7, rng=np.random.default_rng(2)).image
-        counts.append(len(detect_edges(img, bit_depth=7, threshold=8.0, row_step=8)))
-    assert all(500 <= n <= 1200 for n in counts), counts  # seed: 818 and 815
-    assert abs(counts[0] - counts[1]) < 0.05 * counts[0]
 
 
 def test_sample_offsets_are_n_rooks() -> None:

@@ -10,10 +10,10 @@ import pytest
 from robostereo.camera import Camera
 from robostereo.cli import main
 from robostereo.errors import InputError
-from robostereo.experiments import RigSetup, block_scene, simulate_capture
 from robostereo.robot.capture import write_capture
 from robostereo.robot.planning import best_baseline_direction, plan_baseline
 from robostereo.robot.simulated import run_fused_block
+from robostereo.robot.simulated_scara import RigSetup, block_scene, simulate_capture
 from robostereo.triangulation import depth_error_bound
 
 
