@@ -179,11 +179,11 @@ def test_min_confidence_and_method_options(pair, tmp_path, capsys):
 def test_no_paths_and_no_coarse_reach_the_matcher():
     import argparse
 
-    from robostereo.cli import _add_matcher_args, matcher_params
+    from robostereo.cli._args import add_matcher_args, matcher_params
     from robostereo.pipeline import MatchParameters
 
     ap = argparse.ArgumentParser()
-    _add_matcher_args(ap)
+    add_matcher_args(ap)
     default = matcher_params(ap.parse_args([]), MatchParameters())
     assert default.paths and default.coarse
     p = matcher_params(ap.parse_args(["--no-paths", "--no-coarse"]), MatchParameters())

@@ -1,4 +1,4 @@
-"""Regression tests of issue 10: the faults found with bad input, each fixed.
+"""Regression tests of the faults found with bad input, each fixed.
 
 Every case ends in an :class:`InputError` (API) or one ``robostereo: error:`` line and
 exit 2 (CLI) with no output written, or in a correct result where the input is good.
