@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError
 from robostereo.geometry.calibration import StereoCalibration, check_size, frozen_array
-from robostereo.geometry.rectification import Side, maps_valid_mask
+from robostereo.geometry.rectification import INTERPOLATION, Side, maps_valid_mask
 from robostereo.geometry.triangulation import StereoCamera, triangulate
 
 __all__ = [
@@ -332,7 +332,7 @@ def _identity_rectification(c: StereoCalibration) -> Rectification:
     )  # fmt: skip
 
 
-_INTERP = {"linear": cv2.INTER_LINEAR, "cubic": cv2.INTER_CUBIC, "nearest": cv2.INTER_NEAREST}
+_INTERP = {name: INTERPOLATION[name] for name in ("linear", "cubic", "nearest")}
 _CV_NATIVE = (np.uint8, np.uint16, np.int16, np.float32, np.float64)
 
 
