@@ -9,7 +9,7 @@ import pytest
 
 from robostereo.errors import InputError
 from robostereo.geometry.camera import SEED_CAMERA, Camera
-from robostereo.geometry.poses import Pose
+from robostereo.geometry.poses import SE3, Pose
 from robostereo.geometry.scara_rectification import (
     EpipolarGeometry,
     epipolar_to_image,
@@ -185,3 +185,18 @@ def test_rectify_image_checks_input():
     out = rectify_image(img, CAM, math.pi / 2)
     assert np.isnan(out[0, 0]) and out[240, 254] == pytest.approx(7.0)
     assert out.dtype == np.float64
+
+
+def test_epipolar_frame_of_plain_se3_poses_looking_down() -> None:
+    left, right = Pose(-12.0, 3.0, 950.0, 0.25), Pose(9.0, -4.0, 950.0, 0.2)
+    g = EpipolarGeometry.from_poses(CAM, left, right)
+    assert EpipolarGeometry.from_poses(CAM, left, right).pose_left is left  # Poses kept as given
+    plain = EpipolarGeometry.from_poses(CAM, SE3(left.rotation, left.position),
+                                        SE3(right.rotation, right.position))
+    assert plain.alpha == pytest.approx(g.alpha, abs=1e-12)
+    assert plain.theta_l == pytest.approx(g.theta_l, abs=1e-9)
+    assert plain.theta_r == pytest.approx(g.theta_r, abs=1e-9)
+    assert plain.baseline_mm == pytest.approx(g.baseline_mm, abs=1e-9)
+    tilted = SE3.look_at([0.0, -400.0, 900.0], [0.0, 0.0, 0.0])
+    with pytest.raises(InputError, match="straight down"):
+        EpipolarGeometry.from_poses(CAM, tilted, right)
