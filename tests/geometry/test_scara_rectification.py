@@ -1,4 +1,4 @@
-"""Tests for robostereo.camera: YAML files, epipolar frames, rectification."""
+"""Tests for robostereo.geometry.scara_rectification: epipolar frames, rectification by theta."""
 
 from __future__ import annotations
 
@@ -7,27 +7,17 @@ import math
 import numpy as np
 import pytest
 
-from robostereo.camera import (
-    SEED_CAMERA,
-    Camera,
+from robostereo.errors import InputError
+from robostereo.geometry.camera import SEED_CAMERA, Camera
+from robostereo.geometry.poses import SE3, Pose
+from robostereo.geometry.scara_rectification import (
     EpipolarGeometry,
-    Pose,
-    camera_from_dict,
-    camera_to_dict,
     epipolar_to_image,
     image_to_epipolar,
-    load_camera_yaml,
-    load_pose_yaml,
-    load_stereo_poses_yaml,
-    pose_from_dict,
     rectification_matrix,
     rectified_valid_mask,
     rectify_image,
-    save_camera_yaml,
-    save_pose_yaml,
-    wrap_angle,
 )
-from robostereo.errors import InputError
 
 CAM = SEED_CAMERA
 
@@ -37,144 +27,6 @@ def _world_points(rng: np.random.Generator, n: int, centre=(0.0, 0.0)) -> np.nda
     xy = rng.uniform(-120.0, 120.0, size=(n, 2)) + np.asarray(centre)
     z = rng.uniform(0.0, 60.0, size=(n, 1))
     return np.hstack([xy, z])
-
-
-# ---------------------------------------------------------------- camera basics
-
-
-def test_seed_camera_intrinsics_known_values():
-    assert CAM.fx == pytest.approx(25.0 / 0.0172)
-    assert CAM.fy == pytest.approx(25.0 / 0.0137)
-    assert CAM.principal_point == (254.0, 240.0)
-    # a point 10 mm right of the axis, 1000 mm down: x = cx + fx * 10 / 1000
-    uv, z = CAM.project([[10.0, 0.0, 0.0]], Pose(0.0, 0.0, 1000.0, 0.0))
-    assert uv[0] == pytest.approx([254.0 + CAM.fx * 0.01, 240.0])
-    assert z[0] == pytest.approx(1000.0)
-
-
-def test_grey_levels_validated():
-    with pytest.raises(InputError, match="grey_levels"):
-        Camera(grey_levels=1)
-    with pytest.raises(InputError, match="grey_levels"):
-        Camera(grey_levels=True)
-
-
-def test_wrap_angle():
-    assert wrap_angle(math.radians(358.0)) == pytest.approx(math.radians(-2.0))
-    assert wrap_angle(-math.pi) == pytest.approx(math.pi)
-    assert wrap_angle(0.25) == 0.25
-
-
-# ---------------------------------------------------------------- YAML
-
-
-def test_camera_yaml_round_trip(tmp_path):
-    cam = Camera(
-        focal_length_mm=16.0,
-        pixel_pitch_mm=(0.0099, 0.0083),
-        image_size=(640, 480),
-        principal_point=(321.25, 236.5),
-        grey_levels=256,
-    )
-    path = tmp_path / "cam.yaml"
-    save_camera_yaml(cam, path)
-    text = path.read_text()
-    for key in ("focal_length_mm", "pixel_pitch_mm", "image_size", "principal_point",
-                "grey_levels"):
-        assert key in text
-    assert load_camera_yaml(path) == cam
-    assert camera_from_dict(camera_to_dict(SEED_CAMERA)) == SEED_CAMERA
-
-
-def test_camera_yaml_handwritten_defaults(tmp_path):
-    path = tmp_path / "cam.yaml"
-    path.write_text(
-        "focal_length_mm: 25\npixel_pitch_mm: [0.0172, 0.0137]\nimage_size: [509, 481]\n"
-    )
-    cam = load_camera_yaml(path)
-    assert cam == SEED_CAMERA  # principal point defaults to the centre, 128 grey levels
-
-
-@pytest.mark.parametrize(
-    ("text", "key"),
-    [
-        ("pixel_pitch_mm: [0.0172, 0.0137]\nimage_size: [509, 481]\n", "focal_length_mm"),
-        ("focal_length_mm: .nan\npixel_pitch_mm: [0.0172, 0.0137]\nimage_size: [509, 481]\n",
-         "focal_length_mm"),
-        ("focal_length_mm: 25\npixel_pitch_mm: [-0.0172, 0.0137]\nimage_size: [509, 481]\n",
-         "pixel_pitch_mm"),
-        ("focal_length_mm: 25\npixel_pitch_mm: [0.0172]\nimage_size: [509, 481]\n",
-         "pixel_pitch_mm"),
-        ("focal_length_mm: 25\npixel_pitch_mm: [0.0172, 0.0137]\nimage_size: [509.5, 481]\n",
-         "image_size"),
-        ("focal_length_mm: 25\npixel_pitch_mm: [0.0172, 0.0137]\nimage_size: [509, 481]\n"
-         "principal_point: [.nan, 3]\n", "principal_point"),
-        ("focal_length_mm: 25\npixel_pitch_mm: [0.0172, 0.0137]\nimage_size: [509, 481]\n"
-         "grey_levels: -3\n", "grey_levels"),
-        ("focal_length_mm: '25'\npixel_pitch_mm: [0.0172, 0.0137]\nimage_size: [509, 481]\n",
-         "focal_length_mm"),
-        ("focal_length_mm: 25\npixel_pitch_mm: [0.0172, 0.0137]\nimage_size: [509, 481]\n"
-         "focal_lenght_mm: 3\n", "focal_lenght_mm"),
-    ],
-)
-def test_camera_yaml_errors_name_file_and_key(tmp_path, text, key):
-    path = tmp_path / "bad.yaml"
-    path.write_text(text)
-    with pytest.raises(InputError) as info:
-        load_camera_yaml(path)
-    msg = str(info.value)
-    assert str(path) in msg and key in msg and "\n" not in msg
-
-
-def test_camera_yaml_unreadable_and_invalid(tmp_path):
-    missing = tmp_path / "nope.yaml"
-    with pytest.raises(InputError, match=r"nope\.yaml: cannot read camera file"):
-        load_camera_yaml(missing)
-    bad = tmp_path / "broken.yaml"
-    bad.write_text("focal_length_mm: [25\n")
-    with pytest.raises(InputError, match=r"broken\.yaml: not a valid YAML"):
-        load_camera_yaml(bad)
-    notmap = tmp_path / "list.yaml"
-    notmap.write_text("- 1\n- 2\n")
-    with pytest.raises(InputError, match=r"list\.yaml: a camera must be a mapping"):
-        load_camera_yaml(notmap)
-
-
-def test_pose_yaml_round_trip_degrees_in_file(tmp_path):
-    pose = Pose(12.5, -40.0, 1000.0, math.radians(30.0))
-    path = tmp_path / "pose.yaml"
-    save_pose_yaml(pose, path)
-    assert path.read_text() == "x: 12.5\ny: -40.0\nz: 1000.0\nphi_deg: 30.0\n"
-    back = load_pose_yaml(path)
-    assert back.position == pytest.approx(pose.position)
-    assert back.phi == pytest.approx(pose.phi, abs=1e-15)
-
-
-def test_pose_yaml_errors(tmp_path):
-    path = tmp_path / "p.yaml"
-    path.write_text("x: 1\ny: 2\nz: .nan\nphi_deg: 3\n")
-    with pytest.raises(InputError, match=r"p.yaml: key 'z' must be a finite number"):
-        load_pose_yaml(path)
-    path.write_text("x: 1\ny: 2\nphi: 3\n")
-    with pytest.raises(InputError, match=r"p.yaml: unknown key 'phi'"):
-        load_pose_yaml(path)
-    assert pose_from_dict({"x": 1, "y": 2, "z": 3}).phi == 0.0
-
-
-def test_stereo_poses_yaml(tmp_path):
-    path = tmp_path / "poses.yaml"
-    path.write_text(
-        "left: {x: -10, y: 0, z: 1000, phi_deg: 5}\nright: {x: 10, y: 0, z: 1000, phi_deg: 7}\n"
-    )
-    left, right = load_stereo_poses_yaml(path)
-    assert (left.x, right.x) == (-10.0, 10.0)
-    assert right.phi == pytest.approx(math.radians(7.0))
-    path.write_text("left: {x: -10, y: 0, z: 1000}\n")
-    with pytest.raises(InputError, match="missing key 'right'"):
-        load_stereo_poses_yaml(path)
-
-
-# ---------------------------------------------------------------- epipolar frame
 
 
 def test_alpha_theta_with_roll_known_values():
@@ -214,9 +66,6 @@ def test_epipolar_axes_and_round_trip():
     assert g.to_world(g.from_world(P)) == pytest.approx(P, abs=1e-9)
     with pytest.raises(InputError, match=r"\(N, 3\)"):
         g.to_world(np.zeros((4, 2)))
-
-
-# ---------------------------------------------------------------- point maps
 
 
 @pytest.mark.parametrize("phi_deg, alpha_deg", [(0.0, 0.0), (30.0, 5.0), (-70.0, 20.0),
@@ -274,9 +123,6 @@ def test_point_map_shape_checked():
     with pytest.raises(InputError, match=r"\(N, 2\)"):
         image_to_epipolar(np.zeros((3, 3)), CAM, 0.1)
     assert rectification_matrix(CAM, 0.3)[2] == pytest.approx([0.0, 0.0, 1.0])
-
-
-# ---------------------------------------------------------------- image warps
 
 
 def _render_plane(camera: Camera, pose: Pose, texture) -> np.ndarray:
@@ -339,3 +185,18 @@ def test_rectify_image_checks_input():
     out = rectify_image(img, CAM, math.pi / 2)
     assert np.isnan(out[0, 0]) and out[240, 254] == pytest.approx(7.0)
     assert out.dtype == np.float64
+
+
+def test_epipolar_frame_of_plain_se3_poses_looking_down() -> None:
+    left, right = Pose(-12.0, 3.0, 950.0, 0.25), Pose(9.0, -4.0, 950.0, 0.2)
+    g = EpipolarGeometry.from_poses(CAM, left, right)
+    assert EpipolarGeometry.from_poses(CAM, left, right).pose_left is left  # Poses kept as given
+    plain = EpipolarGeometry.from_poses(CAM, SE3(left.rotation, left.position),
+                                        SE3(right.rotation, right.position))
+    assert plain.alpha == pytest.approx(g.alpha, abs=1e-12)
+    assert plain.theta_l == pytest.approx(g.theta_l, abs=1e-9)
+    assert plain.theta_r == pytest.approx(g.theta_r, abs=1e-9)
+    assert plain.baseline_mm == pytest.approx(g.baseline_mm, abs=1e-9)
+    tilted = SE3.look_at([0.0, -400.0, 900.0], [0.0, 0.0, 0.0])
+    with pytest.raises(InputError, match="straight down"):
+        EpipolarGeometry.from_poses(CAM, tilted, right)

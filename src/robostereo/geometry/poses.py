@@ -1,20 +1,25 @@
-"""Rigid transforms (6-DoF poses) and their file forms.
+"""Rigid transforms (6-DoF poses), the SCARA pose, and their file forms.
 
-:class:`SE3` is a rotation plus a translation, in the spirit of spatialmath's ``SE3``
-with the rotations handled by :mod:`scipy.spatial.transform`.  ``T_a_b`` (read "b in
-a") maps the coordinates of a point in frame ``b`` to frame ``a``:
-``p_a = R @ p_b + t``.  A camera pose is ``T_world_camera``: the columns of ``R`` are
-the camera's axes (x to the image's right, y down the image, z along the optical axis)
-in the world frame and ``t`` is the optical centre, exactly the ``rotation`` and
-``position`` of the seed's SCARA :class:`robostereo.camera.Pose`, so both kinds of
-pose can be handed to :meth:`robostereo.camera.Camera.project` and to the renderer.
+:class:`SE3` is the one pose type: a rotation plus a translation, in the spirit of
+spatialmath's ``SE3`` with the rotations handled by :mod:`scipy.spatial.transform`.
+``T_a_b`` (read "b in a") maps the coordinates of a point in frame ``b`` to frame
+``a``: ``p_a = R @ p_b + t``.  A camera pose is ``T_world_camera``: the columns of
+``R`` are the camera's axes (x to the image's right, y down the image, z along the
+optical axis) in the world frame and ``t`` is the optical centre.
+
+The thesis's SCARA pose :class:`Pose` ``(x, y, z, phi)`` (a camera looking straight
+down with yaw ``phi``, the thesis 2.2 and 4.1) is an :class:`SE3` built from four
+numbers; its ``rotation`` is the exact cos/sin matrix.  The conversions are named
+``<target>_from_<source>`` as in pytransform3d: :func:`se3_from_scara` and
+:func:`scara_from_se3`.  :func:`as_se3` gives the plain (re-orthonormalised)
+:class:`SE3` of any pose.
 
 Units: millimetres and radians in the API; files hold millimetres unless they say
 ``unit: m`` or use the ROS ``geometry_msgs/Transform`` form (metres).
 
 File forms (:func:`pose_from_dict`, one mapping per pose)::
 
-    {x, y, z, phi_deg}                     the seed's SCARA pose (mm, deg): a camera
+    {x, y, z, phi_deg}                     the thesis's SCARA pose (mm, deg): a camera
                                            looking straight down with yaw phi
     {matrix: [[4 x 4]]}                    homogeneous matrix, last row 0 0 0 1
     {position: [x, y, z], quaternion: [qx, qy, qz, qw]}   ROS order (x, y, z, w)
@@ -26,25 +31,29 @@ The position forms take an optional ``unit: mm`` (default) or ``unit: m``.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from robostereo.camera import Pose
-from robostereo.camera import pose_from_dict as scara_pose_from_dict
-from robostereo.errors import InputError
+from robostereo.errors import InputError, require_finite
+from robostereo.geometry.mapping_checks import check_keys, get_number
 
 __all__ = [
     "ORTHONORMAL_TOLERANCE",
     "SE3",
+    "Pose",
     "as_se3",
     "pose_from_dict",
     "pose_to_dict",
     "relative_pose",
+    "scara_from_se3",
+    "scara_pose_from_dict",
+    "se3_from_scara",
 ]
 
 ORTHONORMAL_TOLERANCE = 1e-6
@@ -118,7 +127,7 @@ class SE3:
     @classmethod
     def identity(cls) -> SE3:
         """The identity transform."""
-        return cls(np.eye(3), np.zeros(3))
+        return SE3(np.eye(3), np.zeros(3))
 
     @classmethod
     def from_matrix(cls, matrix: ArrayLike) -> SE3:
@@ -131,7 +140,7 @@ class SE3:
             raise InputError(f"matrix must be a finite 4 x 4 matrix, got shape {M.shape}")
         if not np.allclose(M[3], [0.0, 0.0, 0.0, 1.0], atol=1e-9):
             raise InputError(f"matrix: last row must be [0, 0, 0, 1], got {M[3].tolist()}")
-        return cls(M[:3, :3], M[:3, 3])
+        return SE3(M[:3, :3], M[:3, 3])
 
     @classmethod
     def from_quaternion(cls, position: ArrayLike, quaternion: ArrayLike) -> SE3:
@@ -144,18 +153,18 @@ class SE3:
         n = float(np.linalg.norm(q))
         if abs(n - 1.0) > 1e-6:
             raise InputError(f"quaternion (x, y, z, w) must have norm 1, got norm {n:.9g}")
-        return cls(Rotation.from_quat(q).as_matrix(), _vector("position", position, 3))
+        return SE3(Rotation.from_quat(q).as_matrix(), _vector("position", position, 3))
 
     @classmethod
     def from_rotvec(cls, position: ArrayLike, rotvec: ArrayLike) -> SE3:
         """From a position (mm) and a rotation vector (axis times angle, radians)."""
         r = _vector("rotvec", rotvec, 3)
-        return cls(Rotation.from_rotvec(r).as_matrix(), _vector("position", position, 3))
+        return SE3(Rotation.from_rotvec(r).as_matrix(), _vector("position", position, 3))
 
     @classmethod
     def from_scara(cls, pose: Pose) -> SE3:
-        """The 6-DoF form of the seed's SCARA pose (camera looking down with yaw phi)."""
-        return cls(pose.rotation, pose.position)
+        """The plain (re-orthonormalised) SE3 of a SCARA :class:`Pose` (see :func:`as_se3`)."""
+        return SE3(pose.rotation, pose.position)
 
     @classmethod
     def look_at(
@@ -178,7 +187,7 @@ class SE3:
         if nx < 1e-9:
             raise InputError("look_at: the view direction is parallel to up")
         x /= nx
-        return cls(np.column_stack([x, np.cross(z, x), z]), e)
+        return SE3(np.column_stack([x, np.cross(z, x), z]), e)
 
     # ---------------------------------------------------------------- properties
     @property
@@ -243,16 +252,132 @@ class SE3:
         return f"SE3(translation=[{t}], rotvec=[{r}])"
 
 
-def as_se3(pose: Pose | SE3) -> SE3:
-    """Any pose as an :class:`SE3` (a SCARA :class:`~robostereo.camera.Pose` converted)."""
-    if isinstance(pose, SE3):
+@dataclass(frozen=True)
+class Pose(SE3):
+    """The thesis's SCARA camera pose: optical centre and yaw about vertical.
+
+    A camera looking straight down (world ``-Z``) from ``(x, y, z)`` with yaw ``phi``;
+    it is an :class:`SE3` (``T_world_camera``) whose ``rotation`` is the exact
+    cos/sin matrix below (not re-orthonormalised) and whose ``translation`` is
+    ``[x, y, z]``.  Equality, hashing and ``repr`` are those of the four numbers.
+
+    Parameters
+    ----------
+    x, y, z : float
+        Optical centre in the world frame, millimetres (z up).
+    phi : float
+        Yaw of the camera's x axis from the world X axis, radians,
+        counter-clockwise seen from above.
+
+    Examples
+    --------
+    >>> p = Pose(1.0, 2.0, 1000.0)
+    >>> p, isinstance(p, SE3), p == Pose(1.0, 2.0, 1000.0, 0.0)
+    (Pose(x=1.0, y=2.0, z=1000.0, phi=0.0), True, True)
+    >>> p.rotation
+    array([[ 1.,  0.,  0.],
+           [ 0., -1.,  0.],
+           [ 0.,  0., -1.]])
+    """
+
+    rotation: NDArray[np.float64] = field(init=False, repr=False, compare=False)
+    translation: NDArray[np.float64] = field(init=False, repr=False, compare=False)
+    x: float
+    y: float
+    z: float
+    phi: float = 0.0
+
+    def __post_init__(self) -> None:
+        require_finite("pose", [self.x, self.y, self.z, self.phi])
+        c, s = math.cos(self.phi), math.sin(self.phi)
+        R = np.array([[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, -1.0]])
+        R.setflags(write=False)
+        t = np.array([self.x, self.y, self.z], dtype=float)
+        t.setflags(write=False)
+        object.__setattr__(self, "rotation", R)
+        object.__setattr__(self, "translation", t)
+
+    @property
+    def position(self) -> NDArray[np.float64]:
+        """Optical centre ``[x, y, z]``, shape ``(3,)``, millimetres."""
+        return np.array([self.x, self.y, self.z], dtype=float)
+
+
+def se3_from_scara(x: float, y: float, z: float, phi: float = 0.0) -> Pose:
+    """The SE3 of the SCARA pose ``(x, y, z, phi)``: a :class:`Pose`.
+
+    ``rotation`` has the camera axes ``x_c = (cos phi, sin phi, 0)``,
+    ``y_c = (sin phi, -cos phi, 0)``, ``z_c = (0, 0, -1)`` as columns.
+
+    >>> T = se3_from_scara(0.0, 0.0, 1000.0, np.pi / 2)
+    >>> isinstance(T, SE3), T.apply([0.0, 0.0, 100.0]).round(12) + 0.0
+    (True, array([   0.,    0.,  900.]))
+    """
+    return Pose(x, y, z, phi)
+
+
+def scara_from_se3(pose: SE3, *, tolerance: float = ORTHONORMAL_TOLERANCE) -> Pose:
+    """The SCARA :class:`Pose` of a camera pose whose optical axis points straight down.
+
+    Parameters
+    ----------
+    pose : SE3
+        ``T_world_camera``; a :class:`Pose` is returned as it is.
+    tolerance : float
+        Largest accepted difference of the optical axis (third column of the
+        rotation) from world ``-Z``, per component.
+
+    Returns
+    -------
+    Pose
+        ``phi = atan2(R[1, 0], R[0, 0])`` (the camera's x axis from world X) and the
+        optical centre.
+
+    Raises
+    ------
+    InputError
+        If the optical axis does not point straight down.
+
+    Examples
+    --------
+    >>> T = SE3.from_rotvec([5.0, 6.0, 900.0], [np.pi, 0.0, 0.0])
+    >>> scara_from_se3(T)
+    Pose(x=5.0, y=6.0, z=900.0, phi=0.0)
+    >>> scara_from_se3(SE3.identity())
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: pose: the optical axis must point straight down ...
+    """
+    if isinstance(pose, Pose):
         return pose
+    if not isinstance(pose, SE3):
+        raise InputError(f"pose must be an SE3, got {type(pose).__name__}")
+    R = pose.rotation
+    axis = R[:, 2]
+    if float(np.abs(axis - np.array([0.0, 0.0, -1.0])).max()) > tolerance:
+        raise InputError(
+            "pose: the optical axis must point straight down (world -Z) for a SCARA "
+            f"pose, got {np.round(axis, 6).tolist()}"
+        )
+    t = pose.translation
+    return Pose(float(t[0]), float(t[1]), float(t[2]), math.atan2(R[1, 0], R[0, 0]))
+
+
+def as_se3(pose: SE3) -> SE3:
+    """Any pose as a plain :class:`SE3`.
+
+    A SCARA :class:`Pose` (itself an SE3 with the exact cos/sin rotation) gives
+    ``SE3(pose.rotation, pose.position)``, whose rotation is re-orthonormalised; any
+    other SE3 is returned as it is.
+    """
     if isinstance(pose, Pose):
         return SE3.from_scara(pose)
+    if isinstance(pose, SE3):
+        return pose
     raise InputError(f"pose must be a Pose or an SE3, got {type(pose).__name__}")
 
 
-def relative_pose(pose_left: Pose | SE3, pose_right: Pose | SE3) -> SE3:
+def relative_pose(pose_left: SE3, pose_right: SE3) -> SE3:
     """``T_right_left``: left-camera coordinates to right-camera coordinates.
 
     OpenCV's ``R, T`` of :func:`cv2.stereoRectify` (``x_right = R x_left + T``).
@@ -263,7 +388,7 @@ def relative_pose(pose_left: Pose | SE3, pose_right: Pose | SE3) -> SE3:
 # ------------------------------------------------------------------------ files
 
 
-_SCARA_KEYS = frozenset({"x", "y", "z", "phi_deg"})
+_SCARA_KEYS = ("x", "y", "z", "phi_deg")
 _FORMS = (
     "{x, y, z, phi_deg} (SCARA, mm, deg)",
     "{matrix: 4 x 4}",
@@ -293,7 +418,29 @@ def _ros_xyz(data: object, keys: Sequence[str], source: str, what: str) -> list[
     return [data[k] for k in keys]
 
 
-def pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> Pose | SE3:
+def scara_pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> Pose:
+    """Build a :class:`Pose` from a mapping ``x, y, z`` (mm) and ``phi_deg`` (degrees).
+
+    The SCARA form alone (other keys are refused); :func:`pose_from_dict` reads every
+    form.  ``phi_deg`` may be left out (0 degrees); ``x``, ``y``, ``z`` are required.
+    Files hold degrees; :class:`Pose` holds radians.
+
+    >>> scara_pose_from_dict({"x": 0, "y": 10, "z": 1000, "phi_deg": 180}).phi == math.pi
+    True
+    >>> scara_pose_from_dict({"x": 0, "y": 10}, source="left.yaml")
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: left.yaml: missing key 'z'
+    """
+    check_keys(data, _SCARA_KEYS, source, "pose")
+    x = get_number(data, "x", source)
+    y = get_number(data, "y", source)
+    z = get_number(data, "z", source)
+    phi_deg = get_number(data, "phi_deg", source) if "phi_deg" in data else 0.0
+    return Pose(x, y, z, math.radians(phi_deg))
+
+
+def pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> SE3:
     """Read a pose in any of the file forms of the module docstring.
 
     Parameters
@@ -305,9 +452,9 @@ def pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> Pose | S
 
     Returns
     -------
-    Pose or SE3
-        The SCARA form gives a :class:`~robostereo.camera.Pose` (its meaning of today);
-        every other form an :class:`SE3` in millimetres.
+    SE3
+        The SCARA form gives a :class:`Pose` (:func:`scara_pose_from_dict`); every
+        other form a plain :class:`SE3` in millimetres.
 
     Raises
     ------
@@ -317,6 +464,8 @@ def pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> Pose | S
 
     Examples
     --------
+    >>> pose_from_dict({"x": 0, "y": 10, "z": 1000, "phi_deg": 90})
+    Pose(x=0.0, y=10.0, z=1000.0, phi=1.5707963267948966)
     >>> pose_from_dict({"position": [0, 0, 1000], "quaternion": [1, 0, 0, 0]})
     SE3(translation=[0, 0, 1000], rotvec=[3.14159, 0, 0])
     >>> pose_from_dict({"translation": {"x": 0.1, "y": 0, "z": 0.05},
@@ -331,7 +480,7 @@ def pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> Pose | S
         raise InputError(f"{source}: a pose must be a mapping, one of: {'; '.join(_FORMS)}")
     keys = set(data)
     try:
-        if keys and keys <= _SCARA_KEYS:
+        if keys and keys <= set(_SCARA_KEYS):
             return scara_pose_from_dict(data, source=source)
         if "matrix" in keys:
             _check_only(data, {"matrix", "unit"}, source)
@@ -360,17 +509,22 @@ def pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> Pose | S
     raise InputError(f"{source}: not a pose; expected one of: {'; '.join(_FORMS)}")
 
 
-def pose_to_dict(pose: Pose | SE3) -> dict[str, Any]:
-    """A pose as a file mapping: SCARA poses as ``{x, y, z, phi_deg}``, others as
-    ``{position (mm), quaternion (x, y, z, w)}``.
+def pose_to_dict(pose: SE3) -> dict[str, Any]:
+    """A pose as a file mapping: SCARA poses as ``{x, y, z, phi_deg}`` (mm, degrees),
+    others as ``{position (mm), quaternion (x, y, z, w)}``.
 
+    >>> pose_to_dict(Pose(1.0, 2.0, 1000.0, math.pi / 2))
+    {'x': 1.0, 'y': 2.0, 'z': 1000.0, 'phi_deg': 90.0}
     >>> pose_to_dict(SE3.identity())
     {'position': [0.0, 0.0, 0.0], 'quaternion': [0.0, 0.0, 0.0, 1.0]}
     """
     if isinstance(pose, Pose):
-        from robostereo.camera import pose_to_dict as scara_pose_to_dict
-
-        return scara_pose_to_dict(pose)
+        return {
+            "x": float(pose.x),
+            "y": float(pose.y),
+            "z": float(pose.z),
+            "phi_deg": round(math.degrees(pose.phi), 12),
+        }
     T = as_se3(pose)
     return {
         "position": [round(float(v), 9) + 0.0 for v in T.translation],

@@ -1,13 +1,15 @@
-"""Triangulation (seed 3.6, eq. 6-8 corrected) and the depth error bound (3.7, eq. 9)."""
+"""Tests for robostereo.geometry.triangulation: eq. 6-8 as corrected (the thesis, 3.6)
+and the depth error bound (3.7, eq. 9)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from robostereo.camera import Camera, Pose
 from robostereo.errors import InputError
-from robostereo.triangulation import (
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import Pose
+from robostereo.geometry.triangulation import (
     StereoCamera,
     depth_error_bound,
     depth_from_disparity,

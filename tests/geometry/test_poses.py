@@ -1,4 +1,4 @@
-"""SE3 rigid transforms and the pose forms of capture.yaml."""
+"""Tests for robostereo.geometry.poses: SE3, the SCARA Pose, and the pose file forms."""
 
 from __future__ import annotations
 
@@ -8,9 +8,19 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from robostereo.camera import Camera, Pose
 from robostereo.errors import InputError
-from robostereo.robot.poses import SE3, as_se3, pose_from_dict, pose_to_dict, relative_pose
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import (
+    SE3,
+    Pose,
+    as_se3,
+    pose_from_dict,
+    pose_to_dict,
+    relative_pose,
+    scara_from_se3,
+    scara_pose_from_dict,
+    se3_from_scara,
+)
 
 
 def _random_pose(rng: np.random.Generator) -> SE3:
@@ -99,3 +109,76 @@ def test_look_at():
     assert z[0] == pytest.approx(math.hypot(300, 800))
     with pytest.raises(InputError, match="coincide"):
         SE3.look_at([1.0, 2.0, 3.0], [1.0, 2.0, 3.0])
+
+
+# ------------------------------------------------------------------ the SCARA pose
+
+
+def test_scara_pose_is_an_se3_with_exact_matrices() -> None:
+    p = Pose(10.0, -5.0, 900.0, 0.3)
+    assert isinstance(p, SE3)
+    c, s = math.cos(0.3), math.sin(0.3)
+    exact = np.array([[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, -1.0]])
+    assert np.array_equal(p.rotation, exact)  # bit for bit, not re-orthonormalised
+    assert np.array_equal(p.position, np.array([10.0, -5.0, 900.0]))
+    assert np.array_equal(p.translation, p.position)
+    assert np.array_equal(p.apply([0.0, 0.0, 100.0]), exact @ [0.0, 0.0, 100.0] + p.position)
+
+
+def test_scara_pose_equality_hash_and_repr_are_of_its_four_numbers() -> None:
+    a, b = Pose(1.0, 2.0, 3.0, 0.5), Pose(1.0, 2.0, 3.0, 0.5)
+    assert a == b and hash(a) == hash(b) and len({a, b}) == 1
+    assert a != Pose(1.0, 2.0, 3.0, 0.6)
+    assert repr(a) == "Pose(x=1.0, y=2.0, z=3.0, phi=0.5)"
+    assert Pose(0.0, 0.0, 1.0) == Pose(0.0, 0.0, 1.0, 0.0)
+    assert a != SE3(a.rotation, a.translation)  # a plain SE3 compares by identity
+    with pytest.raises(InputError, match="pose"):
+        Pose(math.nan, 0.0, 1.0)
+
+
+def test_as_se3_of_a_scara_pose_is_the_plain_reorthonormalised_se3() -> None:
+    p = Pose(-25.0, 3.0, 900.0, 0.05)
+    T = as_se3(p)
+    assert type(T) is SE3
+    ref = SE3(p.rotation, p.position)
+    assert np.array_equal(T.rotation, ref.rotation)
+    assert np.array_equal(T.translation, ref.translation)
+    assert np.array_equal(SE3.from_scara(p).rotation, ref.rotation)
+    q = Pose(35.0, -2.0, 905.0, -0.04)
+    rel = relative_pose(p, q)
+    assert type(rel) is SE3
+    assert np.array_equal(rel.rotation, (SE3(q.rotation, q.position).inv() @ ref).rotation)
+
+
+def test_se3_from_scara_and_scara_from_se3_round_trip() -> None:
+    rng = np.random.default_rng(3)
+    for x, y, z, phi in rng.uniform([-500, -500, 500, -math.pi], [500, 500, 1500, math.pi],
+                                    size=(20, 4)):
+        T = se3_from_scara(x, y, z, phi)
+        assert T == Pose(x, y, z, phi)
+        assert scara_from_se3(T) is T  # a Pose is returned as it is
+        back = scara_from_se3(SE3(T.rotation, T.translation))  # a plain SE3 looking down
+        assert type(back) is Pose
+        assert back.position == pytest.approx(T.position, abs=1e-9)
+        assert math.remainder(back.phi - phi, 2 * math.pi) == pytest.approx(0.0, abs=1e-9)
+        assert np.allclose(back.rotation, T.rotation, atol=1e-9)
+
+
+def test_scara_from_se3_refuses_a_tilted_camera() -> None:
+    tilted = SE3.look_at([0.0, -400.0, 900.0], [0.0, 0.0, 0.0])
+    with pytest.raises(InputError, match="straight down"):
+        scara_from_se3(tilted)
+    with pytest.raises(InputError, match="SE3"):
+        scara_from_se3("pose")  # type: ignore[arg-type]
+
+
+def test_one_pose_from_dict_reads_the_scara_form() -> None:
+    p = pose_from_dict({"x": 400.0, "y": 10.0, "z": 1050.0, "phi_deg": 30.0})
+    assert p == Pose(400.0, 10.0, 1050.0, math.radians(30.0))
+    assert p == scara_pose_from_dict({"x": 400.0, "y": 10.0, "z": 1050.0, "phi_deg": 30.0})
+    assert pose_from_dict({"x": 1, "y": 2, "z": 3}).phi == 0.0
+    assert pose_to_dict(p) == {"x": 400.0, "y": 10.0, "z": 1050.0, "phi_deg": 30.0}
+    with pytest.raises(InputError, match=r"left\.yaml: missing key 'z'"):
+        pose_from_dict({"x": 0, "y": 10}, source="left.yaml")
+    with pytest.raises(InputError, match=r"p\.yaml: unknown key 'phi'"):
+        scara_pose_from_dict({"x": 0, "y": 1, "z": 2, "phi": 3}, source="p.yaml")

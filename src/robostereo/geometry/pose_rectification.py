@@ -1,13 +1,13 @@
-"""Stereo geometry of two general 6-DoF camera poses (the seed's 2.2 for any arm).
+"""Stereo geometry of two general 6-DoF camera poses (the thesis's 2.2 for any arm).
 
-The seed's SCARA keeps the camera looking straight down and moves it horizontally, so
+The thesis's SCARA keeps the camera looking straight down and moves it horizontally, so
 each view is rectified by a turn ``theta`` about its optical axis
-(:class:`robostereo.camera.EpipolarGeometry`).  A six-axis arm tilts the camera and
-moves it in all six coordinates; :class:`GeneralEpipolarGeometry` rectifies such a
-pair with OpenCV:
+(:class:`robostereo.geometry.scara_rectification.EpipolarGeometry`).  A six-axis arm
+tilts the camera and moves it in all six coordinates; :class:`GeneralEpipolarGeometry`
+rectifies such a pair with OpenCV:
 
 1. the relative pose ``T_right_left`` (``x_right = R x_left + T``,
-   :func:`robostereo.robot.poses.relative_pose`);
+   :func:`robostereo.geometry.poses.relative_pose`);
 2. :func:`cv2.stereoRectify` with the camera's intrinsics and distortion
    (``CALIB_ZERO_DISPARITY``, ``alpha = 0``) gives the rotations ``R1``, ``R2`` of the
    two virtual cameras and their common projection; an extra quarter or half turn
@@ -17,11 +17,12 @@ pair with OpenCV:
 
 The rectified pair keeps the camera's pixel grid (``K``, without distortion), has
 rows that are epipolar lines and ``d = x_l - x_r`` positive in front.  Its
-epipolar frame is the seed's: origin mid-baseline, X along the baseline from the left
+epipolar frame is the thesis's: origin mid-baseline, X along the baseline from the left
 to the right optical centre, Z along the virtual cameras' common optical axis, Y = Z x X;
 :meth:`GeneralEpipolarGeometry.to_world` carries eq. (6)-(8) points into the robot's
 base frame.  For two SCARA poses (looking down, equal heights) the epipolar frame is
-the seed's exactly; only the resampling differs.
+the thesis's exactly; only the resampling differs.  :class:`GeneralEpipolarGeometry`
+is a :class:`~robostereo.geometry.rectification.Rectifier`.
 """
 
 from __future__ import annotations
@@ -34,9 +35,10 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.camera import Camera, Pose
 from robostereo.errors import InputError
-from robostereo.robot.poses import SE3, as_se3, relative_pose
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import SE3, as_se3, relative_pose
+from robostereo.geometry.rectification import INTERPOLATION, Side, maps_valid_mask
 
 __all__ = [
     "MIN_OVERLAP_ROWS",
@@ -45,8 +47,6 @@ __all__ = [
 
 MIN_OVERLAP_ROWS = 10
 """Fewest rectified rows that both views must cover for a pair to be matched."""
-
-Side = Literal["left", "right"]
 
 
 def _quarter_turn(b: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -86,7 +86,7 @@ class GeneralEpipolarGeometry:
     --------
     Two views 30 mm apart, tilted 25 degrees, looking at the origin:
 
-    >>> from robostereo.camera import Camera
+    >>> from robostereo.geometry.camera import Camera
     >>> cam = Camera(image_size=(320, 240), pixel_pitch_mm=(0.02, 0.02))
     >>> a = SE3.look_at([-15.0, -400.0, 900.0], [0.0, 0.0, 0.0])
     >>> b = SE3.look_at([15.0, -390.0, 905.0], [0.0, 0.0, 0.0])
@@ -112,7 +112,7 @@ class GeneralEpipolarGeometry:
 
     @classmethod
     def from_poses(
-        cls, camera: Camera, pose_left: Pose | SE3, pose_right: Pose | SE3
+        cls, camera: Camera, pose_left: SE3, pose_right: SE3
     ) -> GeneralEpipolarGeometry:
         """Rectify the views at `pose_left` and `pose_right` (camera poses, world mm).
 
@@ -129,7 +129,7 @@ class GeneralEpipolarGeometry:
 
         References
         ----------
-        Seed 2.2 (the epipolar frame; rectification by theta is the SCARA case).
+        The thesis, 2.2 (the epipolar frame; rectification by theta is the SCARA case).
         """
         tl, tr = as_se3(pose_left), as_se3(pose_right)
         rel = relative_pose(tl, tr)
@@ -209,8 +209,7 @@ class GeneralEpipolarGeometry:
     def valid_mask(self, side: Side) -> NDArray[np.bool_]:
         """Rectified pixels whose source lies within the grabbed image's pixel centres."""
         mx, my = self._maps(side)
-        w, h = self.camera.image_size
-        return (mx >= 0) & (mx <= w - 1) & (my >= 0) & (my <= h - 1)
+        return maps_valid_mask(mx, my, self.camera.image_size)
 
     def rectify(
         self,
@@ -224,20 +223,18 @@ class GeneralEpipolarGeometry:
 
         Pixels whose source lies outside the grabbed image are `fill_value`.
         """
-        from robostereo.camera import _INTERPOLATION
-
         img = np.asarray(image, dtype=np.float64)
         w, h = self.camera.image_size
         if img.shape != (h, w):
             raise InputError(f"image must have shape (H, W) = ({h}, {w}), got {img.shape}")
-        if interpolation not in _INTERPOLATION:
+        if interpolation not in INTERPOLATION:
             raise InputError(
-                f"interpolation must be one of {sorted(_INTERPOLATION)}, got {interpolation!r}"
+                f"interpolation must be one of {sorted(INTERPOLATION)}, got {interpolation!r}"
             )
         mx, my = self._maps(side)
-        out = cv2.remap(img, mx, my, _INTERPOLATION[interpolation],
+        out = cv2.remap(img, mx, my, INTERPOLATION[interpolation],
                         borderMode=cv2.BORDER_REPLICATE)
-        out[~((mx >= 0) & (mx <= w - 1) & (my >= 0) & (my <= h - 1))] = fill_value
+        out[~maps_valid_mask(mx, my, (w, h))] = fill_value
         return out
 
     def check_overlap(self) -> None:

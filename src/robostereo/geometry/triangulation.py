@@ -1,4 +1,4 @@
-"""Triangulation of matched edge points and the depth error bound (seed 3.6-3.7).
+"""Triangulation of matched edge points and the depth error bound (the thesis, 3.6-3.7).
 
 For a rectified pair (epipolar lines are rows) with focal length ``f`` (pixels),
 baseline ``D`` and principal points ``(cx, cy)`` (left) and ``(cx + doffs, cy)``
@@ -8,10 +8,10 @@ mid-baseline, X along the baseline, Y down the image, Z along the optical axis):
 
 * eq. (6): ``X = (D / 2) (x_l' + x_r') / d``
 * eq. (7): ``Y = (D / 2) (y_l' + y_r') / d * (f_x / f_y)`` (``y_l' = y_r' = y - cy``)
-* eq. (8): ``Z = D f / d``  (seed-notes: the seed's ``x_r + x_l`` numerator is a scan error)
+* eq. (8): ``Z = D f / d``  (seed-notes: the thesis's ``x_r + x_l`` numerator is a scan error)
 
 with primed coordinates measured from the principal points.  Signs follow the
-image convention: x to the right, y down, depth positive; the seed's inverted-image
+image convention: x to the right, y down, depth positive; the thesis's inverted-image
 convention gives the same values with the opposite signs (its z = -1007.6 mm).
 
 The depth error bound is eq. (9): ``E_z = |dD dz/dD| + |ds dz/ds| + |d(disp) dz/d(disp)|``
@@ -43,7 +43,7 @@ def depth_from_disparity(baseline: ArrayLike, focal: ArrayLike, disparity: Array
 
     Examples
     --------
-    The seed's worked example (section 5.2): D = 2.0 cm, s = 2.5 cm,
+    The thesis's worked example (section 5.2): D = 2.0 cm, s = 2.5 cm,
     x_r - x_l = 0.046 cm:
 
     >>> round(float(depth_from_disparity(2.0, 2.5, 0.046)), 1)
@@ -79,7 +79,7 @@ def depth_error_bound(
 
     Examples
     --------
-    The seed's worked example: dD = ds = 0.001 cm, d(disp) = 0.00172 cm (one pixel):
+    The thesis's worked example: dD = ds = 0.001 cm, d(disp) = 0.00172 cm (one pixel):
 
     >>> round(float(depth_error_bound(2.0, 2.5, 0.046, baseline_uncertainty=0.001,
     ...     focal_uncertainty=0.001, disparity_uncertainty=0.00172)), 2)
@@ -107,9 +107,9 @@ MAX_BASELINE_MM = 1e9
 
 @dataclass(frozen=True)
 class StereoCamera:
-    """Geometry of a rectified stereo pair, for triangulation (seed 3.6-3.7).
+    """Geometry of a rectified stereo pair, for triangulation (the thesis, 3.6-3.7).
 
-    Build it from the seed's physical quantities with :meth:`from_physical` or from
+    Build it from the thesis's physical quantities with :meth:`from_physical` or from
     pixel intrinsics (a calibrated, rectified rig) directly.
 
     Parameters
@@ -127,7 +127,7 @@ class StereoCamera:
     baseline_uncertainty_mm : float
         ``dD``.
     disparity_uncertainty_px : float
-        ``d(disp)``: the seed used one pixel; sub-pixel edges warrant less.
+        ``d(disp)``: the thesis used one pixel; sub-pixel edges warrant less.
 
     Raises
     ------
@@ -186,9 +186,9 @@ class StereoCamera:
         baseline_uncertainty_mm: float = 0.01,
         disparity_uncertainty_px: float = 1.0,
     ) -> StereoCamera:
-        """From the seed's quantities: lens-to-image distance ``s``, pixel pitch, ``D``.
+        """From the thesis's quantities: lens-to-image distance ``s``, pixel pitch, ``D``.
 
-        Defaults are the seed's (section 5.2): s = 25 mm, 17.2 um pixels, D = 20 mm,
+        Defaults are the thesis's (section 5.2): s = 25 mm, 17.2 um pixels, D = 20 mm,
         ``ds = dD = 0.01 mm``, ``d(disp)`` = one pixel.
         """
         require_positive("focal_length_mm", focal_length_mm)
@@ -265,7 +265,7 @@ def triangulate(
 
     Examples
     --------
-    A point 1000 mm in front of the seed's cameras, midway between them; its bound
+    A point 1000 mm in front of the thesis's cameras, midway between them; its bound
     is 0.5 + 0.4 + 34.4 mm (dD, ds and one pixel of disparity):
 
     >>> cam = StereoCamera.from_physical()

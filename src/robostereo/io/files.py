@@ -1,4 +1,4 @@
-"""Reading cameras and writing results: CSV tables, PLY point clouds, PNG figures.
+"""Writing results: CSV tables, PLY point clouds, image folders; reading folder YAML.
 
 Every writer is atomic: it writes a temporary file beside the target and renames it
 into place only when the whole file is written, so a failure never leaves a partial
@@ -6,7 +6,8 @@ output file.  A command with several outputs is all or nothing too:
 :func:`check_outputs` refuses, before any work, an output path that is a folder, lies
 in a missing or unwritable folder, or names an input or another output;
 :func:`atomic_outputs` gives every output a temporary name and renames them into place
-only when all are written.  Images are read by :func:`robostereo.datasets.load_image`.
+only when all are written.  Images are read by :mod:`robostereo.io.images`, cameras by
+:mod:`robostereo.io.cameras`, calibrations by :mod:`robostereo.io.calibration_files`.
 """
 
 from __future__ import annotations
@@ -24,19 +25,13 @@ import numpy as np
 import yaml
 from numpy.typing import NDArray
 
-from robostereo.datasets import load_image
-from robostereo.errors import InputError, require_file
-from robostereo.triangulation import StereoCamera
+from robostereo.errors import InputError
 
 __all__ = [
     "atomic_outputs",
     "atomic_path",
     "check_outputs",
-    "load_image",
-    "load_stereo_camera",
     "read_folder_yaml",
-    "stereo_camera_from_dict",
-    "stereo_camera_to_dict",
     "write_csv",
     "write_image_folder",
     "write_ply",
@@ -326,112 +321,3 @@ def write_ply(
     with atomic_path(path) as tmp:
         tmp.write_bytes(data if isinstance(data, bytes) else str(data).encode())
     return Path(path)
-
-
-_PHYSICAL = {
-    "focal_length_mm", "pixel_pitch_mm", "baseline_mm", "principal_point",
-    "focal_length_uncertainty_mm", "baseline_uncertainty_mm", "disparity_uncertainty_px",
-    "image_size", "grey_levels",
-}
-_PIXEL = {
-    "fx", "fy", "cx", "cy", "doffs", "baseline_mm", "focal_uncertainty_px",
-    "baseline_uncertainty_mm", "disparity_uncertainty_px",
-}
-
-
-def _number(source: str, key: str, v: Any) -> float:
-    try:
-        f = float(v)
-    except (TypeError, ValueError):
-        raise InputError(f"{source}: {key} must be a number, got {v!r}") from None
-    if not math.isfinite(f):
-        raise InputError(f"{source}: {key} must be finite, got {v!r}")
-    return f
-
-
-def stereo_camera_from_dict(data: Mapping[str, Any], source: str = "camera") -> StereoCamera:
-    """Build a :class:`StereoCamera` from a camera mapping (the camera YAML format).
-
-    Two forms are accepted: physical (``focal_length_mm``, ``pixel_pitch_mm``,
-    ``baseline_mm`` [, ``principal_point``, ``focal_length_uncertainty_mm``,
-    ``baseline_uncertainty_mm``, ``disparity_uncertainty_px``]) and pixel
-    (``fx``, ``fy``, ``baseline_mm`` [, ``cx``, ``cy``, ``doffs``,
-    ``focal_uncertainty_px``, ``baseline_uncertainty_mm``, ``disparity_uncertainty_px``]).
-
-    >>> stereo_camera_from_dict({"focal_length_mm": 25, "pixel_pitch_mm": [0.0172, 0.0137],
-    ...                          "baseline_mm": 20}).baseline_mm
-    20.0
-    >>> stereo_camera_from_dict({"fx": 1000, "fy": 1000, "baseline_mm": -5})
-    Traceback (most recent call last):
-    ...
-    robostereo.errors.InputError: camera: baseline_mm must be a finite number > 0, got -5.0
-    """
-    if not isinstance(data, Mapping):
-        raise InputError(f"{source}: expected a mapping of camera parameters")
-    try:
-        if "fx" in data:
-            unknown = set(data) - _PIXEL
-            if unknown:
-                raise InputError(f"{source}: unknown camera keys {sorted(unknown)}")
-            kw = {k: _number(source, k, v) for k, v in data.items()}
-            for k in ("fy", "baseline_mm"):
-                if k not in kw:
-                    raise InputError(f"{source}: missing camera key {k}")
-            return StereoCamera(**kw)  # type: ignore[arg-type]
-        unknown = set(data) - _PHYSICAL
-        if unknown:
-            raise InputError(f"{source}: unknown camera keys {sorted(unknown)}")
-        for k in ("focal_length_mm", "pixel_pitch_mm", "baseline_mm"):
-            if k not in data:
-                raise InputError(f"{source}: missing camera key {k}")
-        pitch = data["pixel_pitch_mm"]
-        if not isinstance(pitch, list | tuple) or len(pitch) != 2:
-            raise InputError(f"{source}: pixel_pitch_mm must be [horizontal, vertical]")
-        pp = data.get("principal_point")
-
-        def opt(key: str, default: float) -> float:
-            return _number(source, key, data.get(key, default))
-
-        if pp is not None and (not isinstance(pp, list | tuple) or len(pp) != 2):
-            raise InputError(f"{source}: principal_point must be [cx, cy]")
-        return StereoCamera.from_physical(
-            _number(source, "focal_length_mm", data["focal_length_mm"]),
-            (_number(source, "pixel_pitch_mm", pitch[0]),
-             _number(source, "pixel_pitch_mm", pitch[1])),
-            _number(source, "baseline_mm", data["baseline_mm"]),
-            principal_point=None if pp is None else (
-                _number(source, "principal_point", pp[0]),
-                _number(source, "principal_point", pp[1])),
-            focal_length_uncertainty_mm=opt("focal_length_uncertainty_mm", 0.01),
-            baseline_uncertainty_mm=opt("baseline_uncertainty_mm", 0.01),
-            disparity_uncertainty_px=opt("disparity_uncertainty_px", 1.0),
-        )
-    except InputError as e:
-        msg = str(e)
-        raise InputError(msg if msg.startswith(source) else f"{source}: {msg}") from None
-
-
-def stereo_camera_to_dict(camera: StereoCamera) -> dict[str, float]:
-    """The pixel form of the camera YAML format (round-trips through
-    :func:`stereo_camera_from_dict`)."""
-    out = {
-        "fx": camera.fx, "fy": camera.fy, "baseline_mm": camera.baseline_mm,
-        "doffs": camera.doffs, "focal_uncertainty_px": camera.focal_uncertainty_px,
-        "baseline_uncertainty_mm": camera.baseline_uncertainty_mm,
-        "disparity_uncertainty_px": camera.disparity_uncertainty_px,
-    }
-    if camera.cx is not None:
-        out["cx"] = camera.cx
-    if camera.cy is not None:
-        out["cy"] = camera.cy
-    return {k: float(v) for k, v in out.items()}
-
-
-def load_stereo_camera(path: PathLike) -> StereoCamera:
-    """Read a camera YAML file (see :func:`stereo_camera_from_dict`)."""
-    p = require_file(path, "camera file")
-    try:
-        data = yaml.safe_load(p.read_text())
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
-        raise InputError(f"{p}: cannot read camera YAML ({e.__class__.__name__})") from None
-    return stereo_camera_from_dict(data, source=str(p))

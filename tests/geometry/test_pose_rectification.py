@@ -1,4 +1,5 @@
-"""General-pose rectification (stereoRectify) and its agreement with the seed's theta path."""
+"""Tests for robostereo.geometry.pose_rectification: general-pose rectification
+(stereoRectify) and its agreement with the thesis's theta path."""
 
 from __future__ import annotations
 
@@ -7,9 +8,11 @@ import pytest
 import yaml
 from scipy.spatial import cKDTree
 
-from robostereo.camera import Camera
 from robostereo.errors import InputError
 from robostereo.experiments import RigSetup, simulate_capture
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.pose_rectification import GeneralEpipolarGeometry
+from robostereo.geometry.poses import SE3, as_se3
 from robostereo.robot.capture import (
     Capture,
     LocateParameters,
@@ -18,8 +21,6 @@ from robostereo.robot.capture import (
     read_capture,
     write_capture,
 )
-from robostereo.robot.geometry import GeneralEpipolarGeometry
-from robostereo.robot.poses import SE3, as_se3
 
 CAM = Camera(image_size=(320, 240), pixel_pitch_mm=(0.01, 0.012),
              distortion=(-0.15, 0.05, 0.001, -0.0005, 0.0))

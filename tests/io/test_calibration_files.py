@@ -1,4 +1,4 @@
-"""Tests for robostereo.calibration: readers, validation, rectification, point maps."""
+"""Tests for robostereo.io.calibration_files: OpenCV, ROS, Middlebury readers, their errors."""
 
 from __future__ import annotations
 
@@ -9,42 +9,23 @@ import cv2
 import numpy as np
 import pytest
 import yaml
+from calibrated_rig import D1, D2, K1, K2, H, R, T, W, synthetic_calibration
 
-from robostereo.calibration import (
-    StereoCalibration,
-    check_image_size,
-    original_to_rectified,
-    points_in_left_camera,
+from robostereo.errors import InputError
+from robostereo.geometry.calibrated_rectification import rectify_stereo
+from robostereo.geometry.calibration import StereoCalibration
+from robostereo.io.calibration_files import (
     read_calibration,
     read_middlebury_calib,
     read_opencv_calibration,
     read_ros_calibration,
-    rectified_to_original,
-    rectify_images,
-    rectify_stereo,
-    triangulate_rectified,
     write_opencv_calibration,
 )
-from robostereo.camera import Camera, Pose
-from robostereo.errors import InputError
-
-W, H = 640, 480
-K1 = np.array([[820.0, 0.0, 330.0], [0.0, 815.0, 245.0], [0.0, 0.0, 1.0]])
-K2 = np.array([[810.0, 0.0, 315.0], [0.0, 812.0, 238.0], [0.0, 0.0, 1.0]])
-D1 = np.array([-0.12, 0.05, 0.001, -0.0005, 0.0])
-D2 = np.array([-0.10, 0.03, -0.0008, 0.0004, 0.0])
-R = cv2.Rodrigues(np.deg2rad([1.5, -3.0, 2.0]).reshape(3, 1))[0]
-T = np.array([-60.0, 0.5, 1.0])  # mm
 
 
 @pytest.fixture(scope="module")
 def calib() -> StereoCalibration:
-    return StereoCalibration(K1, D1, K2, D2, R, T, (W, H), source="synthetic")
-
-
-@pytest.fixture(scope="module")
-def rect(calib: StereoCalibration):
-    return rectify_stereo(calib)
+    return synthetic_calibration()
 
 
 def _write_fs(path: Path, entries: dict, size_key: str | None = "image_size") -> Path:
@@ -64,9 +45,6 @@ def _assert_same(a: StereoCalibration, b: StereoCalibration) -> None:
     for name in ("K1", "D1", "K2", "D2", "R", "T"):
         np.testing.assert_allclose(getattr(a, name), getattr(b, name), rtol=1e-12, atol=1e-12)
     assert a.image_size == b.image_size
-
-
-# ------------------------------------------------------------------------------ readers
 
 
 @pytest.mark.parametrize("ext", ["yml", "yaml", "json", "xml"])
@@ -225,10 +203,12 @@ def test_middlebury_invalid(tmp_path: Path, text: str, pattern: str) -> None:
         read_middlebury_calib(p)
 
 
-# ------------------------------------------------------------------------- invalid files
-
 SINGULAR = np.array([[800.0, 0, 320], [1600.0, 0, 640], [0, 0, 1]])
+
+
 NAN_K = K1.copy()
+
+
 NAN_K[0, 2] = np.nan
 
 
@@ -283,131 +263,3 @@ def test_missing_key_and_unreadable_files(tmp_path: Path) -> None:
         read_opencv_calibration(binary)
     with pytest.raises(InputError, match=r"garbage\.json: cannot"):
         read_calibration(binary)
-
-
-def test_check_image_size(calib: StereoCalibration) -> None:
-    check_image_size(calib, (H, W), "a.png")
-    check_image_size(calib, (H, W, 3), "a.png")
-    with pytest.raises(InputError, match=r"^b\.png: image is 480 x 640 \(W x H\)"):
-        check_image_size(calib, (W, H), "b.png")
-
-
-def test_from_poses_matches_camera_projection() -> None:
-    cam = Camera()
-    left, right = Pose(-25.0, 3.0, 900.0, 0.05), Pose(35.0, -2.0, 905.0, -0.04)
-    c = StereoCalibration.from_poses(cam, left, right)
-    P = np.array([[10.0, 20.0, 0.0], [-40.0, 15.0, 60.0]])
-    uv_r, _ = cam.project(P, right)
-    x_left = (P - left.position) @ left.rotation  # left camera frame
-    proj, _ = cv2.projectPoints(x_left, cv2.Rodrigues(c.R)[0], c.T, c.K2, c.D2)
-    np.testing.assert_allclose(proj.reshape(-1, 2), uv_r, atol=1e-9)
-    assert c.baseline_mm == pytest.approx(np.linalg.norm(left.position - right.position))
-
-
-# ------------------------------------------------------------------------- rectification
-
-
-def _scene_points(rng: np.random.Generator, n: int = 200) -> np.ndarray:
-    z = rng.uniform(400.0, 3000.0, n)
-    x = rng.uniform(-0.3, 0.3, n) * z
-    y = rng.uniform(-0.22, 0.22, n) * z
-    return np.column_stack([x, y, z])
-
-
-def _project(points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    pl, _ = cv2.projectPoints(points, np.zeros(3), np.zeros(3), K1, D1)
-    pr, _ = cv2.projectPoints(points, cv2.Rodrigues(R)[0], T, K2, D2)
-    return pl.reshape(-1, 2), pr.reshape(-1, 2)
-
-
-@pytest.mark.parametrize("zero_disparity", [True, False])
-def test_rectified_rows_and_depth(calib: StereoCalibration, zero_disparity: bool) -> None:
-    rect = rectify_stereo(calib, zero_disparity=zero_disparity)
-    rng = np.random.default_rng(7)
-    X = _scene_points(rng)
-    pl, pr = _project(X)
-    inside = (pl[:, 0] > 0) & (pl[:, 0] < W - 1) & (pl[:, 1] > 0) & (pl[:, 1] < H - 1)
-    inside &= (pr[:, 0] > 0) & (pr[:, 0] < W - 1) & (pr[:, 1] > 0) & (pr[:, 1] < H - 1)
-    assert inside.sum() > 100
-    X, pl, pr = X[inside], pl[inside], pr[inside]
-    ql, qr = original_to_rectified(pl, rect, "left"), original_to_rectified(pr, rect, "right")
-    assert np.abs(ql[:, 1] - qr[:, 1]).max() < 0.01  # same rows
-    d = ql[:, 0] - qr[:, 0]
-    assert np.all(d > 0)
-    z_rect = (X @ rect.R1.T)[:, 2]
-    if zero_disparity:
-        assert rect.cx_left == rect.cx_right
-        np.testing.assert_allclose(rect.fx * rect.baseline_mm / d, z_rect, rtol=1e-4)
-    np.testing.assert_allclose(rect.depth_from_disparity(d), z_rect, rtol=1e-4)
-    assert rect.baseline_mm == pytest.approx(calib.baseline_mm, rel=1e-9)
-    # full triangulation back to the original left camera frame
-    X_back = points_in_left_camera(triangulate_rectified(ql, d, rect), rect)
-    np.testing.assert_allclose(X_back, X, rtol=1e-4, atol=0.05)
-
-
-def test_point_maps_round_trip(rect) -> None:
-    xs, ys = np.meshgrid(np.linspace(0, W - 1, 17), np.linspace(0, H - 1, 13))
-    pts = np.column_stack([xs.ravel(), ys.ravel()])
-    for which in ("left", "right"):
-        back = rectified_to_original(original_to_rectified(pts, rect, which), rect, which)
-        assert np.abs(back - pts).max() < 0.01
-        # and the other way, starting in the rectified image
-        fwd = original_to_rectified(rectified_to_original(pts, rect, which), rect, which)
-        assert np.abs(fwd - pts).max() < 0.01
-
-
-def test_point_maps_agree_with_remap_tables(rect) -> None:
-    ij = np.array([[0, 0], [100, 37], [479, 639], [240, 320], [13, 600]])
-    pts = ij[:, ::-1].astype(float)  # (x, y) = (j, i)
-    for which, (mx, my) in (("left", rect.map_left), ("right", rect.map_right)):
-        orig = rectified_to_original(pts, rect, which)
-        table = np.column_stack([mx[ij[:, 0], ij[:, 1]], my[ij[:, 0], ij[:, 1]]])
-        np.testing.assert_allclose(orig, table, atol=2e-3)
-
-
-def test_rectify_images_samples_the_right_place(rect) -> None:
-    yy, xx = np.mgrid[0:H, 0:W].astype(np.float64)
-    left = 0.25 * xx + 0.5 * yy  # a linear ramp: bilinear interpolation is exact on it
-    right = 0.5 * xx - 0.25 * yy + 200.0
-    lr, rr = rectify_images(rect, left, right)
-    assert lr.dtype == np.float64 and lr.shape == (H, W)
-    x, y = rect.roi_left[0] + 50, rect.roi_left[1] + 40
-    ox, oy = rectified_to_original([[x, y]], rect, "left")[0]
-    assert lr[y, x] == pytest.approx(0.25 * ox + 0.5 * oy, abs=0.01)
-    x, y = rect.roi_right[0] + 200, rect.roi_right[1] + 120
-    ox, oy = rectified_to_original([[x, y]], rect, "right")[0]
-    assert rr[y, x] == pytest.approx(0.5 * ox - 0.25 * oy + 200.0, abs=0.01)
-
-
-def test_rectify_images_dtypes(rect) -> None:
-    rng = np.random.default_rng(3)
-    u8 = rng.integers(0, 256, (H, W, 3), dtype=np.uint8)
-    a, b = rectify_images(rect, u8, u8, interpolation="cubic")
-    assert a.dtype == np.uint8 and a.shape == (H, W, 3) and b.dtype == np.uint8
-    u16 = rng.integers(0, 65536, (H, W), dtype=np.uint16)
-    a, _ = rectify_images(rect, u16, u16)
-    assert a.dtype == np.uint16
-    f = rng.uniform(0.0, 1.0, (H, W))
-    a, _ = rectify_images(rect, f, f, interpolation="cubic")
-    assert a.dtype == np.float64 and a.min() >= 0.0 and a.max() <= f.max()
-    i32 = rng.integers(-(2**31), 2**31 - 1, (H, W), dtype=np.int32)
-    a, _ = rectify_images(rect, i32, i32, interpolation="cubic")
-    assert a.dtype == np.int32
-    with pytest.raises(InputError, match=r"^left: image is 320 x 480"):
-        rectify_images(rect, u8[:, :320], u8)
-    with pytest.raises(InputError, match="interpolation must be"):
-        rectify_images(rect, u8, u8, interpolation="lanczos")  # type: ignore[arg-type]
-
-
-def test_identity_rig_rectification() -> None:
-    K = np.array([[800.0, 0, 319.5], [0, 800.0, 239.5], [0, 0, 1]])
-    c = StereoCalibration(K, None, K, None, np.eye(3), [-60.0, 0, 0], (W, H))
-    r = rectify_stereo(c)
-    np.testing.assert_allclose(r.R1, np.eye(3), atol=1e-12)
-    yy, xx = np.mgrid[0:H, 0:W]
-    np.testing.assert_allclose(r.map_left[0], xx, atol=1e-3)
-    np.testing.assert_allclose(r.map_left[1], yy, atol=1e-3)
-    # a point 1200 mm away at x = 100 mm: d = f B / Z = 40 px
-    ql = original_to_rectified([[319.5 + 800 * 100 / 1200, 239.5]], r, "left")
-    qr = original_to_rectified([[319.5 + 800 * 40 / 1200, 239.5]], r, "right")
-    assert ql[0, 0] - qr[0, 0] == pytest.approx(40.0, abs=1e-6)

@@ -1,0 +1,362 @@
+"""The camera model (the thesis, chapter 2 and 4.1).
+
+The camera is a pinhole looking straight down from a pose that a SCARA robot can
+give it: a position ``(x, y, z)`` in the world frame (millimetres, z up) and a yaw
+``phi`` about the vertical axis (:class:`robostereo.geometry.poses.Pose`).  The camera
+frame has x along the image's rows (to the right), y down the image (along the
+columns) and z along the optical axis, which points down (world ``-Z``), so depth is
+positive.
+
+With yaw ``phi`` the camera axes, written in the world frame, are::
+
+    x_c = ( cos phi,  sin phi,  0)
+    y_c = ( sin phi, -cos phi,  0)
+    z_c = ( 0,        0,       -1)
+
+Pixel ``(row i, column j)`` has its centre at image coordinates ``x = j, y = i``;
+the principal point defaults to the image centre ``((W - 1) / 2, (H - 1) / 2)``.
+
+A :class:`Camera` is written as a plain mapping by :func:`camera_to_dict` and read
+back, checked, by :func:`camera_from_dict` (the YAML files are read and written by
+:mod:`robostereo.io.cameras`).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.geometry.mapping_checks import check_keys, get_number, get_pair, is_number
+from robostereo.geometry.poses import SE3
+
+__all__ = [
+    "SEED_CAMERA",
+    "Camera",
+    "camera_from_dict",
+    "camera_to_dict",
+    "wrap_angle",
+]
+
+@dataclass(frozen=True)
+class Camera:
+    """A pinhole camera with a rectangular pixel grid of known pitch.
+
+    Parameters
+    ----------
+    focal_length_mm : float
+        Lens-to-image-plane distance ``s`` (the thesis, 3.6), millimetres.
+    pixel_pitch_mm : tuple of float
+        Pixel pitch ``(horizontal, vertical)`` in millimetres.  The thesis gives
+        17.2 um horizontally; 13.7 um vertically fits a 2/3-inch sensor of
+        481 lines (6.6 mm high), see ``docs``.
+    image_size : tuple of int
+        ``(width, height)`` in pixels; the thesis's PULNiX CCD has 509 x 481.
+    principal_point : tuple of float, optional
+        ``(cx, cy)`` in pixels; default the image centre.
+    grey_levels : int
+        Number of grey levels the camera delivers (128 for the thesis's 7-bit system).
+    distortion : tuple of float
+        Lens distortion in OpenCV's order ``(k1, k2, p1, p2[, k3])`` (Brown-Conrady,
+        on normalised coordinates); empty (default) for none.  The thesis's camera has
+        none; a real lens calibrated with :func:`cv2.calibrateCamera` does.
+
+    Examples
+    --------
+    >>> from robostereo.geometry.poses import Pose
+    >>> cam = Camera()
+    >>> round(cam.fx, 2), cam.principal_point
+    (1453.49, (254.0, 240.0))
+    >>> pose = Pose(0.0, 0.0, 1000.0)
+    >>> cam.project([[0.0, 0.0, 0.0]], pose)[0]
+    array([[254., 240.]])
+    """
+
+    focal_length_mm: float = 25.0
+    pixel_pitch_mm: tuple[float, float] = (0.0172, 0.0137)
+    image_size: tuple[int, int] = (509, 481)
+    principal_point: tuple[float, float] = field(default=(math.nan, math.nan))
+    grey_levels: int = 128
+    distortion: tuple[float, ...] = ()
+
+    def __post_init__(self) -> None:
+        require_positive("focal_length_mm", self.focal_length_mm)
+        if len(self.pixel_pitch_mm) != 2:
+            raise InputError(
+                f"pixel_pitch_mm must be (horizontal, vertical), got {self.pixel_pitch_mm}"
+            )
+        for p in self.pixel_pitch_mm:
+            require_positive("pixel_pitch_mm", p)
+        w, h = self.image_size
+        if int(w) != w or int(h) != h or w < 5 or h < 5:
+            raise InputError(
+                "image_size must be (width, height) of at least 5 pixels, "
+                f"got {self.image_size}"
+            )
+        object.__setattr__(self, "pixel_pitch_mm", tuple(float(p) for p in self.pixel_pitch_mm))
+        object.__setattr__(self, "image_size", (int(w), int(h)))
+        if (
+            isinstance(self.grey_levels, bool)
+            or not isinstance(self.grey_levels, int | np.integer)
+            or self.grey_levels < 2
+        ):
+            raise InputError(f"grey_levels must be an integer >= 2, got {self.grey_levels}")
+        object.__setattr__(self, "grey_levels", int(self.grey_levels))
+        if len(self.principal_point) != 2:
+            raise InputError(f"principal_point must be (cx, cy), got {self.principal_point}")
+        cx, cy = self.principal_point
+        if math.isnan(cx) and math.isnan(cy):
+            object.__setattr__(self, "principal_point", ((w - 1) / 2.0, (h - 1) / 2.0))
+        else:
+            require_finite("principal_point", [cx, cy])
+            if max(abs(cx), abs(cy)) > 1e7:  # no real camera; triangulation would lose d
+                raise InputError(f"principal_point must be within +-1e7 pixels, got {cx, cy}")
+            object.__setattr__(self, "principal_point", (float(cx), float(cy)))
+        dist = tuple(float(v) for v in self.distortion)
+        if len(dist) not in (0, 4, 5):
+            raise InputError(
+                f"distortion must be (k1, k2, p1, p2[, k3]) or empty, got {self.distortion}"
+            )
+        require_finite("distortion", list(dist))
+        object.__setattr__(self, "distortion", () if not any(dist) else dist)
+
+    @property
+    def dist_coeffs(self) -> NDArray[np.float64]:
+        """Distortion as OpenCV's ``(5,)`` vector ``k1, k2, p1, p2, k3`` (zeros if none)."""
+        d = np.zeros(5)
+        d[: len(self.distortion)] = self.distortion
+        return d
+
+    def distort(self, normalised: ArrayLike) -> NDArray[np.float64]:
+        """Apply the lens distortion to normalised coordinates ``(N, 2)`` -> ``(N, 2)``."""
+        n = np.asarray(normalised, dtype=float)
+        if not self.distortion:
+            return n.copy()
+        k1, k2, p1, p2, k3 = self.dist_coeffs
+        x, y = n[..., 0], n[..., 1]
+        r2 = x * x + y * y
+        radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
+        xd = x * radial + 2.0 * p1 * x * y + p2 * (r2 + 2.0 * x * x)
+        yd = y * radial + p1 * (r2 + 2.0 * y * y) + 2.0 * p2 * x * y
+        return np.stack([xd, yd], axis=-1)
+
+    def undistort(self, distorted: ArrayLike, *, iterations: int = 30) -> NDArray[np.float64]:
+        """Invert :meth:`distort` (fixed-point iteration, to ~1e-12 for lens-like values).
+
+        Examples
+        --------
+        >>> cam = Camera(distortion=(-0.2, 0.05, 0.001, -0.002, 0.0))
+        >>> n = np.array([[0.1, -0.08], [-0.12, 0.09]])
+        >>> bool(np.allclose(cam.undistort(cam.distort(n)), n, atol=1e-12))
+        True
+        """
+        d = np.asarray(distorted, dtype=float)
+        if not self.distortion:
+            return d.copy()
+        k1, k2, p1, p2, k3 = self.dist_coeffs
+        xd, yd = d[..., 0], d[..., 1]
+        x, y = xd.copy(), yd.copy()
+        for _ in range(iterations):  # fixed-point on whole arrays, not on pixels
+            r2 = x * x + y * y
+            radial = 1.0 + r2 * (k1 + r2 * (k2 + r2 * k3))
+            x = (xd - 2.0 * p1 * x * y - p2 * (r2 + 2.0 * x * x)) / radial
+            y = (yd - p1 * (r2 + 2.0 * y * y) - 2.0 * p2 * x * y) / radial
+        return np.stack([x, y], axis=-1)
+
+    @property
+    def fx(self) -> float:
+        """Focal length in horizontal pixels, ``s / pitch_x``."""
+        return self.focal_length_mm / self.pixel_pitch_mm[0]
+
+    @property
+    def fy(self) -> float:
+        """Focal length in vertical pixels, ``s / pitch_y``."""
+        return self.focal_length_mm / self.pixel_pitch_mm[1]
+
+    @property
+    def width(self) -> int:
+        return self.image_size[0]
+
+    @property
+    def height(self) -> int:
+        return self.image_size[1]
+
+    @property
+    def K(self) -> NDArray[np.float64]:
+        """Intrinsic matrix, shape ``(3, 3)``."""
+        cx, cy = self.principal_point
+        return np.array([[self.fx, 0.0, cx], [0.0, self.fy, cy], [0.0, 0.0, 1.0]])
+
+    def project(
+        self, points: ArrayLike, pose: SE3
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Project world points into the image.
+
+        Parameters
+        ----------
+        points : array_like, shape (N, 3)
+            World points, millimetres.
+        pose : SE3
+            Camera pose ``T_world_camera`` (a SCARA :class:`~robostereo.geometry.poses.Pose`
+            or any 6-DoF pose).
+
+        Returns
+        -------
+        pixels : ndarray, shape (N, 2)
+            Image coordinates ``(x, y)``.
+        depth : ndarray, shape (N,)
+            Depth along the optical axis, millimetres (positive in front).
+        """
+        p = np.atleast_2d(np.asarray(points, dtype=float))
+        pc = (p - pose.position) @ pose.rotation
+        z = pc[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            n = self.distort(np.column_stack([pc[:, 0] / z, pc[:, 1] / z]))
+            x = self.fx * n[:, 0] + self.principal_point[0]
+            y = self.fy * n[:, 1] + self.principal_point[1]
+        return np.column_stack([x, y]), z
+
+    def backproject(
+        self, pixels: ArrayLike, depth: ArrayLike, pose: SE3
+    ) -> NDArray[np.float64]:
+        """World points at the given depths behind image points.
+
+        Parameters
+        ----------
+        pixels : array_like, shape (N, 2)
+            Image coordinates ``(x, y)``.
+        depth : array_like, shape (N,)
+            Depth along the optical axis, millimetres.
+        pose : SE3
+            Camera pose ``T_world_camera``.
+
+        Returns
+        -------
+        ndarray, shape (N, 3)
+            World points, millimetres.
+
+        Examples
+        --------
+        >>> from robostereo.geometry.poses import Pose
+        >>> cam, pose = Camera(), Pose(10.0, -5.0, 900.0, 0.3)
+        >>> P = np.array([[12.0, 40.0, 0.0], [-30.0, 2.0, 50.0]])
+        >>> uv, z = cam.project(P, pose)
+        >>> bool(np.allclose(cam.backproject(uv, z, pose), P))
+        True
+        """
+        uv = np.atleast_2d(np.asarray(pixels, dtype=float))
+        z = np.asarray(depth, dtype=float)
+        cx, cy = self.principal_point
+        n = self.undistort(np.column_stack([(uv[:, 0] - cx) / self.fx, (uv[:, 1] - cy) / self.fy]))
+        pc = np.column_stack([n[:, 0] * z, n[:, 1] * z, z])
+        return pc @ pose.rotation.T + pose.position
+
+
+SEED_CAMERA = Camera()
+"""The thesis's camera: 509 x 481 pixels, 25 mm lens, 17.2 x 13.7 um pixels, 7-bit grey."""
+
+
+def wrap_angle(angle: float) -> float:
+    """Wrap an angle in radians into ``(-pi, pi]``.
+
+    >>> round(wrap_angle(3 * math.pi / 2), 6)
+    -1.570796
+    >>> wrap_angle(math.pi) == math.pi
+    True
+    """
+    a = math.remainder(float(angle), 2.0 * math.pi)
+    return math.pi if a == -math.pi else a
+
+
+
+_CAMERA_KEYS = (
+    "focal_length_mm", "pixel_pitch_mm", "image_size", "principal_point", "grey_levels",
+    "distortion",
+)
+
+
+def camera_to_dict(camera: Camera) -> dict[str, Any]:
+    """A :class:`Camera` as a plain mapping of the keys of the camera YAML file.
+
+    Examples
+    --------
+    >>> camera_to_dict(Camera())  # doctest: +NORMALIZE_WHITESPACE
+    {'focal_length_mm': 25.0, 'pixel_pitch_mm': [0.0172, 0.0137], 'image_size': [509, 481],
+     'principal_point': [254.0, 240.0], 'grey_levels': 128}
+    """
+    out: dict[str, Any] = {
+        "focal_length_mm": float(camera.focal_length_mm),
+        "pixel_pitch_mm": [float(p) for p in camera.pixel_pitch_mm],
+        "image_size": [int(n) for n in camera.image_size],
+        "principal_point": [float(c) for c in camera.principal_point],
+        "grey_levels": int(camera.grey_levels),
+    }
+    if camera.distortion:
+        out["distortion"] = [float(v) for v in camera.distortion]
+    return out
+
+
+def camera_from_dict(data: Mapping[str, Any], *, source: str = "camera") -> Camera:
+    """Build a :class:`Camera` from a mapping with the keys of the camera YAML file.
+
+    Parameters
+    ----------
+    data : mapping
+        Keys ``focal_length_mm`` (> 0), ``pixel_pitch_mm`` ``[x, y]`` (mm, > 0),
+        ``image_size`` ``[width, height]`` (integers), optional ``principal_point``
+        ``[cx, cy]`` (pixels; default the image centre) and optional ``grey_levels``
+        (integer >= 2; default 128).
+    source : str
+        Name used in error messages (the file name when loading a file).
+
+    Returns
+    -------
+    Camera
+
+    Raises
+    ------
+    InputError
+        One line naming `source` and the key: missing, unknown, NaN, negative or of the
+        wrong type.
+
+    Examples
+    --------
+    >>> cam = camera_from_dict({"focal_length_mm": 16, "pixel_pitch_mm": [0.01, 0.01],
+    ...                         "image_size": [640, 480]})
+    >>> cam.principal_point, cam.grey_levels
+    ((319.5, 239.5), 128)
+    >>> camera_from_dict({"focal_length_mm": -16}, source="cam.yaml")
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: cam.yaml: key 'focal_length_mm' must be a finite number > 0, ...
+    """
+    check_keys(data, _CAMERA_KEYS, source, "camera")
+    f = get_number(data, "focal_length_mm", source, positive=True)
+    pitch = get_pair(data, "pixel_pitch_mm", source, positive=True, what="[x, y]")
+    size = get_pair(data, "image_size", source, positive=True, integer=True, what="[w, h]")
+    pp: tuple[float, float] = (math.nan, math.nan)
+    if "principal_point" in data and data["principal_point"] is not None:
+        pp = get_pair(data, "principal_point", source, what="[cx, cy]")
+    grey = data.get("grey_levels", 128)
+    if not isinstance(grey, int) or isinstance(grey, bool) or grey < 2:
+        raise InputError(f"{source}: key 'grey_levels' must be an integer >= 2, got {grey!r}")
+    dist = data.get("distortion") or ()
+    if not isinstance(dist, list | tuple) or not all(is_number(v) for v in dist):
+        raise InputError(f"{source}: key 'distortion' must be [k1, k2, p1, p2(, k3)], "
+                         f"got {dist!r}")
+    try:
+        return Camera(
+            focal_length_mm=f,
+            pixel_pitch_mm=pitch,
+            image_size=(int(size[0]), int(size[1])),
+            principal_point=pp,
+            grey_levels=grey,
+            distortion=tuple(dist),
+        )
+    except InputError as exc:
+        raise InputError(f"{source}: {exc}") from None
