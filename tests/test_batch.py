@@ -159,7 +159,8 @@ def test_failed_input_on_dask(tmp_path: Path, cluster) -> None:
 
 
 def test_rig_calibration_of_another_size(tmp_path: Path) -> None:
-    from robostereo.calibration import StereoCalibration, write_opencv_calibration
+    from robostereo.geometry.calibration import StereoCalibration
+    from robostereo.io.calibration_files import write_opencv_calibration
 
     root = tmp_path / "in"
     _write_pair(root / "p", 1, camera=False, range_file=True)
@@ -181,7 +182,8 @@ def test_capture_folder(tmp_path: Path, monkeypatch) -> None:
     root = tmp_path / "in"
     cap_dir = root / "cap"
     capture = pytest.importorskip("robostereo.robot.capture")
-    from robostereo.camera import Camera, Pose
+    from robostereo.geometry.camera import Camera
+    from robostereo.geometry.poses import Pose
 
     left, right, _ = synthetic_pair(np.random.default_rng(3), height=120, width=320)
     try:

@@ -96,7 +96,8 @@ def test_batch_ply_with_no_3d_points_is_finished(tmp_path: Path) -> None:
 
 
 def test_other_calibration_contents_redo(tmp_path: Path, capsys) -> None:
-    from robostereo.calibration import StereoCalibration, write_opencv_calibration
+    from robostereo.geometry.calibration import StereoCalibration
+    from robostereo.io.calibration_files import write_opencv_calibration
 
     root, out = tmp_path / "in", tmp_path / "out"
     _pair(root / "p", 1, camera=False)

@@ -12,7 +12,7 @@ import pytest
 from synthetic import synthetic_pair
 
 from robostereo.cli import main
-from robostereo.datasets import load_scene, write_pfm
+from robostereo.datasets import load_scene
 from robostereo.evaluation import (
     errors_3d,
     evaluate_scene,
@@ -22,8 +22,9 @@ from robostereo.evaluation import (
     score_matches,
     sgbm_disparity,
 )
-from robostereo.pipeline import match_stereo
-from robostereo.triangulation import StereoCamera
+from robostereo.geometry.triangulation import StereoCamera
+from robostereo.io.images import write_pfm
+from robostereo.matcher.pipeline import match_stereo
 
 F, B, DOFFS = 1000.0, 150.0, 12.0
 

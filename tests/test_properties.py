@@ -44,19 +44,19 @@ from robostereo import (  # noqa: E402
     score_matches,
     triangulate,
 )
-from robostereo.calibration import (  # noqa: E402
-    StereoCalibration,
+from robostereo.cli import main  # noqa: E402
+from robostereo.geometry.calibration import StereoCalibration  # noqa: E402
+from robostereo.io import load_stereo_camera  # noqa: E402
+from robostereo.io.calibration_files import (  # noqa: E402
     read_calibration,
     write_opencv_calibration,
 )
-from robostereo.camera import (  # noqa: E402
+from robostereo.io.cameras import (  # noqa: E402
     load_camera_yaml,
     load_pose_yaml,
     load_stereo_poses_yaml,
 )
-from robostereo.cli import main  # noqa: E402
-from robostereo.datasets import load_image  # noqa: E402
-from robostereo.io import load_stereo_camera  # noqa: E402
+from robostereo.io.images import load_image  # noqa: E402
 
 EXTS = (".png", ".ppm", ".pgm", ".pnm", ".tif", ".tiff", ".bmp", ".jpg", ".jpeg")
 

@@ -16,10 +16,12 @@ import numpy as np
 import pytest
 from scipy.special import ndtr
 
-from robostereo.calibration import StereoCalibration, rectify_stereo, write_opencv_calibration
 from robostereo.cli import main
 from robostereo.errors import InputError
-from robostereo.pipeline import MatchParameters
+from robostereo.geometry.calibrated_rectification import rectify_stereo
+from robostereo.geometry.calibration import StereoCalibration
+from robostereo.io.calibration_files import write_opencv_calibration
+from robostereo.matcher.pipeline import MatchParameters
 from robostereo.rig import disparity_range_for_depth, load_rig_pair, match_rig, valid_mask
 
 W, H = 640, 480
@@ -242,7 +244,7 @@ def test_bad_calibration_matrix(tmp_path: Path, rig, bad: str, msg: str) -> None
 
 def test_middlebury_rig_is_used_as_it_is(tmp_path: Path) -> None:
     """An already rectified rig (calib.txt): no resampling, disparities keep doffs."""
-    from robostereo.calibration import read_middlebury_calib
+    from robostereo.io.calibration_files import read_middlebury_calib
 
     p = tmp_path / "calib.txt"
     p.write_text("cam0=[700 0 320; 0 700 240; 0 0 1]\ncam1=[700 0 335; 0 700 240; 0 0 1]\n"

@@ -55,20 +55,25 @@ and the command line :mod:`robostereo.cli`.
 """
 
 from robostereo import _moved
-from robostereo.camera import Camera, EpipolarGeometry, Pose
-from robostereo.edges import EdgeSet, detect_edges
+
+# the 0.1 module paths (robostereo.pipeline, robostereo.camera, ...) for one more release
+_moved.install()
+
 from robostereo.errors import InputError, UnreachablePoseError
 from robostereo.evaluation import MatchScore, score_matches
-from robostereo.matching import SimilarityWeights
-from robostereo.pipeline import MatchParameters, MatchResult, match_stereo
-from robostereo.relaxation import RelaxationParameters
-from robostereo.triangulation import StereoCamera, triangulate
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import SE3, Pose
+from robostereo.geometry.scara_rectification import EpipolarGeometry
+from robostereo.geometry.triangulation import StereoCamera, triangulate
+from robostereo.matcher.candidates import SimilarityWeights
+from robostereo.matcher.edges import EdgeSet, detect_edges
+from robostereo.matcher.pipeline import MatchParameters, MatchResult, match_stereo
+from robostereo.matcher.relaxation import RelaxationParameters
 
 __version__ = "0.1.0"
 
-_moved.install()
-
 __all__ = [
+    "SE3",
     "Camera",
     "EdgeSet",
     "EpipolarGeometry",

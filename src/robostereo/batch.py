@@ -48,8 +48,8 @@ import numpy as np
 import yaml
 
 from robostereo.errors import InputError
-from robostereo.parallel import n_threads
-from robostereo.pipeline import MatchParameters
+from robostereo.matcher.parallel import n_threads
+from robostereo.matcher.pipeline import MatchParameters
 
 __all__ = [
     "SUMMARY_COLUMNS",
@@ -277,9 +277,9 @@ def run_signature(input_dir: PathLike, options: BatchOptions) -> dict[str, Any]:
 def _run_pair(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
     from dataclasses import replace
 
-    from robostereo.datasets import load_image
     from robostereo.io import load_stereo_camera
-    from robostereo.pipeline import match_stereo
+    from robostereo.io.images import load_image
+    from robostereo.matcher.pipeline import match_stereo
 
     lp, rp = _has_image(d, "left"), _has_image(d, "right")
     assert lp is not None and rp is not None
@@ -297,7 +297,7 @@ def _run_pair(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
     base = options.params or MatchParameters()
     params = base if base.bit_depth is not None else replace(base, bit_depth=bits_l)
     if options.calibration is not None:
-        from robostereo.calibration import read_calibration
+        from robostereo.io.calibration_files import read_calibration
         from robostereo.rig import match_rig
 
         calib = read_calibration(options.calibration, options.calibration_right)

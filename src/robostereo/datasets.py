@@ -36,11 +36,7 @@ from robostereo.errors import InputError
 from robostereo.geometry.calibrated_rectification import check_image_size
 from robostereo.geometry.calibration import StereoCalibration
 from robostereo.io.calibration_files import read_middlebury_calib
-from robostereo.io.images import (
-    load_image,
-    read_pfm,
-    write_pfm,  # noqa: F401  (importable from here for 0.1 callers)
-)
+from robostereo.io.images import load_image, read_pfm
 
 __all__ = [
     "KNOWN_SCALES",

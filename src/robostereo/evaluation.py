@@ -13,13 +13,13 @@ The rule, the same everywhere in robostereo (tests, ``robostereo evaluate``, the
 The same scoring is applied to a dense disparity map (OpenCV's StereoSGBM) read at
 the same pixels, so the two are compared point for point.
 
-:func:`evaluate_scene` runs the core matcher (:func:`robostereo.pipeline.match_stereo`)
+:func:`evaluate_scene` runs the core matcher (:func:`robostereo.matcher.pipeline.match_stereo`)
 and OpenCV's StereoSGBM (:func:`sgbm_disparity`) on a
 :class:`~robostereo.datasets.StereoScene` and scores both at the same pixels, the
 matcher's left edge points, by the project's evaluation rule
 (:func:`score_matches`): % matched, % false, disparity RMS of
 the correct matches, and the time each took.  With a Middlebury ``calib.txt`` the
-correct matches are also triangulated (:func:`robostereo.triangulation.triangulate`,
+correct matches are also triangulated (:func:`robostereo.geometry.triangulation.triangulate`,
 the project's one path) and compared in millimetres with the points that the
 ground-truth disparity gives.  :func:`format_evaluation` prints the table that
 ``robostereo evaluate`` shows.
@@ -35,12 +35,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.calibration import rectify_stereo
 from robostereo.datasets import StereoScene
-from robostereo.edges import to_grey
 from robostereo.errors import InputError, require_nonnegative
-from robostereo.pipeline import MatchParameters, match_stereo, searched_range
-from robostereo.triangulation import StereoCamera, triangulate
+from robostereo.geometry.calibrated_rectification import rectify_stereo
+from robostereo.geometry.triangulation import StereoCamera, triangulate
+from robostereo.matcher.edges import to_grey
+from robostereo.matcher.pipeline import MatchParameters, match_stereo, searched_range
 
 __all__ = [
     "CURVE_LEVELS",
@@ -509,7 +509,7 @@ def errors_3d(
 ) -> NDArray[np.float64]:
     """Distance (mm) between the points of the found and of the true disparity.
 
-    Both are triangulated by :func:`robostereo.triangulation.triangulate` from the same
+    Both are triangulated by :func:`robostereo.geometry.triangulation.triangulate` from the same
     left position ``(x, row)``, with ``x_right = x - d``.
 
     Examples
@@ -577,14 +577,14 @@ def evaluate_scene(
 
     Notes
     -----
-    1. :func:`~robostereo.pipeline.match_stereo` on the pair, timed.
+    1. :func:`~robostereo.matcher.pipeline.match_stereo` on the pair, timed.
     2. :func:`~robostereo.evaluation.sgbm_disparity`, timed, read at the matcher's left
        edge points (:func:`~robostereo.evaluation.sample_dense`).
     3. Both scored by :func:`~robostereo.evaluation.score_matches`.
     4. Curves: robostereo's best match of every edge point by decreasing confidence
        (:func:`coverage_curve`), SGBM over its settings (:func:`sgbm_curve`).
     5. With ``scene.calib``: its rectification's
-       :class:`~robostereo.triangulation.StereoCamera` triangulates each correct match
+       :class:`~robostereo.geometry.triangulation.StereoCamera` triangulates each correct match
        and its ground truth (:func:`errors_3d`).
     """
     lo, hi = searched_range(scene.disparity_range if disparity_range is None
@@ -595,7 +595,7 @@ def evaluate_scene(
     camera = None
     if scene.calib is not None:
         camera = rectify_stereo(scene.calib, zero_disparity=False).stereo_camera()
-    from robostereo.window import warm_up
+    from robostereo.matcher.pipeline import warm_up
 
     warm_up()  # the kernels' first load is not the scene's time
     t0 = time.perf_counter()

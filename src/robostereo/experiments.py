@@ -25,10 +25,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.camera import EpipolarGeometry
 from robostereo.errors import InputError
 from robostereo.evaluation import MatchScore, score_matches
-from robostereo.pipeline import MatchParameters
+from robostereo.geometry.scara_rectification import EpipolarGeometry
+from robostereo.matcher.pipeline import MatchParameters
 from robostereo.robot.capture import Located, LocateParameters, locate
 from robostereo.robot.simulated_scara import (
     SEED_LIFT_MM,

@@ -2,12 +2,12 @@
 
 A user with a calibrated stereo camera has two original images, with lens distortion
 and unaligned rows, and a calibration file (OpenCV, ROS or Middlebury; see
-:mod:`robostereo.calibration`).  :func:`match_rig` rectifies the pair with OpenCV,
-runs the core matcher (:func:`robostereo.pipeline.match_stereo`) on the rectified
-pair and triangulates through the project's one triangulation path
-(:func:`robostereo.triangulation.triangulate` with
-:meth:`~robostereo.calibration.Rectification.stereo_camera`).  Every matched point is
-reported three ways (:meth:`RigResult.table`):
+:mod:`robostereo.io.calibration_files`).  :func:`match_rig` rectifies the pair with
+OpenCV, runs the core matcher (:func:`robostereo.matcher.pipeline.match_stereo`) on the
+rectified pair and triangulates through the project's one triangulation path
+(:func:`robostereo.geometry.triangulation.triangulate` with
+:meth:`~robostereo.geometry.calibrated_rectification.Rectification.stereo_camera`).
+Every matched point is reported three ways (:meth:`RigResult.table`):
 
 * in rectified pixels: ``row, x_left, x_right, disparity``;
 * as a 3-D point ``X, Y, Z`` in the **original** left camera's frame (millimetres,
@@ -26,18 +26,18 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.calibration import (
+from robostereo.errors import InputError, require_finite
+from robostereo.geometry.calibrated_rectification import (
     Rectification,
-    StereoCalibration,
     check_image_size,
-    read_calibration,
     rectified_to_original,
     rectify_images,
     rectify_stereo,
 )
-from robostereo.datasets import load_image
-from robostereo.errors import InputError, require_finite
-from robostereo.pipeline import MatchParameters, MatchResult, match_stereo
+from robostereo.geometry.calibration import StereoCalibration
+from robostereo.io.calibration_files import read_calibration
+from robostereo.io.images import load_image
+from robostereo.matcher.pipeline import MatchParameters, MatchResult, match_stereo
 
 __all__ = [
     "RigResult",
@@ -68,7 +68,8 @@ def disparity_range_for_depth(
 
     Examples
     --------
-    >>> from robostereo.calibration import StereoCalibration, rectify_stereo
+    >>> from robostereo.geometry.calibration import StereoCalibration
+    >>> from robostereo.geometry.calibrated_rectification import rectify_stereo
     >>> K = [[800.0, 0, 319.5], [0, 800.0, 239.5], [0, 0, 1]]
     >>> r = rectify_stereo(StereoCalibration(K, None, K, None, np.eye(3), [-60, 0, 0], (640, 480)))
     >>> disparity_range_for_depth(r, 500.0, 2000.0)
@@ -147,7 +148,7 @@ class RigResult:
 
         Notes
         -----
-        1. :func:`robostereo.triangulation.triangulate` (eq. 6-9) gives the points in the
+        1. :func:`robostereo.geometry.triangulation.triangulate` (eq. 6-9) gives the points in the
            epipolar frame of the rectified pair (origin mid-baseline);
         2. ``+B/2`` along X moves the origin to the left optical centre (the rectified
            left frame);
@@ -229,9 +230,11 @@ def match_rig(
     Notes
     -----
     1. Check both images against the calibrated size.
-    2. :func:`~robostereo.calibration.rectify_stereo` (unless given a Rectification) and
-       :func:`~robostereo.calibration.rectify_images`: distortion removed, rows epipolar.
-    3. :func:`~robostereo.pipeline.match_stereo` on the rectified pair, with
+    2. :func:`~robostereo.geometry.calibrated_rectification.rectify_stereo` (unless
+       given a Rectification) and
+       :func:`~robostereo.geometry.calibrated_rectification.rectify_images`: distortion
+       removed, rows epipolar.
+    3. :func:`~robostereo.matcher.pipeline.match_stereo` on the rectified pair, with
        :meth:`Rectification.stereo_camera` as its camera.
     4. The part of each rectified image with no source (black fill) is passed to the
        matcher as invalid (:func:`valid_mask`): no edge point is taken whose features
@@ -282,7 +285,7 @@ def load_rig_pair(
         The original images.
     calibration_path : str or Path
         OpenCV FileStorage YAML/XML/JSON, Middlebury ``calib.txt`` or the left ROS
-        ``camera_info`` YAML (:func:`~robostereo.calibration.read_calibration`).
+        ``camera_info`` YAML (:func:`~robostereo.io.calibration_files.read_calibration`).
     calibration_right_path : str or Path, optional
         The right ROS ``camera_info`` YAML (or OpenCV's extrinsics file).
 

@@ -18,7 +18,7 @@ from synthetic import synthetic_pair
 from robostereo import InputError, StereoCamera, detect_edges, match_stereo, score_matches
 from robostereo.cli import main
 from robostereo.io import atomic_outputs, check_outputs, load_stereo_camera, write_ply
-from robostereo.pipeline import MatchParameters
+from robostereo.matcher.pipeline import MatchParameters
 
 RANGE = ["--min-disparity", "4", "--max-disparity", "16"]
 
@@ -162,7 +162,8 @@ def test_a_failed_write_leaves_no_output(pair, tmp_path: Path, capsys) -> None:
 
 
 def test_rig_outputs_are_checked_and_all_or_nothing(pair, tmp_path: Path, capsys) -> None:
-    from robostereo.calibration import StereoCalibration, write_opencv_calibration
+    from robostereo.geometry.calibration import StereoCalibration
+    from robostereo.io.calibration_files import write_opencv_calibration
 
     lp, rp, _, _ = pair
     K = np.array([[800.0, 0, 99.5], [0, 800.0, 29.5], [0, 0, 1]])
@@ -265,7 +266,7 @@ def test_camera_yaml_with_absurd_principal_point(tmp_path: Path) -> None:
     cam.write_text("fx: 800\nfy: 800\nbaseline_mm: 60\ncx: 1e308\n")
     with pytest.raises(InputError, match=r"cam\.yaml: cx must be within"):
         load_stereo_camera(cam)
-    from robostereo.camera import camera_from_dict
+    from robostereo.geometry.camera import camera_from_dict
 
     with pytest.raises(InputError, match=r"cap\.yaml: principal_point must be within"):
         camera_from_dict({"focal_length_mm": 25, "pixel_pitch_mm": [0.01, 0.01],
@@ -377,7 +378,8 @@ def test_triangulate_never_reports_a_depth_of_zero_or_inf() -> None:
 def test_opencv_matrix_without_cols_does_not_abort(pair, tmp_path: Path) -> None:
     """cv2.FileNode.mat() aborts the whole process on an opencv-matrix without ``cols``
     (found by hypothesis); the matrix is now read from its data."""
-    from robostereo.calibration import StereoCalibration, write_opencv_calibration
+    from robostereo.geometry.calibration import StereoCalibration
+    from robostereo.io.calibration_files import write_opencv_calibration
 
     lp, rp, _, _ = pair
     K = np.array([[800.0, 0, 99.5], [0, 800.0, 29.5], [0, 0, 1]])
@@ -414,7 +416,8 @@ def test_relaxation_coefficients_that_break_the_arithmetic_are_refused() -> None
 def test_calibration_that_hung_opencv(pair, tmp_path: Path) -> None:
     """cv2.FileStorage loops forever on this damaged YAML header (found by fuzzing); the
     calibration files are now parsed in Python."""
-    from robostereo.calibration import StereoCalibration, write_opencv_calibration
+    from robostereo.geometry.calibration import StereoCalibration
+    from robostereo.io.calibration_files import write_opencv_calibration
 
     lp, rp, _, _ = pair
     K = np.array([[800.0, 0, 99.5], [0, 800.0, 29.5], [0, 0, 1]])
@@ -431,7 +434,7 @@ def test_calibration_that_hung_opencv(pair, tmp_path: Path) -> None:
 
 
 def test_opencv_nan_and_inf_spellings_are_read(tmp_path: Path) -> None:
-    from robostereo.calibration import read_calibration
+    from robostereo.io.calibration_files import read_calibration
 
     K = np.array([[800.0, 0, 99.5], [0, 800.0, 29.5], [0, 0, 1]])
     for ext in ("yml", "json", "xml"):

@@ -180,7 +180,7 @@ def test_no_paths_and_no_coarse_reach_the_matcher():
     import argparse
 
     from robostereo.cli._args import add_matcher_args, matcher_params
-    from robostereo.pipeline import MatchParameters
+    from robostereo.matcher.pipeline import MatchParameters
 
     ap = argparse.ArgumentParser()
     add_matcher_args(ap)

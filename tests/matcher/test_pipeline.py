@@ -8,8 +8,8 @@ from synthetic import synthetic_pair
 
 from robostereo.errors import InputError
 from robostereo.evaluation import score_matches
+from robostereo.geometry.triangulation import StereoCamera
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
-from robostereo.triangulation import StereoCamera
 
 
 def _rms_against_truth(res, gt, d):
@@ -144,8 +144,8 @@ def test_parabola_disparities_get_a_wider_depth_bound():
     """A match that lands on no right edge point takes its sub-pixel disparity from a
     cost parabola; its eq. (9) bound uses PARABOLA_DISPARITY_UNCERTAINTY_PX, and with
     it every correct match of a half-pixel synthetic pair is within its bound."""
+    from robostereo.geometry.triangulation import triangulate
     from robostereo.matcher.pipeline import PARABOLA_DISPARITY_UNCERTAINTY_PX
-    from robostereo.triangulation import triangulate
 
     left, right, gt = synthetic_pair(np.random.default_rng(3), disparities=(6.5, 9.25))
     cam = StereoCamera(800.0, 800.0, 60.0, disparity_uncertainty_px=0.2)

@@ -5,10 +5,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robostereo.camera import SEED_CAMERA, Camera, EpipolarGeometry, Pose
 from robostereo.cli import main
-from robostereo.edges import detect_edges
 from robostereo.experiments import run_block_experiment
+from robostereo.geometry.camera import SEED_CAMERA, Camera
+from robostereo.geometry.poses import Pose
+from robostereo.geometry.scara_rectification import EpipolarGeometry
+from robostereo.matcher.edges import detect_edges
 from robostereo.robot.capture import fill_invalid_rows, locate, rectify_pair
 from robostereo.robot.simulated_scara import RigSetup, SimulatedCapture, simulate_capture
 

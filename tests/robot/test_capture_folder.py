@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 import yaml
 
-from robostereo.camera import SEED_CAMERA
 from robostereo.cli import main
 from robostereo.errors import InputError
+from robostereo.geometry.camera import SEED_CAMERA
 from robostereo.robot.capture import locate, locate_capture
 from robostereo.robot.capture_folder import (
     disparity_range_from_depth,

@@ -11,6 +11,7 @@ from scipy.spatial.transform import Rotation
 
 from robostereo.cli import main
 from robostereo.errors import InputError
+from robostereo.geometry.poses import SE3
 from robostereo.robot.handeye import (
     METHODS,
     calibrate_eye_in_hand,
@@ -20,7 +21,6 @@ from robostereo.robot.handeye import (
     solve_ax_xb,
     write_views,
 )
-from robostereo.robot.poses import SE3
 from robostereo.robot.simulated import simulate_handeye_views
 from robostereo.robot.sixaxis import WRIST_HAND_EYE
 

@@ -7,8 +7,8 @@ import math
 import yaml
 
 from robostereo.cli import main
+from robostereo.geometry.poses import SE3
 from robostereo.robot.handeye_views import read_views
-from robostereo.robot.poses import SE3
 from robostereo.robot.sixaxis import WRIST_HAND_EYE
 
 

@@ -7,14 +7,14 @@ import json
 import numpy as np
 import pytest
 
-from robostereo.camera import Camera
 from robostereo.cli import main
 from robostereo.errors import InputError
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.triangulation import depth_error_bound
 from robostereo.robot.capture import write_capture
 from robostereo.robot.planning import best_baseline_direction, plan_baseline
 from robostereo.robot.simulated import run_fused_block
 from robostereo.robot.simulated_scara import RigSetup, block_scene, simulate_capture
-from robostereo.triangulation import depth_error_bound
 
 
 def test_plan_inverts_eq9():

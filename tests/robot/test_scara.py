@@ -7,8 +7,10 @@ import math
 import numpy as np
 import pytest
 
-from robostereo.camera import SEED_CAMERA, Camera, EpipolarGeometry, Pose
 from robostereo.errors import InputError, UnreachablePoseError
+from robostereo.geometry.camera import SEED_CAMERA, Camera
+from robostereo.geometry.poses import Pose
+from robostereo.geometry.scara_rectification import EpipolarGeometry
 from robostereo.robot.scara import (
     ADEPTONE_LIMITS,
     AdeptOne,

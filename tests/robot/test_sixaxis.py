@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 import yaml
 
-from robostereo.camera import Camera
 from robostereo.cli import main
 from robostereo.errors import InputError, UnreachablePoseError
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import SE3
 from robostereo.robot.capture import read_capture
-from robostereo.robot.poses import SE3
 from robostereo.robot.simulated import SixAxisViewpoints
 from robostereo.robot.sixaxis import UR5_DH, WRIST_CAMERA, SixAxisArm
 from robostereo.simulation import Checkerboard, Scene, TablePlane, render

@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from robostereo.camera import SEED_CAMERA, Pose
+from robostereo.geometry.camera import SEED_CAMERA
+from robostereo.geometry.poses import Pose
 from robostereo.simulation.primitives import Box, Cylinder, Disc, NoiseTexture, TablePlane
 from robostereo.simulation.render import render
 from robostereo.simulation.scenes import Scene, hub_pulley_scene

@@ -7,8 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from robostereo.camera import SEED_CAMERA, Camera, Pose
 from robostereo.errors import InputError
+from robostereo.geometry.camera import SEED_CAMERA, Camera
+from robostereo.geometry.poses import Pose
 from robostereo.simulation import (
     Box,
     Cylinder,

@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from robostereo.camera import SEED_CAMERA, Pose
+from robostereo.geometry.camera import SEED_CAMERA
+from robostereo.geometry.poses import Pose
 from robostereo.simulation.render import render
 from robostereo.simulation.scenes import hub_pulley_scene, seed_block_scene
 
@@ -57,7 +58,7 @@ def test_block_seen_where_table_5_1_puts_it() -> None:
 
 
 def test_hub_pulley_gives_several_hundred_edge_points() -> None:
-    from robostereo.edges import detect_edges
+    from robostereo.matcher.edges import detect_edges
 
     scene = hub_pulley_scene()
     mid = scene.view_pose

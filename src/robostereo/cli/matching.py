@@ -77,7 +77,7 @@ def run_match(args: argparse.Namespace) -> int:
         write_csv,
         write_ply,
     )
-    from robostereo.pipeline import MatchParameters, match_stereo
+    from robostereo.matcher.pipeline import MatchParameters, match_stereo
 
     if args.ply is not None and args.camera is None:
         raise InputError("--ply needs --camera: 3-D points need the camera geometry")
@@ -90,7 +90,7 @@ def run_match(args: argparse.Namespace) -> int:
     if bits_l != bits_r:
         raise InputError(f"{args.right}: bit depth {bits_r} differs from the left image's {bits_l}")
     camera = load_stereo_camera(args.camera) if args.camera is not None else None
-    base = MatchParameters.seed() if args.seed_mode else MatchParameters()
+    base = MatchParameters.thesis() if args.seed_mode else MatchParameters()
     params = matcher_params(args, replace(
         base, threshold=args.threshold, row_step=args.row_step, bit_depth=bits_l,
         relaxation=replace(base.relaxation, iterations=args.iterations),
@@ -161,7 +161,7 @@ def add_rig_parser(sub: Any) -> None:
 
 def run_rig(args: argparse.Namespace) -> int:
     from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
-    from robostereo.pipeline import MatchParameters
+    from robostereo.matcher.pipeline import MatchParameters
     from robostereo.rig import load_rig_pair, match_rig
 
     drange = _range_args(args)
@@ -224,7 +224,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
 
     from robostereo.datasets import load_scene
     from robostereo.evaluation import evaluate_scene, format_evaluation
-    from robostereo.pipeline import MatchParameters
+    from robostereo.matcher.pipeline import MatchParameters
     from robostereo.plots import save_curves
 
     drange = _range_args(args)
@@ -292,7 +292,7 @@ def run_batch_command(args: argparse.Namespace) -> int:
     if args.workers is not None:
         require_at_least("--workers", args.workers, 1)
     if args.calibration is not None:
-        from robostereo.calibration import read_calibration
+        from robostereo.io.calibration_files import read_calibration
 
         read_calibration(args.calibration, args.calibration_right)  # fail early, once
     opts = BatchOptions(

@@ -435,7 +435,8 @@ def _load_any_camera(path: Path) -> Any:
     """The camera of a camera YAML or of ``robostereo handeye``'s camera file."""
     import yaml
 
-    from robostereo.camera import camera_from_dict, load_camera_yaml
+    from robostereo.geometry.camera import camera_from_dict
+    from robostereo.io.cameras import load_camera_yaml
 
     require_file(path, "camera file")
     try:
@@ -448,7 +449,7 @@ def _load_any_camera(path: Path) -> Any:
 
 
 def run_plan(args: argparse.Namespace) -> int:
-    from robostereo.camera import SEED_CAMERA
+    from robostereo.geometry.camera import SEED_CAMERA
     from robostereo.robot.planning import best_baseline_direction, plan_baseline
 
     for name in ("depth", "accuracy", "near", "far", "disparity_uncertainty"):
@@ -467,8 +468,8 @@ def run_plan(args: argparse.Namespace) -> int:
         "bound_terms_mm": [round(v, 4) for v in plan.bound_terms_mm],
     }
     if args.image is not None:
-        from robostereo.datasets import load_image
-        from robostereo.edges import to_grey
+        from robostereo.io.images import load_image
+        from robostereo.matcher.edges import to_grey
 
         img, bits = load_image(args.image)
         grey = to_grey(np.asarray(img, dtype=np.float64), bit_depth=bits)

@@ -24,6 +24,7 @@ from robostereo.errors import (
     require_positive,
     require_range,
 )
+from robostereo.geometry.triangulation import StereoCamera, triangulate
 from robostereo.matcher.candidates import (
     Candidates,
     SimilarityWeights,
@@ -37,7 +38,6 @@ from robostereo.matcher.parallel import run_all
 from robostereo.matcher.relaxation import RelaxationParameters, RelaxationResult, relax
 from robostereo.matcher.window_costs import PATH_PENALTIES
 from robostereo.matcher.window_match import WindowMatch, window_match
-from robostereo.triangulation import StereoCamera, triangulate
 
 __all__ = [
     "DEFAULT_MIN_CONFIDENCE",

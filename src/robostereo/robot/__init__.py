@@ -3,7 +3,7 @@
 Submodules
 ----------
 :mod:`~robostereo.robot.scara`
-    The thesis's AdeptOne SCARA (the thesis, 4.1), the :class:`Robot` and
+    The thesis's AdeptOne SCARA (section 4.1), the :class:`Robot` and
     :class:`CameraDevice` protocols, the simulated camera and the thesis's acquisition
     program.
 :mod:`~robostereo.robot.capture_folder`
@@ -12,11 +12,6 @@ Submodules
 :mod:`~robostereo.robot.capture`
     Locating object points of a capture in the robot's world frame (rectify, match,
     eq. 6-9); re-exports the capture folder names.
-:mod:`~robostereo.robot.poses`
-    :class:`~robostereo.robot.poses.SE3` rigid transforms (6-DoF poses) and their file
-    forms (matrix, quaternion, rotation vector, ROS, the SCARA form).
-:mod:`~robostereo.robot.geometry`
-    Rectification of two general poses (OpenCV ``stereoRectify`` with distortion).
 :mod:`~robostereo.robot.handeye_views`
     Calibration boards (chessboard, ChArUco), their detection, hand-eye views folders.
 :mod:`~robostereo.robot.handeye`
@@ -32,6 +27,10 @@ Submodules
 :mod:`~robostereo.robot.simulated`
     The simulated six-axis experiments (hand-eye views, tilted captures, the demo) and
     the block fused from two baselines.
+
+Poses (:class:`~robostereo.geometry.poses.SE3`, the SCARA
+:class:`~robostereo.geometry.poses.Pose`) and the rectification of two general poses
+live in :mod:`robostereo.geometry`.
 
 The names of :mod:`robostereo.robot.scara` are re-exported here, so
 ``from robostereo.robot import AdeptOne`` works as before the subpackage existed.

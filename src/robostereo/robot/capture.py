@@ -6,18 +6,18 @@ points in the robot's world frame with a per-point depth bound:
 
 1. the epipolar frame of the two poses: for two SCARA poses (camera looking down,
    equal heights, no lens distortion) the thesis's
-   (:class:`~robostereo.camera.EpipolarGeometry`: ``alpha``, ``theta_l``, ``theta_r``,
-   ``D``), for any other pair of 6-DoF poses
-   :class:`~robostereo.robot.geometry.GeneralEpipolarGeometry` (relative pose,
+   (:class:`~robostereo.geometry.scara_rectification.EpipolarGeometry`: ``alpha``,
+   ``theta_l``, ``theta_r``, ``D``), for any other pair of 6-DoF poses
+   :class:`~robostereo.geometry.pose_rectification.GeneralEpipolarGeometry` (relative pose,
    OpenCV ``stereoRectify`` with the intrinsics and distortion);
 2. each image rectified (rows become epipolar lines), the pixels whose source lies
    outside the grabbed image filled by replicating the nearest valid pixel of the
    same row (:func:`rectify_pair`);
-3. the matcher of chapter 3 (:func:`robostereo.pipeline.match_stereo`) on the two
+3. the matcher of chapter 3 (:func:`robostereo.matcher.pipeline.match_stereo`) on the two
    rectified images, within the capture's disparity range, told which pixels are
    filled so that no edge point whose features would see the fill is used;
-4. eq. (6)-(9) (:func:`robostereo.triangulation.triangulate`) in the epipolar frame,
-   then :meth:`~robostereo.camera.EpipolarGeometry.to_world`.
+4. eq. (6)-(9) (:func:`robostereo.geometry.triangulation.triangulate`) in the epipolar frame,
+   then :meth:`~robostereo.geometry.scara_rectification.EpipolarGeometry.to_world`.
 
 The captures themselves and their folders (:class:`Capture`, :func:`read_capture`,
 :func:`write_capture`, the folder format) are in :mod:`robostereo.robot.capture_folder`;
@@ -33,9 +33,10 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.camera import rectified_valid_mask
 from robostereo.errors import InputError
-from robostereo.pipeline import MatchParameters, MatchResult, match_stereo
+from robostereo.geometry.pose_rectification import GeneralEpipolarGeometry
+from robostereo.geometry.scara_rectification import rectified_valid_mask
+from robostereo.matcher.pipeline import MatchParameters, MatchResult, match_stereo
 from robostereo.robot.capture_folder import (
     CAPTURE_YAML,
     DISPARITY_UNCERTAINTY_PX,
@@ -47,7 +48,6 @@ from robostereo.robot.capture_folder import (
     read_capture,
     write_capture,
 )
-from robostereo.robot.geometry import GeneralEpipolarGeometry
 
 __all__ = [
     "CAPTURE_YAML",
@@ -135,7 +135,7 @@ class RectifiedPair:
 def _grey(image: NDArray[Any]) -> NDArray[np.float64]:
     img = np.asarray(image)
     if img.ndim == 3:
-        from robostereo.edges import to_grey
+        from robostereo.matcher.edges import to_grey
 
         # colour: luminance on the image's own scale (to_grey with bit depth 7 keeps it)
         return to_grey(img.astype(np.float64), bit_depth=7).astype(np.float64)
@@ -153,7 +153,7 @@ def rectify_pair(
 
     The thesis's theta rectification for an :class:`EpipolarGeometry`, OpenCV's
     (with undistortion) for a
-    :class:`~robostereo.robot.geometry.GeneralEpipolarGeometry`.
+    :class:`~robostereo.geometry.pose_rectification.GeneralEpipolarGeometry`.
 
     Parameters
     ----------
@@ -161,8 +161,9 @@ def rectify_pair(
         Grabbed images of the left and right viewpoints.
     geometry : EpipolarGeometry or GeneralEpipolarGeometry
     interpolation : str
-        Interpolator of :func:`robostereo.camera.rectify_image` (default linear: on the
-        simulated block its sub-pixel edges were nearer the truth than cubic's).
+        Interpolator of :func:`robostereo.geometry.scara_rectification.rectify_image`
+        (default linear: on the simulated block its sub-pixel edges were nearer the
+        truth than cubic's).
 
     Returns
     -------
@@ -304,9 +305,9 @@ def locate(capture: Capture, *, params: LocateParameters | None = None) -> Locat
     -----
     1. Epipolar frame of the two reported poses (the thesis, 2.2; :meth:`Capture.geometry`).
     2. Rectify and fill (:func:`rectify_pair`).
-    3. :func:`robostereo.pipeline.match_stereo` with the capture's bit depth and
+    3. :func:`robostereo.matcher.pipeline.match_stereo` with the capture's bit depth and
        disparity range (chapter 3).
-    5. Eq. (6)-(9) with :func:`robostereo.triangulation.triangulate` (rectified
+    5. Eq. (6)-(9) with :func:`robostereo.geometry.triangulation.triangulate` (rectified
        intrinsics are the camera's; ``D`` from the poses), then to the world frame.
     6. Each left point mapped back to the grabbed image (exact point map).
 

@@ -4,10 +4,10 @@ A *capture* is what the thesis's VAL-II program leaves behind (the thesis, 4.2):
 grabbed images, the camera and the two camera poses the robot reported
 (:class:`Capture`).  It knows its epipolar frame (:meth:`Capture.geometry`): for two
 SCARA poses (camera looking down, equal heights, no lens distortion) the thesis's
-(:class:`~robostereo.camera.EpipolarGeometry`: ``alpha``, ``theta_l``, ``theta_r``,
-``D``), for any other pair of 6-DoF poses
-:class:`~robostereo.robot.geometry.GeneralEpipolarGeometry` (relative pose, OpenCV
-``stereoRectify`` with the intrinsics and distortion).  :func:`write_capture` and
+(:class:`~robostereo.geometry.scara_rectification.EpipolarGeometry`: ``alpha``,
+``theta_l``, ``theta_r``, ``D``), for any other pair of 6-DoF poses
+:class:`~robostereo.geometry.pose_rectification.GeneralEpipolarGeometry` (relative
+pose, OpenCV ``stereoRectify`` with the intrinsics and distortion).  :func:`write_capture` and
 :func:`read_capture` keep it in a folder; :func:`robostereo.robot.capture.locate`
 turns it into 3-D points.
 
@@ -15,10 +15,10 @@ Capture folder format (``DIR/``)::
 
     left.png, right.png   the grabbed (unrectified) images, 8-bit PNG, grey levels as
                           grabbed (0..127 for the thesis's 7-bit camera)
-    capture.yaml          camera:          camera mapping (robostereo.camera YAML keys,
+    capture.yaml          camera:          camera mapping (robostereo.geometry.camera YAML keys,
                                            optional distortion [k1, k2, p1, p2, k3])
                           pose_left:       camera pose of each view, world frame, in
-                          pose_right:      any form of robostereo.robot.poses
+                          pose_right:      any form of robostereo.geometry.poses
                                            ({x, y, z (mm), phi_deg} for a SCARA), or
                           flange_left:     the flange poses the robot reported plus
                           flange_right:    the flange-to-camera transform (hand-eye
@@ -46,19 +46,14 @@ import numpy as np
 import yaml
 from numpy.typing import NDArray
 
-from robostereo.camera import (
-    Camera,
-    EpipolarGeometry,
-    Pose,
-    camera_from_dict,
-    camera_to_dict,
-)
 from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
-from robostereo.robot.geometry import GeneralEpipolarGeometry
-from robostereo.robot.poses import SE3, as_se3
-from robostereo.robot.poses import pose_from_dict as any_pose_from_dict
-from robostereo.robot.poses import pose_to_dict as any_pose_to_dict
-from robostereo.triangulation import StereoCamera
+from robostereo.geometry.camera import Camera, camera_from_dict, camera_to_dict
+from robostereo.geometry.pose_rectification import GeneralEpipolarGeometry
+from robostereo.geometry.poses import SE3, Pose, as_se3
+from robostereo.geometry.poses import pose_from_dict as any_pose_from_dict
+from robostereo.geometry.poses import pose_to_dict as any_pose_to_dict
+from robostereo.geometry.scara_rectification import EpipolarGeometry
+from robostereo.geometry.triangulation import StereoCamera
 
 __all__ = [
     "CAPTURE_YAML",
@@ -109,7 +104,7 @@ class Capture:
     camera : Camera
     pose_left, pose_right : Pose or SE3
         Camera poses (``T_world_camera``, world mm); ``left`` is the viewpoint at
-        ``-D/2`` on the baseline.  Two SCARA :class:`~robostereo.camera.Pose` s must be
+        ``-D/2`` on the baseline.  Two SCARA :class:`~robostereo.geometry.poses.Pose` s must be
         at one height (the thesis's set-up).
     bit_depth : int
         Significant bits of the grey levels (7 for the thesis's camera).
@@ -297,7 +292,7 @@ def disparity_range_from_depth(
 
     Examples
     --------
-    >>> from robostereo.camera import SEED_CAMERA
+    >>> from robostereo.geometry.camera import SEED_CAMERA
     >>> disparity_range_from_depth(SEED_CAMERA, 20.0, (900.0, 1100.0))
     (26.0, 33.0)
     """
@@ -420,8 +415,8 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
         invalid YAML, unknown or bad keys, images that disagree with the camera,
         coinciding or unequal-height poses.
     """
-    from robostereo.datasets import load_image
     from robostereo.io import read_folder_yaml
+    from robostereo.io.images import load_image
 
     data, ypath = read_folder_yaml(directory, CAPTURE_YAML, folder="capture")
     d = ypath.parent

@@ -39,8 +39,9 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import sqrtm
 from scipy.spatial.transform import Rotation
 
-from robostereo.camera import Camera
 from robostereo.errors import InputError
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import SE3
 from robostereo.robot.handeye_views import (
     MIN_VIEWS,
     VIEWS_YAML,
@@ -54,7 +55,6 @@ from robostereo.robot.handeye_views import (
     read_views,
     write_views,
 )
-from robostereo.robot.poses import SE3
 
 __all__ = [
     "DEFAULT_METHOD",
@@ -363,8 +363,8 @@ class EyeInHandCalibration:
 
     def to_dict(self) -> dict[str, Any]:
         """The ``camera.yaml`` mapping that ``robostereo handeye`` writes."""
-        from robostereo.camera import camera_to_dict
-        from robostereo.robot.poses import pose_to_dict
+        from robostereo.geometry.camera import camera_to_dict
+        from robostereo.geometry.poses import pose_to_dict
 
         return {
             "camera": camera_to_dict(self.camera),
@@ -492,9 +492,9 @@ def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
 
     import yaml
 
-    from robostereo.camera import camera_from_dict
     from robostereo.errors import require_file
-    from robostereo.robot.poses import as_se3, pose_from_dict
+    from robostereo.geometry.camera import camera_from_dict
+    from robostereo.geometry.poses import as_se3, pose_from_dict
 
     p = require_file(path, "hand-eye camera file")
     try:

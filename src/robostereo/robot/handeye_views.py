@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError
-from robostereo.robot.poses import SE3
+from robostereo.geometry.poses import SE3
 
 __all__ = [
     "MIN_CHARUCO_CORNERS",
@@ -226,7 +226,7 @@ class HandEyeViews:
                      pixel_pitch_mm: horizontal pitch of the sensor, mm (data sheet)
                      grey_levels:    optional, default 256
                      views:          - {image: view_00.png, flange: POSE}
-                                     ...   POSE in any form of robostereo.robot.poses
+                                     ...   POSE in any form of robostereo.geometry.poses
                                      (T_base_flange as the robot reports it; mm, or
                                      the ROS form in m)
         view_00.png ...
@@ -258,8 +258,8 @@ def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | 
     """
     import yaml
 
+    from robostereo.geometry.poses import pose_to_dict
     from robostereo.io import write_image_folder
-    from robostereo.robot.poses import pose_to_dict
 
     b = views.board
     board: dict[str, Any]
@@ -286,9 +286,9 @@ def read_views(directory: Any) -> HandEyeViews:
     """Read a views folder (:class:`HandEyeViews`); one-line InputError on bad input."""
 
 
-    from robostereo.datasets import load_image
+    from robostereo.geometry.poses import as_se3, pose_from_dict
     from robostereo.io import read_folder_yaml
-    from robostereo.robot.poses import as_se3, pose_from_dict
+    from robostereo.io.images import load_image
 
     data, ypath = read_folder_yaml(directory, VIEWS_YAML, folder="views")
     d = ypath.parent

@@ -21,8 +21,8 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.camera import Camera
 from robostereo.errors import InputError, require_positive
+from robostereo.geometry.camera import Camera
 
 __all__ = [
     "BaselineDirection",

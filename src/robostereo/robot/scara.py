@@ -28,7 +28,6 @@ from typing import Any, Literal, Protocol, runtime_checkable
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.camera import Camera, EpipolarGeometry, Pose, wrap_angle
 from robostereo.errors import (
     InputError,
     UnreachablePoseError,
@@ -36,6 +35,9 @@ from robostereo.errors import (
     require_nonnegative,
     require_positive,
 )
+from robostereo.geometry.camera import Camera, wrap_angle
+from robostereo.geometry.poses import Pose
+from robostereo.geometry.scara_rectification import EpipolarGeometry
 
 __all__ = [
     "ADEPTONE_LIMITS",

@@ -26,9 +26,10 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.camera import Camera, camera_to_dict
 from robostereo.errors import InputError, UnreachablePoseError, require_finite
-from robostereo.pipeline import MatchParameters
+from robostereo.geometry.camera import Camera, camera_to_dict
+from robostereo.geometry.poses import SE3, pose_to_dict
+from robostereo.matcher.pipeline import MatchParameters
 from robostereo.robot.capture import Capture, Located, LocateParameters, locate
 from robostereo.robot.handeye import (
     DEFAULT_METHOD,
@@ -39,7 +40,6 @@ from robostereo.robot.handeye import (
     HandEyeViews,
     calibrate_eye_in_hand,
 )
-from robostereo.robot.poses import SE3, pose_to_dict
 from robostereo.robot.simulated_scara import (
     SEED_LIFT_MM,
     RigSetup,
@@ -152,7 +152,7 @@ def simulate_handeye_views(
         Images and the flange poses the arm reports.
     truth : dict
         ``camera`` (mapping), ``hand_eye`` and ``base_board`` (pose mappings), in the
-        file forms of :mod:`robostereo.robot.poses`.
+        file forms of :mod:`robostereo.geometry.poses`.
 
     Notes
     -----

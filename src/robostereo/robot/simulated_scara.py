@@ -30,8 +30,8 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.camera import SEED_CAMERA, Camera
 from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
+from robostereo.geometry.camera import SEED_CAMERA, Camera
 from robostereo.robot.capture_folder import Capture, capture_from_acquisition
 from robostereo.robot.scara import AdeptOne, CameraMount, SimulatedCamera, acquire_stereo_pair
 from robostereo.simulation.primitives import Box

@@ -20,9 +20,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import least_squares
 
-from robostereo.camera import Camera
 from robostereo.errors import InputError, UnreachablePoseError
-from robostereo.robot.poses import SE3
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import SE3
 
 __all__ = [
     "UR5_DH",

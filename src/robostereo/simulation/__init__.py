@@ -1,8 +1,8 @@
 """A simulated camera: analytic scenes rendered by ray casting, with ground truth.
 
 The simulator stands in for the thesis's PULNiX camera on the AdeptOne robot
-(the thesis's chapters 4 and 5): a pinhole :class:`~robostereo.camera.Camera` at a
-:class:`~robostereo.camera.Pose` looks down on a scene of analytic primitives
+(the thesis's chapters 4 and 5): a pinhole :class:`~robostereo.geometry.camera.Camera` at a
+:class:`~robostereo.geometry.poses.Pose` looks down on a scene of analytic primitives
 (a table plane, boxes, vertical cylinders and tubes, horizontal discs and annuli
 with holes) lit by a directional light and an ambient term.  :func:`render`
 returns the 7-bit grey image together with the exact depth and the primitive
@@ -26,7 +26,7 @@ The simulated robots that carry the camera are in :mod:`robostereo.robot`
 (:mod:`~robostereo.robot.simulated_scara`, :mod:`~robostereo.robot.simulated`).
 
 World coordinates are millimetres with Z up; the table top is at ``z = 0`` in the
-scenes built here.  The camera conventions are those of :mod:`robostereo.camera`.
+scenes built here.  The camera conventions are those of :mod:`robostereo.geometry.camera`.
 """
 
 from robostereo.simulation.primitives import (

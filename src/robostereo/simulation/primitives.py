@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 from scipy.ndimage import gaussian_filter
 
 from robostereo.errors import InputError, require_finite, require_positive
-from robostereo.robot.poses import SE3
+from robostereo.geometry.poses import SE3
 
 __all__ = [
     "Box",

@@ -1,13 +1,13 @@
 """Rendering by ray casting: the 7-bit grey image with its exact depth and labels.
 
 :func:`render` casts ``s x s`` rays per pixel (:func:`sample_offsets`) from a pinhole
-:class:`~robostereo.camera.Camera` at a :class:`~robostereo.camera.Pose` into a
+:class:`~robostereo.geometry.camera.Camera` at a :class:`~robostereo.geometry.poses.Pose` into a
 :class:`~robostereo.simulation.scenes.Scene`, shades the nearest hits, blurs, adds
 sensor noise and quantises; the :class:`Rendering` holds the image together with the
 depth and the primitive hit at every pixel centre.  :func:`true_disparity` turns a
 depth map into the disparity of a rectified pair.
 
-The camera conventions are those of :mod:`robostereo.camera`: pixel
+The camera conventions are those of :mod:`robostereo.geometry.camera`: pixel
 ``(row i, column j)`` has its centre at ``x = j, y = i`` and a world point ``P`` has
 camera coordinates ``R.T @ (P - position)`` with ``R = pose.rotation``.
 """
@@ -22,9 +22,9 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.camera import Camera, Pose
 from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
-from robostereo.robot.poses import SE3
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import SE3, Pose
 from robostereo.simulation.primitives import Primitive
 from robostereo.simulation.scenes import Scene
 
@@ -211,7 +211,7 @@ def render(
         irradiance is multiplied by ``1 - vignetting * (r / r_corner)^2`` (0 for none).
 
     Other real-camera effects: lens distortion is the camera's
-    (:attr:`robostereo.camera.Camera.distortion`), defocus is `blur_sigma_px`, surface
+    (:attr:`robostereo.geometry.camera.Camera.distortion`), defocus is `blur_sigma_px`, surface
     texture a :class:`NoiseTexture` on the table or on a :class:`Box`.
 
     Returns
@@ -241,7 +241,7 @@ def render(
 
     Examples
     --------
-    >>> from robostereo.camera import SEED_CAMERA
+    >>> from robostereo.geometry.camera import SEED_CAMERA
     >>> from robostereo.simulation import TablePlane
     >>> scene = Scene((TablePlane(z=0.0, albedo=0.5),), light_direction=(0, 0, 1))
     >>> r = render(scene, SEED_CAMERA, Pose(0.0, 0.0, 1000.0), supersample=1)
@@ -332,7 +332,7 @@ def true_disparity(depth: ArrayLike, camera: Camera, baseline_mm: float) -> _Arr
 
     Examples
     --------
-    >>> from robostereo.camera import SEED_CAMERA
+    >>> from robostereo.geometry.camera import SEED_CAMERA
     >>> float(true_disparity([[1000.0]], SEED_CAMERA, 20.0)[0, 0].round(3))
     29.07
     """

@@ -14,8 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from robostereo.camera import Pose
 from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
+from robostereo.geometry.poses import Pose
 from robostereo.simulation.primitives import (
     Box,
     Checkerboard,
