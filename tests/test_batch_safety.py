@@ -1,4 +1,4 @@
-"""Batches (issue 10): reruns with other options redo, workers die with the main process."""
+"""Batches: reruns with other options redo, workers die with the main process."""
 
 from __future__ import annotations
 

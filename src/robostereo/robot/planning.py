@@ -1,11 +1,11 @@
 """Planning a capture: the baseline for a depth accuracy, its direction, and fusing two.
 
-* :func:`plan_baseline` inverts eq. (9) (seed 3.7): the baseline ``D`` that bounds the
+* :func:`plan_baseline` inverts eq. (9) (thesis 3.7): the baseline ``D`` that bounds the
   depth error at a target depth by a wanted accuracy, and the disparity range to
   search for a depth range;
 * :func:`best_baseline_direction` picks, from an image of the scene, the direction to
   move the camera so that most edges cross the epipolar lines (an edge parallel to the
-  baseline lies along an epipolar line and cannot be matched: the seed's block lost
+  baseline lies along an epipolar line and cannot be matched: the thesis's block lost
   its short edges that way);
 * :func:`fuse_located` merges the points of two captures (e.g. with orthogonal
   baselines) into one set, each point keeping its eq. 9 bound.
@@ -105,7 +105,7 @@ def plan_baseline(
 
     Examples
     --------
-    The seed's camera at 1000 mm, 5 mm wanted:
+    The thesis's camera at 1000 mm, 5 mm wanted:
 
     >>> p = plan_baseline(Camera(), 1000.0, 5.0)
     >>> round(p.baseline_mm, 2), p.disparity_range
@@ -171,7 +171,7 @@ def best_baseline_direction(
     Parameters
     ----------
     image : array_like, shape (H, W)
-        Grey image of the scene, on the 0..127 scale of the seed (scale 8-bit images
+        Grey image of the scene, on the 0..127 scale of the thesis (scale 8-bit images
         by 0.5) or any scale with `threshold` to match.
     min_crossing_deg : float
         An edge counts as matchable when it crosses the epipolar lines (the baseline

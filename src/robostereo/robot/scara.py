@@ -1,8 +1,8 @@
-"""The robot that carries the camera: an AdeptOne SCARA arm (seed 4.1, figure 4-2).
+"""The robot that carries the camera: an AdeptOne SCARA arm (thesis 4.1, figure 4-2).
 
-The seed's camera rides on the distal end of the AdeptOne's forearm and is moved by a
+The thesis's camera rides on the distal end of the AdeptOne's forearm and is moved by a
 VAL-II program to two viewpoints ``D`` apart on a baseline above the object, where an
-image is grabbed at each (seed 4.1, 4.2.1).  This module gives
+image is grabbed at each (thesis 4.1, 4.2.1).  This module gives
 
 * :class:`Robot` and :class:`CameraDevice`, the two small protocols the acquisition
   needs (move the camera's optical centre; grab an image);
@@ -12,7 +12,7 @@ image is grabbed at each (seed 4.1, 4.2.1).  This module gives
 * :class:`SimulatedCamera`, an adapter that renders what the camera sees from the
   robot's current pose with a render function passed in (e.g.
   :func:`robostereo.simulation.render`);
-* :func:`acquire_stereo_pair`, the seed's acquisition program.
+* :func:`acquire_stereo_pair`, the thesis's acquisition program.
 
 Frames: the robot's base frame is the world frame (millimetres, Z up, joint 1 axis
 on the Z axis).  Angles are radians in the API.
@@ -144,7 +144,7 @@ class CameraMount:
     Parameters
     ----------
     kind : {'forearm', 'flange'}
-        ``'forearm'`` (the seed: on the distal end of link 2): the camera yaw is
+        ``'forearm'`` (the thesis: on the distal end of link 2): the camera yaw is
         ``theta1 + theta2 + yaw_offset`` and its height is fixed.  ``'flange'``: on the
         joint-4 flange; joint 3 sets the height and joint 4 the yaw
         ``theta1 + theta2 + theta4 + yaw_offset``.
@@ -156,7 +156,7 @@ class CameraMount:
         Height of the optical centre: fixed for the forearm mount; at ``d3 = 0`` (top
         of the stroke) for the flange mount, which gives ``z = z_mm - d3``.
         Default 1050 mm: the table (z = 0) is 1050 mm below the camera and the top of
-        the seed's 50-mm block 1000 mm below it, as in the seed's first data set.
+        the thesis's 50-mm block 1000 mm below it, as in the thesis's first data set.
     yaw_offset : float
         Camera yaw relative to link 2 (forearm) or to the flange (flange), radians.
     """
@@ -208,7 +208,7 @@ def _rot2(a: float) -> NDArray[np.float64]:
 
 
 class AdeptOne:
-    """AdeptOne 4-axis SCARA carrying a camera (seed 4.1).
+    """AdeptOne 4-axis SCARA carrying a camera (thesis 4.1).
 
     Parameters
     ----------
@@ -642,7 +642,7 @@ def acquire_stereo_pair(
     center_xy : tuple of float
         Mid-baseline point (world ``(x, y)``, mm) above the object.
     baseline_mm : float
-        ``D``, default 20 mm as in the seed.
+        ``D``, default 20 mm as in the thesis.
     direction_deg : float or None
         Baseline direction ``alpha`` from world X, degrees, counter-clockwise.  None:
         along the camera's x axis at the centre (so that ``theta`` is small).
@@ -655,7 +655,7 @@ def acquire_stereo_pair(
 
     Notes
     -----
-    The seed's VAL-II program (4.1, 4.2.1, figure 4-2):
+    The thesis's VAL-II program (4.1, 4.2.1, figure 4-2):
 
     1. move the camera above the object, to `center_xy`;
     2. choose the baseline direction ``alpha`` (`direction_deg`, or the camera's yaw);

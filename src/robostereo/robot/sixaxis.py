@@ -1,6 +1,6 @@
 """A six-axis arm (UR5-like) carrying a wrist camera: kinematics and a simulated camera.
 
-The seed's SCARA keeps the camera looking down (seed 4.1).  A six-axis arm points it
+The thesis's SCARA keeps the camera looking down (thesis 4.1).  A six-axis arm points it
 anywhere; :class:`SixAxisArm` is a standard Denavit-Hartenberg model with the UR5's
 published dimensions and joint ranges, forward kinematics ``T_base_flange(q)`` and
 a numerical inverse (damped least squares from several starts, within the limits).
