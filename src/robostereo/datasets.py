@@ -361,7 +361,7 @@ def disparity_consistency(
     shift: float = 1.0,
     top_fraction: float = 0.2,
 ) -> tuple[float, float]:
-    """Photometric check of the ground truth: mean |left(x, y) - right(x - d, y)|.
+    """Photometric check of the ground truth: mean ``|left(x, y) - right(x - d, y)|``.
 
     Parameters
     ----------

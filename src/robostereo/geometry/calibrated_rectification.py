@@ -489,6 +489,7 @@ def rectified_to_original(
     2. Undo the rectifying rotation: ``r_orig = R_i^T r``.
     3. Project with the original intrinsics and distortion (``cv2.projectPoints`` with
        zero rotation and translation).
+
     This is the exact inverse of :func:`original_to_rectified` (no iteration).
 
     Examples

@@ -337,8 +337,8 @@ def window_costs(
        rows are made as the pass reaches them: memory is a few rows of costs, whatever
        the range, and no transformed image is stored.
     6. The centred window costs ``C(x, d)`` of the row are also aggregated along it,
-       from the left and from the right, as two paths of semi-global matching [3]_
-       (eq. 13): ``L(x, d) = C(x, d) + min(L(x', d), L(x', d -/+ 1) + P1,
+       from the left and from the right, as two paths of semi-global matching
+       (Hirschmüller 2008, eq. 13): ``L(x, d) = C(x, d) + min(L(x', d), L(x', d -/+ 1) + P1,
        min_k L(x', k) + P2) - min_k L(x', k)`` with ``x'`` the previous column; their
        sum is read at the edge points (``best_path`` ...).  A path carries the
        disparity of textured parts of the row into ambiguous ones (repeated patterns,

@@ -1,4 +1,4 @@
-"""Numba kernels of the window matcher: census, Sobel, window sums, paths, evidence.
+"""Numba kernels of the window matcher: census [1]_, Sobel, window sums, paths [2]_, evidence.
 
 The compiled part of :mod:`robostereo.matcher.window_costs` (one pass down the image
 that leaves a summary of the window costs per left edge point, :func:`stream_rows`) and

@@ -307,9 +307,9 @@ def locate(capture: Capture, *, params: LocateParameters | None = None) -> Locat
     2. Rectify and fill (:func:`rectify_pair`).
     3. :func:`robostereo.matcher.pipeline.match_stereo` with the capture's bit depth and
        disparity range (chapter 3).
-    5. Eq. (6)-(9) with :func:`robostereo.geometry.triangulation.triangulate` (rectified
+    4. Eq. (6)-(9) with :func:`robostereo.geometry.triangulation.triangulate` (rectified
        intrinsics are the camera's; ``D`` from the poses), then to the world frame.
-    6. Each left point mapped back to the grabbed image (exact point map).
+    5. Each left point mapped back to the grabbed image (exact point map).
 
     References
     ----------
