@@ -1,19 +1,27 @@
-"""Time robostereo's whole matcher against OpenCV's StereoSGBM on the same pairs.
+"""Time robostereo's whole matcher against OpenCV's dense matchers, per core and all cores.
 
-Run:  python benchmarks/bench_match.py [--repeat N] [--no-memory] [--no-paths] [--no-coarse]
+Run:  python benchmarks/bench_match.py [--repeat N] [--threads per-core|all|both]
+                                      [--no-memory] [--no-paths] [--no-coarse]
 
 For every pair (the six real scenes of ../shared/data/stereo, motorcycle again with
-wider disparity ranges, and synthetic pairs of two sizes) both run in this one process
-on the same images and disparity range: robostereo's ``match_stereo`` (edges, window
-costs, confidence, acceptance: the default window method) and ``cv2.StereoSGBM``
-(blockSize 5, uniquenessRatio 10, P1 = 8*25, P2 = 32*25).  It prints the median time
-of each (in rounds: each method twice, the second run timed), the median of the rounds' ratios
-(SGBM time / robostereo time: above 1 means robostereo is faster) and the peak
-memory each adds to a process: a fresh child process per method and pair, the
-growth of its peak resident set over what it held after a warm-up on a small random
-pair (Linux: free heap memory is given back with ``malloc_trim`` and the peak is reset
-through ``/proc/self/clear_refs``, so imports and numba's compiled code are not
-counted, every page either method touches is, OpenCV's own buffers too).
+wider disparity ranges, and synthetic pairs of two sizes) all run in this one process on
+the same grey images and disparity range: robostereo's ``match_stereo`` (edges, window
+costs, confidence, acceptance: the default window method) and OpenCV's
+``StereoSGBM`` in ``MODE_SGBM`` and in ``MODE_SGBM_3WAY`` (its fastest: blockSize 5,
+uniquenessRatio 10, P1 = 8*25, P2 = 32*25) and ``StereoBM`` (blockSize 9, OpenCV's
+defaults otherwise), each searching ``numDisparities`` = the range rounded up to 16.
+
+Two tables: *per core* (robostereo with ``ROBOSTEREO_THREADS=1``, OpenCV with
+``cv2.setNumThreads(1)``) and *all cores* (each with the threads it takes by default).
+Each gives the median time of each method (in rounds: each method twice, the second run
+timed, the steady state of a frame loop while a slow spell of the machine hits all
+alike) and the median of the rounds' ratios (peer time / robostereo time: above 1
+means robostereo is faster).  With memory, the peak memory robostereo and MODE_SGBM
+add to a process: a fresh child process per method and pair, the growth of its peak
+resident set over what it held after a warm-up on a small random pair (Linux: free
+heap memory is given back with ``malloc_trim`` and the peak is reset through
+``/proc/self/clear_refs``, so imports and numba's compiled code are not counted, every
+page either method touches is, OpenCV's own buffers too).
 Speed goals live here, never in the tests.
 """
 
@@ -21,6 +29,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import statistics
 import subprocess
 import sys
@@ -32,7 +41,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from robostereo.datasets import find_data_dir, load_scene
-from robostereo.evaluation import sgbm_disparity
+from robostereo.evaluation import sgbm_input
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
 
 SCENES = ("tsukuba", "venus", "motorcycle", "cloth3", "reindeer", "wood2")
@@ -63,20 +72,45 @@ def pair(name: str) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
     return s.left, s.right, s.disparity_range
 
 
-def _time_pair(ours, theirs, repeat: int) -> tuple[float, float, float]:
-    """Median times of two calls and the median of the per-round ratios ``theirs /
-    ours``.  Each round runs one call twice, then the other twice, and times the second
-    run of each: the steady state of a matcher run frame after frame (its buffers and
-    code warm, as in a user's loop), while a slow spell of the machine hits both alike."""
-    t_ours, t_theirs = [], []
+def _time_rounds(fns: dict[str, object], repeat: int) -> dict[str, tuple[float, float]]:
+    """Median time of each call and the median of the per-round ratios ``time /
+    time of the first call``.  Each round runs every call twice and times the second
+    run: the steady state of a matcher run frame after frame (its buffers and code
+    warm, as in a user's loop), while a slow spell of the machine hits all alike."""
+    times: dict[str, list[float]] = {k: [] for k in fns}
     for _ in range(repeat):
-        for fn, out in ((ours, t_ours), (theirs, t_theirs)):
-            fn()
+        for key, fn in fns.items():
+            fn()  # type: ignore[operator]
             t = time.perf_counter()
-            fn()
-            out.append(time.perf_counter() - t)
-    ratios = [b / a for a, b in zip(t_ours, t_theirs, strict=True)]
-    return statistics.median(t_ours), statistics.median(t_theirs), statistics.median(ratios)
+            fn()  # type: ignore[operator]
+            times[key].append(time.perf_counter() - t)
+    first = next(iter(fns))
+    return {k: (statistics.median(v), statistics.median(
+        [b / a for a, b in zip(times[first], v, strict=True)])) for k, v in times.items()}
+
+
+def opencv_peer(kind: str, left: np.ndarray, right: np.ndarray,
+                disparity_range: tuple[float, float]):
+    """A call that runs OpenCV's matcher ``kind`` (``sgbm``, ``sgbm-3way``, ``bm``) on
+    the grey pair over the range (``numDisparities`` rounded up to 16)."""
+    import cv2
+
+    a, b = sgbm_input(left), sgbm_input(right)
+    lo = int(np.floor(disparity_range[0]))
+    n = int(np.ceil((np.floor(disparity_range[1]) - lo + 1) / 16.0) * 16)
+    if kind == "bm":
+        m = cv2.StereoBM_create(numDisparities=n, blockSize=9)
+        m.setMinDisparity(lo)
+    else:
+        mode = cv2.STEREO_SGBM_MODE_SGBM_3WAY if kind == "sgbm-3way" else \
+            cv2.STEREO_SGBM_MODE_SGBM
+        m = cv2.StereoSGBM_create(minDisparity=lo, numDisparities=n, blockSize=5,
+                                  uniquenessRatio=10, P1=8 * 25, P2=32 * 25,
+                                  disp12MaxDiff=-1, mode=mode)
+    return lambda: m.compute(a, b)
+
+
+PEERS = ("sgbm", "sgbm-3way", "bm")
 
 
 _CHILD = """
@@ -117,40 +151,65 @@ def peak_mib(method: str, name: str, options: dict[str, bool]) -> float:
     return float(json.loads(out.stdout.strip().splitlines()[-1]))
 
 
+def _threads(per_core: bool, opencv_default: int) -> None:
+    import cv2
+
+    if per_core:
+        os.environ["ROBOSTEREO_THREADS"] = "1"
+        cv2.setNumThreads(1)
+    else:
+        os.environ.pop("ROBOSTEREO_THREADS", None)
+        cv2.setNumThreads(opencv_default)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--repeat", type=int, default=15)
+    ap.add_argument("--threads", choices=("per-core", "all", "both"), default="both")
     ap.add_argument("--no-memory", action="store_true", help="skip the memory children")
     ap.add_argument("--no-paths", action="store_true", help="robostereo without its paths")
     ap.add_argument("--no-coarse", action="store_true",
                     help="robostereo searching wide ranges whole")
+    ap.add_argument("--pairs", nargs="*", help="only these pairs (names as printed)")
     args = ap.parse_args()
     options = {"paths": not args.no_paths, "coarse": not args.no_coarse}
     params = MatchParameters(**options)
     import cv2
 
-    print(f"OpenCV {cv2.__version__}, {cv2.getNumThreads()} threads; median of {args.repeat}; "
-          f"robostereo paths {'on' if params.paths else 'off'}, "
-          f"coarse {'on' if params.coarse else 'off'}")
-    head = (f"{'pair':<20} {'edges':>6} {'robostereo ms':>14} {'SGBM ms':>9} {'ratio':>7} "
-            f"{'robostereo MiB':>15} {'SGBM MiB':>9} {'mem ratio':>9}")
-    print(head)
-    print("-" * len(head))
-    for name in names():
-        left, right, rng = pair(name)
-        n = len(match_stereo(left, right, rng, params=params).left_edges)
-        t_ours, t_sgbm, ratio = _time_pair(
-            lambda left=left, right=right, rng=rng: match_stereo(left, right, rng,
-                                                                 params=params),
-            lambda left=left, right=right, rng=rng: sgbm_disparity(left, right, rng),
-            args.repeat)
-        mem = ""
-        if not args.no_memory:
-            m_ours = peak_mib("robostereo", name, options)
-            m_sgbm = peak_mib("sgbm", name, options)
-            mem = f"{m_ours:>15.1f} {m_sgbm:>9.1f} {m_ours / max(m_sgbm, 0.1):>8.2f}x"
-        print(f"{name:<20} {n:>6} {1000 * t_ours:>14.2f} {1000 * t_sgbm:>9.2f} "
-              f"{ratio:>6.2f}x {mem}", flush=True)
+    opencv_default = cv2.getNumThreads()
+    pairs = [n for n in names() if not args.pairs or n in args.pairs]
+    print(f"OpenCV {cv2.__version__} ({opencv_default} threads by default), "
+          f"{os.cpu_count()} cores; median of {args.repeat} rounds; robostereo paths "
+          f"{'on' if params.paths else 'off'}, coarse {'on' if params.coarse else 'off'}")
+    modes = {"per-core": [True], "all": [False], "both": [True, False]}[args.threads]
+    for per_core in modes:
+        _threads(per_core, opencv_default)
+        print(f"\n{'per core (one thread each)' if per_core else 'all cores'}: "
+              "ms, and peer time / robostereo time")
+        head = (f"{'pair':<20} {'edges':>6} {'robostereo':>10} "
+                + " ".join(f"{p:>17}" for p in PEERS))
+        print(head)
+        print("-" * len(head))
+        for name in pairs:
+            left, right, rng = pair(name)
+            n = len(match_stereo(left, right, rng, params=params).left_edges)
+            fns = {"robostereo": lambda left=left, right=right, rng=rng: match_stereo(
+                left, right, rng, params=params)}
+            fns.update({p: opencv_peer(p, left, right, rng) for p in PEERS})
+            res = _time_rounds(fns, args.repeat)
+            cells = " ".join(f"{1000 * res[p][0]:>8.2f} {res[p][1]:>6.2f}x "
+                             for p in PEERS)
+            print(f"{name:<20} {n:>6} {1000 * res['robostereo'][0]:>10.2f} {cells}",
+                  flush=True)
+    if args.no_memory:
+        return
+    _threads(False, opencv_default)
+    print("\npeak memory added (MiB): robostereo, SGBM (MODE_SGBM), ratio")
+    for name in pairs:
+        m_ours = peak_mib("robostereo", name, options)
+        m_sgbm = peak_mib("sgbm", name, options)
+        print(f"{name:<20} {m_ours:>8.1f} {m_sgbm:>8.1f} {m_ours / max(m_sgbm, 0.1):>6.2f}x",
+              flush=True)
 
 
 if __name__ == "__main__":
