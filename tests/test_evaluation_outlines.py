@@ -120,3 +120,14 @@ def test_cli_evaluate_json_keeps_its_keys_and_adds_outlines(data_dir: Path, caps
             near = o["rules"][rule][method]["near"]
             assert near["counted"] == o["near_points"] and 0 <= near["false_percent"] <= 100
     assert o["distance_3d_mm"] == {}  # tsukuba has no calibration
+
+
+def test_evaluate_scene_scores_by_the_rule_asked(real_scenes) -> None:
+    scene = real_scenes["cloth3"]
+    p = evaluate_scene(scene, curve=False, outlines=False)
+    s = evaluate_scene(scene, curve=False, outlines=False, rule="silhouette")
+    assert s.outlines is None
+    for mp, ms in zip(p.methods, s.methods, strict=True):
+        assert (ms.counted, ms.matched) == (mp.counted, mp.matched) and ms.false <= mp.false
+    assert sum(mp.false - ms.false for mp, ms in zip(p.methods, s.methods, strict=True)) > 0
+    assert s.curves["robostereo"].coverage_at(0.02) >= p.curves["robostereo"].coverage_at(0.02)

@@ -375,9 +375,10 @@ def errors_3d(
 
 def _figures(
     method: str, rows: NDArray[Any], x: NDArray[Any], d: NDArray[Any], scene: StereoScene,
-    seconds: float, camera: StereoCamera | None, tolerance: float,
+    seconds: float, camera: StereoCamera | None, tolerance: float, rule: str = "project",
 ) -> MethodFigures:
-    s: MatchScore = score_matches(rows, x, d, scene.gt_disparity, tolerance=tolerance)
+    s: MatchScore = score_matches(rows, x, d, scene.gt_disparity, tolerance=tolerance,
+                                  rule=rule)
     rms3 = med3 = None
     if camera is not None:
         gt = nearest_ground_truth(rows, x, d, scene.gt_disparity)
@@ -398,6 +399,7 @@ def evaluate_scene(
     curve: bool = True,
     tolerance: float = 1.0,
     outlines: bool = True,
+    rule: str = "project",
 ) -> SceneEvaluation:
     """Score the matcher and StereoSGBM on one scene with ground truth.
 
@@ -419,6 +421,9 @@ def evaluate_scene(
     outlines : bool
         Also the figures near and away from depth steps by both rules
         (:func:`~robostereo.evaluation_outlines.outline_figures`).
+    rule : {"project", "silhouette"}
+        The rule of the methods' figures (% false, RMS) and of the curves; the 3-D
+        errors of correct matches keep the project's reference pixels.
 
     Returns
     -------
@@ -455,22 +460,22 @@ def evaluate_scene(
     t_match = time.perf_counter() - t0
     e = res.left_edges
     d = res.accepted_disparity()
-    methods = [_figures("robostereo", e.row, e.x, d, scene, t_match, camera, tolerance)]
+    methods = [_figures("robostereo", e.row, e.x, d, scene, t_match, camera, tolerance, rule)]
     curves = {"robostereo": coverage_curve(e.row, e.x, res.edge_disparity, res.edge_confidence,
-                                           scene.gt_disparity, tolerance=tolerance)}
+                                           scene.gt_disparity, tolerance=tolerance, rule=rule)}
     points = [MethodPoints("robostereo", d, res.edge_disparity, res.edge_confidence)]
     if sgbm:
         t0 = time.perf_counter()
         dense = sgbm_disparity(scene.left, scene.right, (lo, hi), bit_depth=p.bit_depth)
         t_sgbm = time.perf_counter() - t0
         ds = sample_dense(dense, e.row, e.x)
-        methods.append(_figures("sgbm", e.row, e.x, ds, scene, t_sgbm, camera, tolerance))
+        methods.append(_figures("sgbm", e.row, e.x, ds, scene, t_sgbm, camera, tolerance, rule))
         sweep: tuple[tuple[NDArray[np.float64], ...], tuple[float, ...]] = ((), ())
         if curve:
             sweep = sgbm_sweep(scene.left, scene.right, (lo, hi), e.row, e.x,
                                bit_depth=p.bit_depth)
             curves["sgbm"] = settings_curve(*sweep, e.row, e.x, scene.gt_disparity,
-                                            tolerance=tolerance)
+                                            tolerance=tolerance, rule=rule)
         points.append(MethodPoints("sgbm", ds, sweep=sweep[0], sweep_labels=sweep[1]))
     of = (outline_figures(e.row, e.x, scene.gt_disparity, points, camera=camera,
                           tolerance=tolerance) if outlines else None)

@@ -11,8 +11,9 @@ right view does not see: the half-occluded band beside each object's left contou
 as wide as the depth gap in disparity) and the silhouette boundaries along each row.
 
 Every texture is a function of the surface's own left-view coordinates (value noise,
-bilinear over a random grid), so the right view shows the same surface points moved
-by their disparity: ``left(x, y) = right(x - d, y)`` wherever both see the point.
+bilinear over a random grid, sharpened by a tanh into blotches), so the right view
+shows the same surface points moved by their disparity: ``left(x, y) = right(x - d, y)``
+wherever both see the point.
 Deterministic from ``seed``.  Pure numpy.
 """
 
@@ -164,25 +165,35 @@ class OccluderPair:
         return float(self.background_disparity(x, y))
 
 
+#: a texture: random grid in -1..1, grid spacing, margin, mean and spread of grey levels
+Texture = tuple[NDArray[np.float64], float, float, float, float]
+
+#: how sharply value noise is pushed towards its extremes (tanh gain): blotches with
+#: edges strong enough for the thesis's gradient threshold after its 5 x 5 smoothing
+SHARPNESS = 3.0
+
+
 def _texture(rng: np.random.Generator, h: int, w: int, cell: float, mean: float,
-             spread: float, pad: float) -> tuple[NDArray[np.float64], float, float]:
+             spread: float, pad: float) -> Texture:
     """A random value grid over the image and ``pad`` px around it."""
     ny = int(np.ceil((h + 2 * pad) / cell)) + 2
     nx = int(np.ceil((w + 2 * pad) / cell)) + 2
-    return mean + spread * rng.uniform(-1, 1, (ny, nx)), cell, pad
+    return rng.uniform(-1, 1, (ny, nx)), cell, pad, mean, spread
 
 
-def _sample(tex: tuple[NDArray[np.float64], float, float], x: NDArray[np.float64],
-            y: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Bilinear value noise at ``(x, y)`` (left-view coordinates of the surface)."""
-    grid, cell, pad = tex
+def _sample(tex: Texture, x: NDArray[np.float64], y: NDArray[np.float64]
+            ) -> NDArray[np.float64]:
+    """Sharpened bilinear value noise at ``(x, y)`` (left-view coordinates of the
+    surface): ``mean + spread tanh(k n) / tanh(k)``, ``n`` the bilinear noise."""
+    grid, cell, pad, mean, spread = tex
     u = np.clip((x + pad) / cell, 0, grid.shape[1] - 1.001)
     v = np.clip((y + pad) / cell, 0, grid.shape[0] - 1.001)
     j, i = np.floor(u).astype(np.intp), np.floor(v).astype(np.intp)
     fu, fv = u - j, v - i
     top = grid[i, j] * (1 - fu) + grid[i, j + 1] * fu
     bot = grid[i + 1, j] * (1 - fu) + grid[i + 1, j + 1] * fu
-    return top * (1 - fv) + bot * fv
+    n = top * (1 - fv) + bot * fv
+    return mean + spread * np.tanh(SHARPNESS * n) / np.tanh(SHARPNESS)
 
 
 def _shape(kind: str, cx: float, cy: float, r: float, rng: np.random.Generator
@@ -208,7 +219,7 @@ def occluder_pair(
     shapes: tuple[str, ...] = SHAPES,
     background: tuple[float, float] = (6.0, 12.0),
     supersample: int = 4,
-    cell: float = 3.0,
+    cell: float = 4.0,
 ) -> OccluderPair:
     """Render an occluder pair with its exact ground truth.
 
@@ -229,7 +240,7 @@ def occluder_pair(
     supersample : int
         Points per pixel side for area coverage (4: 16 per pixel).
     cell : float
-        Texture grain: the value noise's grid spacing, pixels.
+        Texture grain: the value noise's grid spacing, pixels (4).
 
     Returns
     -------
