@@ -488,7 +488,7 @@ def format_outline_figures(of: OutlineFigures) -> list[str]:
     lines.append(f"  silhouette rule, coverage at  near{levels}    away{levels}")
     for s in of.split:
         if s.rule == "silhouette" and s.coverage_near:
-            lines.append(f"  {_label(s.method):<30}" + "".join(
+            lines.append(f"  {_label(s.method):<34}" + "".join(
                 f"{100 * c:7.1f}%" for c in s.coverage_near) + "        " + "".join(
                 f"{100 * c:7.1f}%" for c in s.coverage_away))
     if of.distances_mm:
