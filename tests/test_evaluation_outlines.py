@@ -131,3 +131,13 @@ def test_evaluate_scene_scores_by_the_rule_asked(real_scenes) -> None:
         assert (ms.counted, ms.matched) == (mp.counted, mp.matched) and ms.false <= mp.false
     assert sum(mp.false - ms.false for mp, ms in zip(p.methods, s.methods, strict=True)) > 0
     assert s.curves["robostereo"].coverage_at(0.02) >= p.curves["robostereo"].coverage_at(0.02)
+
+
+def test_method_points_and_offset_summaries_check_themselves() -> None:
+    with pytest.raises(InputError, match="1-D arrays of one length"):
+        MethodPoints("m", np.zeros(3), best=np.zeros(4))
+    with pytest.raises(InputError, match="2 sweep runs but 1 labels"):
+        MethodPoints("m", np.zeros(3), sweep=(np.zeros(3), np.zeros(3)), sweep_labels=(0.0,))
+    with pytest.raises(InputError, match="over_1px"):
+        OffsetSummary(3, 0.5, 1.5)
+    assert OffsetSummary.of([]).count == 0

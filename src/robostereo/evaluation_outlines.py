@@ -178,6 +178,11 @@ class OffsetSummary:
     median_abs_px: float
     over_1px: float
 
+    def __post_init__(self) -> None:
+        if self.count < 0 or not (math.isnan(self.over_1px) or 0 <= self.over_1px <= 1):
+            raise InputError(f"OffsetSummary needs count >= 0 and over_1px in 0..1, got "
+                             f"{self.count}, {self.over_1px}")
+
     @classmethod
     def of(cls, offsets: ArrayLike) -> OffsetSummary:
         """>>> OffsetSummary.of([0.2, -0.5, 1.5, 0.1])
@@ -388,6 +393,16 @@ class MethodPoints:
     sweep: tuple[NDArray[np.float64], ...] = ()
     sweep_labels: tuple[float, ...] = ()
 
+    def __post_init__(self) -> None:
+        n = np.shape(self.disparity)
+        arrays = [a for a in (self.best, self.confidence, *self.sweep) if a is not None]
+        if len(n) != 1 or any(np.shape(a) != n for a in arrays):
+            raise InputError(f"MethodPoints {self.method!r}: disparity, best, confidence and "
+                             f"sweep must be 1-D arrays of one length")
+        if len(self.sweep) != len(self.sweep_labels):
+            raise InputError(f"MethodPoints {self.method!r}: {len(self.sweep)} sweep runs but "
+                             f"{len(self.sweep_labels)} labels")
+
 
 def _percentiles(v: NDArray[np.float64]) -> tuple[float, float]:
     v = v[np.isfinite(v)]
@@ -427,23 +442,25 @@ def outline_figures(
     split = []
     for m in methods:
         for rule in RULES:
-            kw = dict(tolerance=tolerance, rule=rule)
-            sn = score_matches(r, xs, m.disparity, g, subset=near, **kw)  # type: ignore[arg-type]
-            sa = score_matches(r, xs, m.disparity, g, subset=away, **kw)  # type: ignore[arg-type]
+            sn = score_matches(r, xs, m.disparity, g, tolerance=tolerance, rule=rule,
+                               subset=near)
+            sa = score_matches(r, xs, m.disparity, g, tolerance=tolerance, rule=rule,
+                               subset=away)
             ece: list[float | None] = [None, None]
             cov: list[tuple[float, ...]] = [(), ()]
-            if m.best is not None and m.confidence is not None:
-                known, err = rule_errors(r, xs, m.best, g, rule=rule)
-                take = known & np.isfinite(err) & np.isfinite(m.confidence)
-                for k, sub in enumerate((near, away)):
-                    t = take & sub
+            for k, sub in enumerate((near, away)):
+                if m.best is not None and m.confidence is not None:
+                    known, err = rule_errors(r, xs, m.best, g, rule=rule)
+                    t = known & np.isfinite(err) & np.isfinite(m.confidence) & sub
                     ece[k] = expected_calibration_error(m.confidence[t], err[t] <= tolerance)
-                    c = coverage_curve(r, xs, m.best, m.confidence, g, subset=sub, **kw)  # type: ignore[arg-type]
-                    cov[k] = tuple(c.coverage_at(f) for f in OUTLINE_LEVELS)
-            elif m.sweep:
-                for k, sub in enumerate((near, away)):
-                    c = settings_curve(m.sweep, m.sweep_labels, r, xs, g, subset=sub, **kw)  # type: ignore[arg-type]
-                    cov[k] = tuple(c.coverage_at(f) for f in OUTLINE_LEVELS)
+                    c = coverage_curve(r, xs, m.best, m.confidence, g, tolerance=tolerance,
+                                       rule=rule, subset=sub)
+                elif m.sweep:
+                    c = settings_curve(m.sweep, m.sweep_labels, r, xs, g, tolerance=tolerance,
+                                       rule=rule, subset=sub)
+                else:
+                    continue
+                cov[k] = tuple(c.coverage_at(f) for f in OUTLINE_LEVELS)
             split.append(SplitFigures(m.method, rule, sn, sa, ece[0], ece[1], cov[0], cov[1]))
     distances = {}
     if camera is not None:
