@@ -1,12 +1,14 @@
 """Choose the window matcher's confidence model and its defaults, leave-one-scene-out.
 
-Run:  python benchmarks/fit_confidence.py [--synthetic N]
+Run:  python benchmarks/fit_confidence.py [--synthetic N] [--rule {project,silhouette}]
 
 Every developer scene of ../shared/data/stereo (or $ROBOSTEREO_DATA) and N synthetic
 layered pairs (tests/synthetic.py: a slanted plane and boxes, occlusions, noise) give
 one sample per left edge point with ground truth and a best disparity: the evidence of
 :data:`robostereo.matcher.confidence.FEATURES` and whether the match is right by the project's
-evaluation rule.  Then
+evaluation rule (``--rule project``, the default) or by the silhouette rule
+(``--rule silhouette``: right when within 1 px of the ground truth at any known pixel of
+the row within 2 px of the edge, :mod:`robostereo.evaluation_rules`).  Then
 
 1. for each real scene held out, the score weights are chosen on the *other* scenes
    (largest mean coverage at <= 2, 3 and 5 % false over a small grid) and the
@@ -14,7 +16,8 @@ evaluation rule.  Then
    the synthetic pairs together weighing as one average scene); the held-out
    scene's figures are printed: its calibration error (ECE over ten bins), its
    coverage at <= 2, 3 and 5 % false, and its operating point at each candidate
-   ``min_confidence``;
+   ``min_confidence``; then its ECE and coverage at <= 1.65, 2 and 3 % false near depth
+   steps (within 4 px of a ground-truth jump of more than 2 px) and away;
 2. the weights chosen and the curve fitted on all scenes are printed as the literal
    for ``robostereo.matcher.confidence.DEFAULT_MODEL``.
 """
@@ -31,7 +34,15 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
-from robostereo.evaluation import coverage_curve, match_errors
+from robostereo.evaluation import (
+    OUTLINE_LEVELS,
+    RULES,
+    coverage_curve,
+    depth_step_mask,
+    expected_calibration_error,
+    near_steps,
+    rule_errors,
+)
 from robostereo.matcher.confidence import ConfidenceModel, calibration_table, fit_confidence
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
 
@@ -39,17 +50,19 @@ from robostereo.matcher.pipeline import MatchParameters, match_stereo
 GRID = list(itertools.product((0.0, 0.1, 0.2, 0.3), (0.0, 0.1, 0.2, 0.3, 0.4, 0.6, 0.8),
                                (0.0, 0.1, 0.2), (0.0, 0.2, 0.5, 0.8), (0.0, 0.3, 0.6)))
 LEVELS = (0.02, 0.03, 0.05)
+#: the scoring rule of the labels and curves (set from --rule)
+RULE = "project"
 
 
 def samples(left, right, gt, disparity_range, bit_depth=None) -> dict:
     """Evidence, correctness and per-point data of one pair."""
     res = match_stereo(left, right, disparity_range, params=MatchParameters(bit_depth=bit_depth))
     e = res.left_edges
-    known, err = match_errors(e.row, e.x, res.edge_disparity, gt)
+    known, err = rule_errors(e.row, e.x, res.edge_disparity, gt, rule=RULE)
     take = known & np.isfinite(err)
     return dict(features=res.window.features[take], correct=err[take] <= 1.0,
                 counted=int(known.sum()), rows=e.row, x=e.x, d=res.edge_disparity, gt=gt,
-                take=take, synthetic=False)
+                take=take, synthetic=False, near=near_steps(e.row, e.x, depth_step_mask(gt)))
 
 
 def dataset(n_synthetic: int) -> dict[str, dict]:
@@ -76,8 +89,21 @@ def confidence_of(model: ConfidenceModel, s: dict) -> np.ndarray:
 def coverages(model: ConfidenceModel, s: dict, *, by_score: bool = False) -> list[float]:
     conf = np.full(len(s["d"]), np.nan)
     conf[s["take"]] = model.score(s["features"]) if by_score else model(s["features"])
-    c = coverage_curve(s["rows"], s["x"], s["d"], conf, s["gt"])
+    c = coverage_curve(s["rows"], s["x"], s["d"], conf, s["gt"], rule=RULE)
     return [c.coverage_at(f) for f in LEVELS]
+
+
+def split(model: ConfidenceModel, s: dict) -> str:
+    """ECE and coverage at OUTLINE_LEVELS near depth steps and away, as text."""
+    conf = confidence_of(model, s)
+    out = []
+    for sub in (s["near"], ~s["near"]):
+        t = sub[s["take"]]
+        e = expected_calibration_error(conf[s["take"]][t], s["correct"][t])
+        c = coverage_curve(s["rows"], s["x"], s["d"], conf, s["gt"], rule=RULE, subset=sub)
+        out.append(f"{e:5.3f} " + " ".join(f"{100 * c.coverage_at(f):5.1f}"
+                                          for f in OUTLINE_LEVELS))
+    return "   ".join(out)
 
 
 def fit(sets: list[dict], weights: tuple[float, ...]) -> ConfidenceModel:
@@ -114,12 +140,17 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--synthetic", type=int, default=6, help="synthetic layered pairs (6)")
     ap.add_argument("--thresholds", type=float, nargs="+",
                     default=[0.5, 0.8, 0.9, 0.95, 20 / 21, 0.97, 0.98])
+    ap.add_argument("--rule", choices=RULES, default="project",
+                    help="scoring rule of the labels and curves (default: the project's)")
     args = ap.parse_args(argv)
+    global RULE
+    RULE = args.rule
     data = dataset(args.synthetic)
     real = [k for k in data if not k.startswith("synthetic")]
-    print(f"{len(data)} scenes: {', '.join(data)}\n")
+    print(f"{len(data)} scenes: {', '.join(data)}; rule: {RULE}\n")
     print(f"{'held out':11s} {'weights':19s} {'ECE':>5s} {'@2%':>5s} {'@3%':>5s} {'@5%':>5s}  "
           + " ".join(f"{'t=' + format(t, '.3f'):>11s}" for t in args.thresholds))
+    held: dict[str, ConfidenceModel] = {}
     for name in real:
         model = choose([v for k, v in data.items() if k != name])
         s = data[name]
@@ -136,6 +167,11 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{name:11s} {wts:19s} {ece(model(s['features']), s['correct']):5.3f} "
               + " ".join(f"{100 * v:5.1f}" for v in coverages(model, s)) + "  "
               + " ".join(f"{o:>11s}" for o in ops))
+        held[name] = model
+    lv = " ".join(f"{'@' + format(100 * f, 'g') + '%':>5s}" for f in OUTLINE_LEVELS)
+    print(f"\n{'held out':11s} near: {'ECE':>5s} {lv}   away: {'ECE':>5s} {lv}")
+    for name, model in held.items():
+        print(f"{name:11s}       {split(model, data[name])}")
     model = choose(list(data.values()))
     print("\nall scenes: ConfidenceModel(")
     print(f"    knots_score=({', '.join(f'{v:.4f}' for v in model.knots_score)}),")

@@ -1,5 +1,10 @@
 """Scoring sparse matches against ground-truth disparity: the project's evaluation rule.
 
+The rules themselves (the project's and the silhouette rule), the near-step mask and
+the calibration error live in :mod:`robostereo.evaluation_rules`, the figures near and
+away from depth steps in :mod:`robostereo.evaluation_outlines`; their public names are
+importable from here too.
+
 The rule, the same everywhere in robostereo (tests, ``robostereo evaluate``, the demo):
 
 * an edge point *counts* when the ground truth at its nearest pixel is known;
@@ -36,7 +41,33 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.datasets import StereoScene
-from robostereo.errors import InputError, require_nonnegative
+from robostereo.evaluation_outlines import (
+    OUTLINE_LEVELS,
+    MethodPoints,
+    OffsetSummary,
+    OutlineFigures,
+    RowBoundaries,
+    SplitFigures,
+    format_outline_figures,
+    outline_figures,
+    row_boundaries,
+    settings_curve,
+    silhouette_offsets,
+    surface_distances,
+)
+from robostereo.evaluation_rules import (
+    RULES,
+    CoverageCurve,
+    MatchScore,
+    coverage_curve,
+    depth_step_mask,
+    expected_calibration_error,
+    match_errors,
+    near_steps,
+    rule_errors,
+    score_matches,
+    silhouette_errors,
+)
 from robostereo.geometry.calibrated_rectification import rectify_stereo
 from robostereo.geometry.triangulation import StereoCamera, triangulate
 from robostereo.matcher.edges import to_grey
@@ -44,223 +75,34 @@ from robostereo.matcher.pipeline import MatchParameters, match_stereo, searched_
 
 __all__ = [
     "CURVE_LEVELS",
+    "OUTLINE_LEVELS",
+    "RULES",
     "SGBM_SWEEP",
     "CoverageCurve",
     "MatchScore",
+    "MethodPoints",
+    "OffsetSummary",
+    "OutlineFigures",
+    "RowBoundaries",
+    "SplitFigures",
     "coverage_curve",
+    "depth_step_mask",
+    "expected_calibration_error",
+    "format_outline_figures",
     "match_errors",
+    "near_steps",
+    "outline_figures",
+    "row_boundaries",
+    "rule_errors",
     "sample_dense",
     "score_matches",
+    "settings_curve",
     "sgbm_curve",
+    "sgbm_sweep",
+    "silhouette_errors",
+    "silhouette_offsets",
+    "surface_distances",
 ]
-
-
-@dataclass(frozen=True)
-class MatchScore:
-    """Matched and false figures of a set of edge points against ground truth.
-
-    Attributes
-    ----------
-    counted : int
-        Edge points whose ground truth is known.
-    matched : int
-        Counted edge points that have a match.
-    false : int
-        Matched counted points whose disparity is wrong by the rule above.
-    rms : float
-        Disparity RMS error of the correct matches (pixels); NaN if there are none.
-    """
-
-    counted: int
-    matched: int
-    false: int
-    rms: float
-
-    @property
-    def matched_fraction(self) -> float:
-        return self.matched / self.counted if self.counted else float("nan")
-
-    @property
-    def false_fraction(self) -> float:
-        return self.false / self.matched if self.matched else 0.0
-
-    def as_dict(self) -> dict[str, float]:
-        d: dict[str, float] = dict(asdict(self))
-        d["matched_fraction"] = self.matched_fraction
-        d["false_fraction"] = self.false_fraction
-        return d
-
-
-def _score_inputs(
-    rows: ArrayLike, x: ArrayLike, disparity: ArrayLike, gt_disparity: ArrayLike,
-    tolerance: float,
-) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """Checked arrays of :func:`score_matches`; points off the map are refused."""
-    try:
-        arrays = [np.asarray(v, dtype=float) for v in (rows, x, disparity, gt_disparity)]
-    except (TypeError, ValueError):
-        raise InputError("rows, x, disparity and gt_disparity must be arrays of numbers") from None
-    r, xs, d, gt = arrays
-    if gt.ndim != 2 or gt.size == 0:
-        raise InputError(f"gt_disparity must be a non-empty (H, W) map, got shape {gt.shape}")
-    if not (r.ndim == xs.ndim == d.ndim == 1 and r.shape == xs.shape == d.shape):
-        raise InputError(f"rows, x and disparity must be 1-D arrays of one length, got shapes "
-                         f"{r.shape}, {xs.shape}, {d.shape}")
-    require_nonnegative("tolerance", tolerance)
-    h, w = gt.shape
-    if not (np.isfinite(r).all() and (r == np.rint(r)).all() and (r >= 0).all()
-            and (r <= h - 1).all()):
-        raise InputError(f"rows must be whole numbers in 0..{h - 1} (the map's rows)")
-    if not (np.isfinite(xs).all() and (xs >= -0.5).all() and (xs < w - 0.5).all()):
-        raise InputError(f"x must be finite and inside the map: -0.5 <= x < {w - 0.5}")
-    return r.astype(np.intp), xs, d, gt
-
-
-def score_matches(
-    rows: ArrayLike,
-    x: ArrayLike,
-    disparity: ArrayLike,
-    gt_disparity: NDArray[np.floating],
-    *,
-    tolerance: float = 1.0,
-) -> MatchScore:
-    """Score matched edge points by the project's evaluation rule.
-
-    Parameters
-    ----------
-    rows : array_like of int, shape (N,)
-        Image row of each edge point.
-    x : array_like of float, shape (N,)
-        Sub-pixel column of each edge point in the left image.
-    disparity : array_like of float, shape (N,)
-        Found disparity, NaN where the point is unmatched.
-    gt_disparity : ndarray, shape (H, W)
-        Ground-truth disparity of the left image, NaN where unknown.
-    tolerance : float
-        Largest disparity error of a correct match, pixels.
-
-    Returns
-    -------
-    MatchScore
-
-    Raises
-    ------
-    InputError
-        Arrays of different lengths, a map that is not (H, W), a point off the map (a
-        row outside ``0..H-1`` or ``x`` outside ``-0.5 .. W-0.5``): such points are
-        refused, not moved to the border.
-
-    Examples
-    --------
-    >>> gt = np.full((1, 4), 5.0); gt[0, 3] = np.nan
-    >>> score_matches([0, 0, 0, 0], [0.4, 1.6, 2.2, 3.0], [5.5, 7.0, np.nan, 5.0], gt)
-    MatchScore(counted=3, matched=2, false=1, rms=0.5)
-    """
-    _score_inputs(rows, x, disparity, gt_disparity, tolerance)
-    known, err = match_errors(rows, x, disparity, gt_disparity)
-    matched = known & np.isfinite(err)
-    false = matched & (err > tolerance)
-    good = matched & ~false
-    rms = float(np.sqrt(np.mean(err[good] ** 2))) if good.any() else float("nan")
-    return MatchScore(
-        counted=int(known.sum()), matched=int(matched.sum()), false=int(false.sum()), rms=rms
-    )
-
-
-def match_errors(
-    rows: ArrayLike, x: ArrayLike, disparity: ArrayLike, gt_disparity: NDArray[np.floating]
-) -> tuple[NDArray[np.bool_], NDArray[np.float64]]:
-    """Per edge point: is its ground truth known, and its error by the evaluation rule.
-
-    Parameters
-    ----------
-    rows, x, disparity : array_like, shape (N,)
-        Rows, sub-pixel columns and found disparities (NaN where unmatched).
-    gt_disparity : ndarray, shape (H, W)
-        Ground truth, NaN where unknown.
-
-    Returns
-    -------
-    known : ndarray of bool, shape (N,)
-        The ground truth at the nearest pixel is known.
-    error : ndarray, shape (N,)
-        Smallest ``|d - gt|`` over the nearest pixel and its left and right neighbours
-        (known values only); NaN where unmatched or unknown.
-
-    Examples
-    --------
-    >>> gt = np.array([[4.0, 5.0, 6.0, np.nan]])
-    >>> k, e = match_errors([0, 0, 0], [1.2, 2.0, 3.0], [6.5, np.nan, 6.0], gt)
-    >>> k.tolist(), e.tolist()
-    ([True, True, False], [0.5, nan, nan])
-    """
-    r, xs, d, gt = _score_inputs(rows, x, disparity, gt_disparity, 0.0)
-    w = gt.shape[1]
-    c = np.rint(xs).astype(np.intp)
-    known = np.isfinite(gt[r, c])
-    nb = np.stack([gt[r, np.clip(c + o, 0, w - 1)] for o in (-1, 0, 1)], axis=1)
-    err = np.abs(nb - d[:, None])
-    best = np.min(np.where(np.isfinite(err), err, np.inf), axis=1, initial=np.inf)
-    ok = known & np.isfinite(d) & np.isfinite(best)
-    return known, np.where(ok, best, np.nan)
-
-
-@dataclass(frozen=True)
-class CoverageCurve:
-    """Coverage against false rate as a confidence threshold is lowered.
-
-    Attributes
-    ----------
-    coverage : ndarray, shape (K,)
-        Matched counted points over counted points, non-decreasing.
-    false_rate : ndarray, shape (K,)
-        False matches over matched counted points at the same threshold.
-    threshold : ndarray, shape (K,)
-        The confidence (or the dense matcher's setting) of each point of the curve.
-    """
-
-    coverage: NDArray[np.float64]
-    false_rate: NDArray[np.float64]
-    threshold: NDArray[np.float64]
-
-    def coverage_at(self, max_false: float) -> float:
-        """Largest coverage whose false rate is at most ``max_false`` (0 if none).
-
-        >>> CoverageCurve(np.array([0.2, 0.5, 0.9]), np.array([0.0, 0.01, 0.04]),
-        ...               np.array([0.9, 0.5, 0.1])).coverage_at(0.02)
-        0.5
-        """
-        ok = self.false_rate <= max_false
-        return float(self.coverage[ok].max()) if ok.any() else 0.0
-
-
-def coverage_curve(
-    rows: ArrayLike, x: ArrayLike, disparity: ArrayLike, confidence: ArrayLike,
-    gt_disparity: NDArray[np.floating], *, tolerance: float = 1.0,
-) -> CoverageCurve:
-    """The curve of a sparse matcher with a per-point confidence, by the evaluation rule.
-
-    Points are taken in order of decreasing confidence; after each, coverage and false
-    rate are those of all points taken so far.
-
-    Examples
-    --------
-    >>> gt = np.full((1, 6), 5.0)
-    >>> c = coverage_curve([0] * 4, [1.0, 2.0, 3.0, 4.0], [5.0, 9.0, 5.2, np.nan],
-    ...                    [0.9, 0.2, 0.8, 0.99], gt)
-    >>> c.coverage.round(2).tolist(), c.false_rate.round(2).tolist()
-    ([0.25, 0.5, 0.75], [0.0, 0.0, 0.33])
-    """
-    known, err = match_errors(rows, x, disparity, gt_disparity)
-    conf = np.asarray(confidence, dtype=float)
-    take = known & np.isfinite(err) & np.isfinite(conf)
-    order = np.nonzero(take)[0]
-    order = order[np.argsort(-conf[order], kind="stable")]
-    bad = np.cumsum(err[order] > tolerance)
-    k = np.arange(1, order.shape[0] + 1)
-    n = max(int(known.sum()), 1)
-    return CoverageCurve(coverage=k / n, false_rate=bad / np.maximum(k, 1),
-                         threshold=conf[order])
 
 
 def sample_dense(dense: NDArray[np.floating], rows: ArrayLike, x: ArrayLike) -> NDArray[np.float64]:
@@ -349,27 +191,40 @@ SGBM_SWEEP: tuple[tuple[int, bool], ...] = tuple(
 CURVE_LEVELS: tuple[float, ...] = (0.02, 0.03, 0.05)
 
 
+def sgbm_sweep(
+    left: ArrayLike, right: ArrayLike, disparity_range: tuple[float, float], rows: ArrayLike,
+    x: ArrayLike, *, bit_depth: int | None = None,
+) -> tuple[tuple[NDArray[np.float64], ...], tuple[float, ...]]:
+    """StereoSGBM at every setting of :data:`SGBM_SWEEP`, read at the given pixels.
+
+    Returns
+    -------
+    samples : tuple of ndarray, shape (N,) each
+        The disparity each setting gives the points (NaN where none).
+    labels : tuple of float
+        ``uniquenessRatio`` of each setting, negative where the left-right check was on.
+    """
+    samples = tuple(
+        sample_dense(sgbm_disparity(left, right, disparity_range, uniqueness_ratio=u,
+                                    left_right_check=lr, bit_depth=bit_depth), rows, x)
+        for u, lr in SGBM_SWEEP)
+    return samples, tuple(float(-u if lr else u) for u, lr in SGBM_SWEEP)
+
+
 def sgbm_curve(
     left: ArrayLike, right: ArrayLike, disparity_range: tuple[float, float], rows: ArrayLike,
     x: ArrayLike, gt_disparity: NDArray[np.floating], *, bit_depth: int | None = None,
-    tolerance: float = 1.0,
+    tolerance: float = 1.0, rule: str = "project",
 ) -> CoverageCurve:
     """StereoSGBM's coverage against false rate at the given pixels, over its settings.
 
-    Each setting of :data:`SGBM_SWEEP` gives one point (coverage, false rate); the
-    points are sorted by coverage.  ``threshold`` holds ``uniquenessRatio`` (negative
-    where the left-right check was on).
+    Each setting of :data:`SGBM_SWEEP` gives one point (coverage, false rate by
+    ``rule``); the points are sorted by coverage.  ``threshold`` holds
+    ``uniquenessRatio`` (negative where the left-right check was on).
     """
-    pts = []
-    for u, lr in SGBM_SWEEP:
-        dense = sgbm_disparity(left, right, disparity_range, uniqueness_ratio=u,
-                               left_right_check=lr, bit_depth=bit_depth)
-        sc = score_matches(rows, x, sample_dense(dense, rows, x), gt_disparity,
-                           tolerance=tolerance)
-        pts.append((sc.matched_fraction, sc.false_fraction, -u if lr else u))
-    pts.sort()
-    a = np.array(pts, dtype=float).reshape(-1, 3)
-    return CoverageCurve(coverage=a[:, 0], false_rate=a[:, 1], threshold=a[:, 2])
+    samples, labels = sgbm_sweep(left, right, disparity_range, rows, x, bit_depth=bit_depth)
+    return settings_curve(samples, labels, rows, x, gt_disparity, tolerance=tolerance,
+                          rule=rule)
 
 
 @dataclass(frozen=True)
@@ -436,6 +291,10 @@ class SceneEvaluation:
         points (SGBM: uniquenessRatio 10, no left-right check).
     curves : dict of str to CoverageCurve
         ``robostereo`` (its confidence swept) and ``sgbm`` (:data:`SGBM_SWEEP`).
+    outlines : OutlineFigures or None
+        Both scoring rules near and away from depth steps, calibration, 3-D distances
+        to the ground-truth surface and silhouette offsets
+        (:mod:`robostereo.evaluation_outlines`).
     """
 
     name: str
@@ -446,6 +305,7 @@ class SceneEvaluation:
     edges_right: int
     methods: tuple[MethodFigures, ...]
     curves: dict[str, CoverageCurve] = field(default_factory=dict)
+    outlines: OutlineFigures | None = None
 
     def coverage_at(self, method: str, max_false: float) -> float:
         """Coverage of ``method``'s curve at at most ``max_false`` false."""
@@ -461,6 +321,7 @@ class SceneEvaluation:
             "coverage_at_false": {
                 name: {f"{100 * f:g}%": c.coverage_at(f) for f in CURVE_LEVELS}
                 for name, c in self.curves.items()},
+            **({"outlines": self.outlines.as_dict()} if self.outlines is not None else {}),
         }  # fmt: skip
 
 
@@ -530,9 +391,10 @@ def errors_3d(
 
 def _figures(
     method: str, rows: NDArray[Any], x: NDArray[Any], d: NDArray[Any], scene: StereoScene,
-    seconds: float, camera: StereoCamera | None, tolerance: float,
+    seconds: float, camera: StereoCamera | None, tolerance: float, rule: str = "project",
 ) -> MethodFigures:
-    s: MatchScore = score_matches(rows, x, d, scene.gt_disparity, tolerance=tolerance)
+    s: MatchScore = score_matches(rows, x, d, scene.gt_disparity, tolerance=tolerance,
+                                  rule=rule)
     rms3 = med3 = None
     if camera is not None:
         gt = nearest_ground_truth(rows, x, d, scene.gt_disparity)
@@ -552,6 +414,8 @@ def evaluate_scene(
     sgbm: bool = True,
     curve: bool = True,
     tolerance: float = 1.0,
+    outlines: bool = True,
+    rule: str = "project",
 ) -> SceneEvaluation:
     """Score the matcher and StereoSGBM on one scene with ground truth.
 
@@ -569,7 +433,13 @@ def evaluate_scene(
     curve : bool
         Also sweep SGBM's settings for its curve (:func:`sgbm_curve`; 26 runs).
     tolerance : float
-        Largest disparity error of a correct match (the rule's 1 px).
+        Largest disparity error of a correct match (both rules' 1 px).
+    outlines : bool
+        Also the figures near and away from depth steps by both rules
+        (:func:`~robostereo.evaluation_outlines.outline_figures`).
+    rule : {"project", "silhouette"}
+        The rule of the methods' figures (% false, RMS) and of the curves; the 3-D
+        errors of correct matches keep the project's reference pixels.
 
     Returns
     -------
@@ -586,6 +456,9 @@ def evaluate_scene(
     5. With ``scene.calib``: its rectification's
        :class:`~robostereo.geometry.triangulation.StereoCamera` triangulates each correct match
        and its ground truth (:func:`errors_3d`).
+    6. With ``outlines``: both rules near and away from depth steps, ECE of the
+       confidence, the located points' 3-D distances to the ground-truth surface (with
+       ``scene.calib``) and the silhouette offsets, for both methods at the same points.
     """
     lo, hi = searched_range(scene.disparity_range if disparity_range is None
                             else disparity_range, scene.shape[1])  # both methods search it
@@ -603,25 +476,31 @@ def evaluate_scene(
     t_match = time.perf_counter() - t0
     e = res.left_edges
     d = res.accepted_disparity()
-    methods = [_figures("robostereo", e.row, e.x, d, scene, t_match, camera, tolerance)]
+    methods = [_figures("robostereo", e.row, e.x, d, scene, t_match, camera, tolerance, rule)]
     curves = {"robostereo": coverage_curve(e.row, e.x, res.edge_disparity, res.edge_confidence,
-                                           scene.gt_disparity, tolerance=tolerance)}
+                                           scene.gt_disparity, tolerance=tolerance, rule=rule)}
+    points = [MethodPoints("robostereo", d, res.edge_disparity, res.edge_confidence)]
     if sgbm:
         t0 = time.perf_counter()
         dense = sgbm_disparity(scene.left, scene.right, (lo, hi), bit_depth=p.bit_depth)
         t_sgbm = time.perf_counter() - t0
         ds = sample_dense(dense, e.row, e.x)
-        methods.append(_figures("sgbm", e.row, e.x, ds, scene, t_sgbm, camera, tolerance))
+        methods.append(_figures("sgbm", e.row, e.x, ds, scene, t_sgbm, camera, tolerance, rule))
+        sweep: tuple[tuple[NDArray[np.float64], ...], tuple[float, ...]] = ((), ())
         if curve:
-            curves["sgbm"] = sgbm_curve(scene.left, scene.right, (lo, hi), e.row, e.x,
-                                        scene.gt_disparity, bit_depth=p.bit_depth,
-                                        tolerance=tolerance)
+            sweep = sgbm_sweep(scene.left, scene.right, (lo, hi), e.row, e.x,
+                               bit_depth=p.bit_depth)
+            curves["sgbm"] = settings_curve(*sweep, e.row, e.x, scene.gt_disparity,
+                                            tolerance=tolerance, rule=rule)
+        points.append(MethodPoints("sgbm", ds, sweep=sweep[0], sweep_labels=sweep[1]))
+    of = (outline_figures(e.row, e.x, scene.gt_disparity, points, camera=camera,
+                          tolerance=tolerance) if outlines else None)
     h, w = scene.shape
     return SceneEvaluation(
         name=scene.name, path=str(scene.path) if scene.path is not None else "",
         image_size=(w, h), disparity_range=(float(lo), float(hi)),
         edges_left=len(e), edges_right=len(res.right_edges), methods=tuple(methods),
-        curves=curves,
+        curves=curves, outlines=of,
     )  # fmt: skip
 
 
@@ -666,5 +545,7 @@ def format_evaluation(ev: SceneEvaluation) -> str:
             lines.append(f"  {label:<10} " + "".join(
                 f"{100 * c.coverage_at(f):12.1f} %" for f in CURVE_LEVELS)
                 + f"   ({notes.get(name, '')})")
+    if ev.outlines is not None:
+        lines += format_outline_figures(ev.outlines)
     return "\n".join(lines)
 

@@ -200,7 +200,10 @@ def add_evaluate_parser(sub: Any) -> None:
         description="For each scene folder (left/right/gt_disp_left as in the developer "
                     "set, or a Middlebury layout): edge points, % matched, % false by the "
                     "project's rule, disparity RMS, and the same for StereoSGBM at the same "
-                    "pixels, with times; 3-D errors in mm with a Middlebury calib.txt.",
+                    "pixels, with times; 3-D errors in mm with a Middlebury calib.txt.  Then "
+                    "both rules (the project's and the silhouette rule) near depth steps and "
+                    "away, the confidence's calibration error, 3-D distances to the ground-"
+                    "truth surface (with calib.txt) and silhouette offsets.",
     )
     p.add_argument("scenes", type=Path, nargs="+", metavar="SCENE_DIR",
                    help="scene folders (other arguments, e.g. README.md, are skipped)")

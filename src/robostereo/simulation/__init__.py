@@ -21,6 +21,10 @@ Modules
 :mod:`~robostereo.simulation.render`
     Ray casting: :func:`render`, :class:`Rendering`, :func:`sample_offsets`,
     :func:`true_disparity`.
+:mod:`~robostereo.simulation.occluders`
+    Rectified pairs of textured polygons before a slanted textured plane, rendered by
+    area coverage with exact disparity, occlusion mask and silhouette boundaries
+    (:func:`occluder_pair`), for measuring matchers at object outlines.
 
 The simulated robots that carry the camera are in :mod:`robostereo.robot`
 (:mod:`~robostereo.robot.simulated_scara`, :mod:`~robostereo.robot.simulated`).
@@ -29,6 +33,7 @@ World coordinates are millimetres with Z up; the table top is at ``z = 0`` in th
 scenes built here.  The camera conventions are those of :mod:`robostereo.geometry.camera`.
 """
 
+from robostereo.simulation.occluders import Occluder, OccluderPair, occluder_pair
 from robostereo.simulation.primitives import (
     Box,
     Checkerboard,
@@ -55,11 +60,14 @@ __all__ = [
     "Disc",
     "ImagePlane",
     "NoiseTexture",
+    "Occluder",
+    "OccluderPair",
     "PulleyScene",
     "Rendering",
     "Scene",
     "TablePlane",
     "hub_pulley_scene",
+    "occluder_pair",
     "render",
     "sample_offsets",
     "seed_block_scene",
