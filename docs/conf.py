@@ -79,7 +79,8 @@ API_PAGES: dict[str, tuple[str, str, tuple[str, ...]]] = {
     "simulation": ("robostereo.simulation", "The simulated camera.",
                    ("robostereo.simulation",)),
     "evaluation": ("Evaluation and rigs", "Scoring against ground truth; calibrated rigs.",
-                   ("robostereo.evaluation", "robostereo.rig")),
+                   ("robostereo.evaluation", "robostereo.evaluation_rules",
+                    "robostereo.evaluation_outlines", "robostereo.rig")),
     "robot": ("robostereo.robot", "Arms, captures, locating, hand-eye, planning.",
               ("robostereo.robot",)),
     "application": ("The application layer", "The thesis's experiments, figures, batches.",
@@ -100,6 +101,12 @@ def _public_modules(prefix: str) -> list[str]:
 
 
 def _write_api_pages() -> None:
+    listed = {n for _, _, prefixes in API_PAGES.values() for p in prefixes
+              for n in _public_modules(p)}
+    missing = sorted(set(_public_modules("robostereo")) - listed - {"robostereo"}
+                     - set(_public_modules("robostereo.cli")))
+    if missing:  # a new public module must find its page
+        raise RuntimeError(f"docs/conf.py: API_PAGES does not list {missing}")
     out = HERE / "api"
     out.mkdir(exist_ok=True)
     index = ["API reference", "=============", "",

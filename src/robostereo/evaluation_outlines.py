@@ -338,7 +338,7 @@ class OutlineFigures:
         ``method -> {"near": (median, p95), "away": (median, p95)}`` of
         :func:`surface_distances` over the located points; empty without a calibration.
     offsets : dict of str to OffsetSummary
-        ``method -> `` its silhouette offsets against :func:`row_boundaries` (sparse
+        Method name to its silhouette offsets against :func:`row_boundaries` (sparse
         matchers only: a dense one is read at their edge points).
     step_px, radius_px, connectivity : float, int, int
         The near-step definition used (2, 4, 4).
