@@ -38,7 +38,7 @@ def rng() -> np.random.Generator:
 # -- hypothesis profiles (tests/test_properties.py) --------------------------------------
 # "fast" (default): a few cases per property, derandomised, in the normal test run.
 # "long": ROBOSTEREO_HYPOTHESIS=long python -m pytest tests/test_properties.py
-#         --hypothesis-show-statistics   (>= 10 000 cases; see README)
+#         --hypothesis-show-statistics   (>= 10 000 cases; see docs/guide/development.md)
 try:
     from datetime import timedelta
 

@@ -52,7 +52,8 @@ def add_match_parser(sub: Any) -> None:
                    help="least disparity x_left - x_right, pixels")
     p.add_argument("--max-disparity", type=finite("--max-disparity"), required=True,
                    help="largest disparity, pixels")
-    p.add_argument("--camera", type=Path, help="camera YAML (see README) for 3-D points")
+    p.add_argument("--camera", type=Path,
+                   help="camera YAML (see docs/guide/matching.md) for 3-D points")
     p.add_argument("-o", "--output", type=Path, required=True, help="matched points CSV")
     p.add_argument("--ply", type=Path, help="write the 3-D points as PLY (needs --camera)")
     p.add_argument("--edges", type=Path, help="write every left edge point as CSV")

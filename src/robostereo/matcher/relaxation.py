@@ -7,7 +7,7 @@ candidate pairs whose connectivity in the right image mirrors that of ``M`` and 
 in the left image.  The probabilities of ``N``'s candidates are then updated by eq. (5)
 with the support ``sum_j P_j(M) r_ij`` and renormalised by eq. (4).
 
-Choices where the thesis is silent (documented in the README):
+Choices where the thesis is silent (documented in docs/guide/algorithm.md):
 
 * *Neighbours.*  On each of the two adjacent lines, ``N``'s neighbour ``M`` is the
   edge point it is connected to (case I), or else the nearest edge point of the same
