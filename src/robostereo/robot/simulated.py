@@ -65,6 +65,7 @@ __all__ = [
     "FusedBlockGain",
     "SixAxisBlock",
     "SixAxisCapture",
+    "SixAxisHeight",
     "SixAxisViewpoints",
     "board_scene",
     "run_fused_block",
