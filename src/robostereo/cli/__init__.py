@@ -22,7 +22,7 @@ from robostereo import __version__
 from robostereo.cli import matching, robot
 from robostereo.errors import InputError
 
-__all__ = ["main"]
+__all__ = ["GROUPS", "Terminated", "build_parser", "main"]
 
 #: the command groups, in the order their commands are listed in ``--help``
 GROUPS: tuple[Callable[[Any], None], ...] = (matching.add_parsers, robot.add_parsers)
