@@ -580,7 +580,7 @@ def calibrate_eye_in_hand(
        beyond the bounds is refused.
     5. Joint refinement of the intrinsics (unless known), ``X`` and ``T_base_board`` on
        all corners, flange poses fixed (Strobl and Hirzinger 2006; Koide and Menegatti
-       2019, eq. 5); a reprojection RMS above 1 px is refused.
+       2019); a reprojection RMS above 1 px is refused.
     6. Final board poses by :func:`cv2.solvePnP` with the final intrinsics, the pair
        residuals with the final ``X``, the views that stand out named.
     """
