@@ -116,7 +116,23 @@ def predicted_pair_translation_mm(rvecs: Sequence[ArrayLike], tvecs: Sequence[Ar
         ``E|e_ij|^2 = tr(G_j Cov_j G_j^T) + tr(H_i Cov_i H_i^T)``
 
     with ``G_j = d(R_j p + t_j)/d(r_j, t_j)`` at ``p = c_i`` and ``H_i = dc_i/d(r_i,
-    t_i)`` (the flange poses exact, the views independent, first order).
+    t_i)`` (the flange poses exact, the views independent, first order).  On views with
+    pure Gaussian corner noise the closed form's residual RMS is 0.84-1.17 times this
+    prediction (``tests/robot/test_handeye_checks.py``).
+
+    Examples
+    --------
+    >>> K = np.array([[800.0, 0, 320], [0, 800, 240], [0, 0, 1]])
+    >>> obj = np.array([[i * 20.0, j * 20.0, 0.0] for j in range(5) for i in range(8)])
+    >>> rv = [np.array([0.1, 0.0, 0.0]), np.array([0.0, 0.15, 0.3])]
+    >>> tv = [np.array([-70.0, -40.0, 450.0])] * 2
+    >>> cov = pose_covariances([obj] * 2, rv, tv, K, np.zeros(5), 0.05)
+    >>> pred = predicted_pair_translation_mm(rv, tv, cov)
+    >>> pred.shape, bool(0.05 < pred[0] < 2.0)
+    ((1,), True)
+    >>> cov2 = pose_covariances([obj] * 2, rv, tv, K, np.zeros(5), 0.1)
+    >>> round(float(predicted_pair_translation_mm(rv, tv, cov2)[0] / pred[0]), 6)
+    2.0
     """
     r = [np.asarray(v, dtype=np.float64).ravel() for v in rvecs]
     t = [np.asarray(v, dtype=np.float64).ravel() for v in tvecs]
