@@ -83,6 +83,11 @@ def test_calibration_from_simulated_views(views):
     assert cal.per_view_rms_px.shape == (10,) and cal.per_view_rms_px.max() < 0.2
     assert cal.camera.fx == pytest.approx(1250.0, rel=2e-3)
     assert cal.residuals.rotation_deg.shape == (45,)
+    t0, r0 = WRIST_HAND_EYE.distance_to(cal.closed_form)
+    assert t0 < 1.0 and math.degrees(r0) < 0.1
+    unrefined = calibrate_eye_in_hand(v.images, v.flange_poses, v.board, refine=False)
+    assert unrefined.closed_form is None
+    assert unrefined.hand_eye.distance_to(cal.closed_form)[0] < 1e-6
     with pytest.raises(InputError, match="at least 3 usable views"):
         calibrate_eye_in_hand(v.images[:2], v.flange_poses[:2], v.board)
     blank = np.full_like(v.images[0], 90)
@@ -100,9 +105,13 @@ def test_views_folder_and_commands(views, tmp_path, capsys):
     out = tmp_path / "camera.yaml"
     assert main(["handeye", str(d), "-o", str(out), "--method", "tsai"]) == 0
     text = capsys.readouterr().out
-    assert "view_09.png: reprojection RMS" in text and "AX = XB residuals over 45" in text
+    assert "reprojection RMS px" in text and "AX = XB residuals over 45" in text
+    assert "  view_09.png  " in text and "view_00.png - " in text  # views and pairs tables
     data = yaml.safe_load(out.read_text())
-    assert set(data) >= {"camera", "hand_eye", "per_view_rms_px", "handeye_residuals"}
+    assert set(data) >= {"camera", "hand_eye", "per_view_rms_px", "handeye_residuals",
+                         "views", "pairs", "hand_eye_closed_form", "corner_noise_px"}
+    assert len(data["pairs"]) == 45 and data["views"][9]["image"] == "view_09.png"
+    assert data["pairs"][0]["views"] == ["view_00.png", "view_01.png"]
     assert np.allclose(data["hand_eye"]["position"], [32.0, -58.0, 41.0], atol=1.0)
     # a SCARA-like views folder (flange turning about the vertical only) is refused
     spec = yaml.safe_load((d / "views.yaml").read_text())

@@ -105,6 +105,7 @@ def run_demo_command(args: argparse.Namespace) -> int:
 
 
 def _run_demo_six_axis(args: argparse.Namespace) -> int:
+    from robostereo.io import check_outputs
     from robostereo.robot.handeye import save_handeye_yaml
     from robostereo.robot.simulated import run_six_axis_block
 
@@ -112,6 +113,9 @@ def _run_demo_six_axis(args: argparse.Namespace) -> int:
         d = args.out / name
         if d.exists() and not (d / "capture.yaml").is_file():
             raise InputError(f"{d}: exists and is not a capture folder")
+    _require_writable(args.out, args.out)  # before the simulation's 10-15 s of work
+    if args.out.is_dir():
+        check_outputs({"--out": args.out / "handeye.yaml"})
     res = run_six_axis_block(seed=args.seed)
     args.out.mkdir(parents=True, exist_ok=True)
     # the two capture folders and handeye.yaml: all written, or none
@@ -331,19 +335,33 @@ def add_handeye_parser(sub: Any) -> None:
         description="From a views folder (views.yaml: the board, and per view an image "
                     "and the flange pose the robot reported) estimate the camera's "
                     "intrinsics and distortion (OpenCV calibrateCamera) and the "
-                    "flange-to-camera transform (AX = XB); print the per-view reprojection "
-                    "error and the AX = XB residuals; write camera.yaml.",
+                    "flange-to-camera transform (AX = XB), refine both jointly on the "
+                    "board corners, print the per-view and per-pair residuals, refuse an "
+                    "implausible result (exit 2), and write camera.yaml.",
     )
     p.add_argument("views", type=Path, metavar="VIEWS_DIR", help="hand-eye views folder")
     p.add_argument("-o", "--output", type=Path, required=True,
                    help="camera file to write (camera and hand_eye)")
     p.add_argument("--method", choices=METHODS, default=DEFAULT_METHOD,
-                   help=f"AX = XB solver ({DEFAULT_METHOD})")
+                   help=f"AX = XB closed form that starts the refinement ({DEFAULT_METHOD})")
+    p.add_argument("--intrinsics", type=Path, metavar="CAMERA_YAML",
+                   help="known intrinsics and distortion (a camera YAML or a handeye "
+                        "output), held fixed: only the hand-eye transform and the board "
+                        "pose are refined")
+    p.add_argument("--reject-outliers", action="store_true",
+                   help="drop the views whose residuals stand out (robust z-score > 3.5 "
+                        "of the reprojection RMS or of the AX = XB residuals of their "
+                        "pairs) and solve again once")
     p.set_defaults(handler=run_handeye)
 
 
+_PAIRS_SHOWN = 10
+
+
 def run_handeye(args: argparse.Namespace) -> int:
+    from robostereo.io import check_outputs
     from robostereo.robot.handeye import (
+        VIEWS_YAML,
         calibrate_eye_in_hand,
         describe_board,
         read_views,
@@ -351,28 +369,82 @@ def run_handeye(args: argparse.Namespace) -> int:
     )
 
     require_output_folder(args.output)
+    camera = _load_any_camera(args.intrinsics) if args.intrinsics is not None else None
     v = read_views(args.views)
+    # refuse an input as the output (views.yaml, an image, the intrinsics file)
+    check_outputs({"-o": args.output},
+                  inputs=[args.views / VIEWS_YAML, *v.names, args.intrinsics])
     cal = calibrate_eye_in_hand(v.images, v.flange_poses, v.board,
                                 pixel_pitch_mm=v.pixel_pitch_mm, grey_levels=v.grey_levels,
-                                method=args.method, names=v.names)
-    save_handeye_yaml(args.output, cal)
+                                method=args.method, names=v.names, camera=camera,
+                                reject_outliers=args.reject_outliers,
+                                source=str(args.views / VIEWS_YAML))
+    save_handeye_yaml(args.output, cal)  # written whole, or not at all
+    _print_handeye(args, v, cal, describe_board(v.board))
+    return 0
+
+
+def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str) -> None:
     cam = cal.camera
-    print(f"{len(v.images)} views, {describe_board(v.board)}, {v.board.square_mm:g} mm squares")
-    for name, rms in zip(v.names, cal.per_view_rms_px, strict=True):
-        print(f"  {Path(name).name}: reprojection RMS {rms:.3f} px")
-    print(f"camera: fx {cam.fx:.2f} px, fy {cam.fy:.2f} px, principal point "
-          f"({cam.principal_point[0]:.2f}, {cam.principal_point[1]:.2f}), distortion "
+    names = [Path(n).name for n in cal.names]
+    n = len(names)
+    print(f"{len(v.images)} views, {board}, {v.board.square_mm:g} mm squares"
+          + (f"; rejected as outliers: {', '.join(Path(r).name for r in cal.rejected)}"
+             if cal.rejected else ""))
+    pairs = cal.pairs
+    tr, rot = cal.residuals.translation_mm, cal.residuals.rotation_deg
+    ii = np.array([p[0] for p in pairs] + [p[1] for p in pairs], dtype=int)
+    cnt = np.maximum(np.bincount(ii, minlength=n), 1)
+    view_tr = np.sqrt(np.bincount(ii, np.concatenate([tr, tr]) ** 2, minlength=n) / cnt)
+    view_rot = np.sqrt(np.bincount(ii, np.concatenate([rot, rot]) ** 2, minlength=n) / cnt)
+    out = {Path(o).name for o in cal.outliers}
+    width = max(len(x) for x in names)
+    print(f"  {'view':<{width}}  reprojection RMS px  pairs' AX = XB RMS: mm    deg")
+    for k, name in enumerate(names):
+        print(f"  {name:<{width}}  {cal.per_view_rms_px[k]:19.3f}  {view_tr[k]:24.3f}  "
+              f"{view_rot[k]:.4f}{'  stands out' if name in out else ''}")
+    head = f"pair (worst {min(_PAIRS_SHOWN, len(pairs))} of {len(pairs)}; all in the output)"
+    print(f"  {head:<{2 * width + 3}}  AX vs XB: mm      deg")
+    for k in np.argsort(tr)[::-1][:_PAIRS_SHOWN]:
+        i, j = pairs[k]
+        print(f"  {names[i] + ' - ' + names[j]:<{2 * width + 3}}  {tr[k]:12.3f}  {rot[k]:.4f}")
+    print(f"camera{' (held fixed)' if args.intrinsics else ''}: fx {cam.fx:.2f} px, fy "
+          f"{cam.fy:.2f} px, principal point ({cam.principal_point[0]:.2f}, "
+          f"{cam.principal_point[1]:.2f}), distortion "
           f"[{', '.join(f'{d:.5f}' for d in cam.distortion)}], "
-          f"RMS {cal.reprojection_rms_px:.3f} px")
-    t = cal.hand_eye.translation
-    rv = cal.hand_eye.rotvec
-    print(f"hand-eye ({args.method}): translation [{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}] mm, "
-          f"rotation vector [{rv[0]:.5f}, {rv[1]:.5f}, {rv[2]:.5f}] rad")
+          f"RMS {cal.reprojection_rms_px:.3f} px (corner noise {cal.corner_noise_px:.3f} px)")
+    t, rv = cal.hand_eye.translation, cal.hand_eye.rotvec
+    moved = cal.closed_form.distance_to(cal.hand_eye) if cal.closed_form else (0.0, 0.0)
+    print(f"hand-eye ({args.method}, jointly refined: moved {moved[0]:.3f} mm, "
+          f"{math.degrees(moved[1]):.4f} deg): translation [{t[0]:.3f}, {t[1]:.3f}, "
+          f"{t[2]:.3f}] mm, rotation vector [{rv[0]:.5f}, {rv[1]:.5f}, {rv[2]:.5f}] rad")
     r = cal.residuals
     print(f"AX = XB residuals over {len(r.rotation_deg)} view pairs: rotation RMS "
           f"{r.rms_rotation_deg:.4f} deg (max {r.rotation_deg.max():.4f}), translation RMS "
-          f"{r.rms_translation_mm:.3f} mm (max {r.translation_mm.max():.3f}) -> {args.output}")
-    return 0
+          f"{r.rms_translation_mm:.3f} mm (max {r.translation_mm.max():.3f}; corner noise "
+          f"explains {cal.predicted_translation_rms_mm:.3f}) -> {args.output}")
+    if cal.outliers and not cal.rejected:
+        print(f"views that stand out: {', '.join(Path(o).name for o in cal.outliers)} "
+              "(--reject-outliers drops them)")
+
+
+MAX_SIMULATED_VIEWS = 200
+"""Most views ``simulate-handeye`` renders: each takes about half a second and the
+view pairs grow as n^2 (19 900 at 200), while 15-40 views already settle the result."""
+
+
+def _require_writable(folder: Path, what: Path) -> None:
+    """Refuse before any work a `folder` (or its nearest existing ancestor) in which no
+    file can be made: a probe folder is created and removed at once."""
+    import tempfile
+
+    probe = folder
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    try:
+        Path(tempfile.mkdtemp(prefix=".robostereo-probe-", dir=probe)).rmdir()
+    except OSError as e:
+        raise InputError(f"{what}: folder {probe} is not writable ({e.strerror})") from None
 
 
 def add_simulate_handeye_parser(sub: Any) -> None:
@@ -384,7 +456,8 @@ def add_simulate_handeye_parser(sub: Any) -> None:
     )
     p.add_argument("--out", type=Path, required=True, metavar="DIR",
                    help="views folder to create (must not exist, or be empty)")
-    p.add_argument("--views", type=int, default=15, help="number of views (15)")
+    p.add_argument("--views", type=int, default=15,
+                   help=f"number of views, 3 to {MAX_SIMULATED_VIEWS} (15)")
     p.add_argument("--seed", type=int, default=0, help="viewpoint and noise seed (0)")
     p.add_argument("--board", choices=("chessboard", "charuco"), default="chessboard",
                    help="calibration target: a 9 x 6 chessboard or an 8 x 6 ChArUco board")
@@ -396,8 +469,12 @@ def run_simulate_handeye(args: argparse.Namespace) -> int:
     from robostereo.robot.simulated import BOARD, simulate_handeye_views
 
     require_at_least("--views", args.views, 3)
+    if args.views > MAX_SIMULATED_VIEWS:
+        raise InputError(f"--views must be <= {MAX_SIMULATED_VIEWS} (each view is rendered "
+                         f"and the pairs grow as n^2), got {args.views}")
     require_seed(args.seed)
     require_empty_folder(args.out)
+    _require_writable(args.out.parent if str(args.out.parent) else Path("."), args.out)
     board = Charuco() if args.board == "charuco" else BOARD
     views, truth = simulate_handeye_views(views=args.views, seed=args.seed, board=board)
     write_views(args.out, views, extra={"truth.yaml": truth})

@@ -15,8 +15,12 @@ Submodules
 :mod:`~robostereo.robot.handeye_views`
     Calibration boards (chessboard, ChArUco), their detection, hand-eye views folders.
 :mod:`~robostereo.robot.handeye`
-    Eye-in-hand calibration: ``calibrateCamera`` and AX = XB; re-exports the names of
-    :mod:`~robostereo.robot.handeye_views`.
+    Eye-in-hand calibration: ``calibrateCamera``, AX = XB and the joint refinement;
+    re-exports the names of :mod:`~robostereo.robot.handeye_views`.
+:mod:`~robostereo.robot.handeye_refine`
+    The joint refinement of intrinsics, hand-eye transform and board pose on the corners.
+:mod:`~robostereo.robot.handeye_checks`
+    The residuals the corner noise explains, views that stand out, implausible results.
 :mod:`~robostereo.robot.sixaxis`
     A UR5-like six-axis arm (DH, joint limits, inverse kinematics) and its wrist camera.
 :mod:`~robostereo.robot.planning`

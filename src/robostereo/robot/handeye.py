@@ -22,8 +22,10 @@ For ``'tsai'`` and ``'park'`` the translation is the least-squares solution of
 
 :func:`calibrate_eye_in_hand` runs the whole calibration from board images: corner
 detection, :func:`cv2.calibrateCamera` (intrinsics and distortion, per-view board
-poses) and AX = XB.  The boards, their detection and the views folders it reads are in
-:mod:`robostereo.robot.handeye_views`; their names are re-exported here.
+poses), AX = XB, the plausibility checks of :mod:`robostereo.robot.handeye_checks` and
+the joint refinement of :mod:`robostereo.robot.handeye_refine`.  The boards, their
+detection and the views folders are in :mod:`robostereo.robot.handeye_views`; their
+names are re-exported here.
 """
 
 from __future__ import annotations
@@ -42,6 +44,15 @@ from scipy.spatial.transform import Rotation
 from robostereo.errors import InputError
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
+from robostereo.robot.handeye_checks import (
+    OUTLIER_Z,
+    check_plausible,
+    corner_noise_px,
+    outlier_views,
+    pose_covariances,
+    predicted_pair_translation_mm,
+    view_scores,
+)
 from robostereo.robot.handeye_views import (
     MIN_VIEWS,
     VIEWS_YAML,
@@ -85,10 +96,9 @@ HandEyeMethod = Literal["tsai", "park", "daniilidis"]
 METHODS: tuple[str, ...] = ("tsai", "park", "daniilidis")
 DEFAULT_METHOD: HandEyeMethod = "park"
 """The default method: the most accurate of the three on the simulated views (see
-the README's hand-eye table; Park-Martin and Daniilidis are within a few percent,
+the user guide's hand-eye table (docs/guide/robot.md); Park-Martin and Daniilidis are within a few percent,
 Tsai-Lenz behind)."""
-MIN_AXIS_SPREAD_DEG = 2.0
-"""Least angle between rotation axes of the motions for the rotation to be determined."""
+MIN_AXIS_SPREAD_DEG = 2.0  # least angle between the motions' rotation axes
 
 
 def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -190,7 +200,9 @@ def _park(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
         M += np.outer(b.rotvec, a.rotvec)
     R = np.real(np.linalg.inv(sqrtm(M.T @ M))) @ M.T
     u, _, vt = np.linalg.svd(R)
-    R = u @ vt
+    # the nearest rotation (det +1): garbled poses can make the nearest orthogonal
+    # matrix a reflection, which the plausibility checks then catch
+    R = u @ np.diag([1.0, 1.0, float(np.sign(np.linalg.det(u @ vt)))]) @ vt
     return SE3(R, _translation(A, B, R))
 
 
@@ -336,20 +348,34 @@ class EyeInHandCalibration:
     Attributes
     ----------
     camera : Camera
-        Intrinsics and distortion from :func:`cv2.calibrateCamera`.
+        Intrinsics and distortion (jointly refined, or the known ones).
     hand_eye : SE3
-        ``T_flange_camera``, millimetres.
+        ``T_flange_camera``, millimetres (jointly refined unless ``refine=False``).
     method : str
+        The closed form that started the refinement.
     reprojection_rms_px : float
-        Overall RMS reprojection error of the board corners, pixels.
+        RMS reprojection error of all corners through the final model, pixels.
     per_view_rms_px : ndarray, shape (N,)
         RMS reprojection error of each view, pixels.
     board_poses : tuple of SE3
-        ``T_camera_board`` of each view.
+        ``T_camera_board`` of each view (:func:`cv2.solvePnP` with the final intrinsics).
     residuals : HandEyeResiduals
-        AX = XB residuals of every pair of views.
+        AX = XB residuals of every pair of views (those board poses, the final ``X``).
     base_board : SE3
-        ``T_base_board`` implied (mean over the views of ``F_i X C_i``).
+        ``T_base_board``.
+    names : tuple of str
+        The views kept.
+    closed_form : SE3
+        ``X`` of the closed form (before the refinement).
+    corner_noise_px : float
+        Robust standard deviation of a corner coordinate (per-view poses), pixels.
+    predicted_translation_rms_mm : float
+        AX = XB translation RMS that the corner noise explains (the plausibility bound
+        is a multiple of it, :func:`~robostereo.robot.handeye_checks.check_plausible`).
+    outliers : tuple of str
+        Views whose residuals stand out (robust z-score > 3.5).
+    rejected : tuple of str
+        Views dropped by ``reject_outliers`` before the final solution.
     """
 
     camera: Camera
@@ -360,23 +386,123 @@ class EyeInHandCalibration:
     board_poses: tuple[SE3, ...]
     residuals: HandEyeResiduals
     base_board: SE3
+    names: tuple[str, ...] = ()
+    closed_form: SE3 | None = None
+    corner_noise_px: float = math.nan
+    predicted_translation_rms_mm: float = math.nan
+    outliers: tuple[str, ...] = ()
+    rejected: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        n = len(self.board_poses)
+        if self.per_view_rms_px.shape != (n,) or self.residuals.rotation_deg.shape != (
+                n * (n - 1) // 2,):
+            raise InputError(f"per_view_rms_px and residuals must cover {n} views")
+        if self.names and len(self.names) != n:
+            raise InputError(f"names must be {n}, got {len(self.names)}")
+
+    @property
+    def pairs(self) -> list[tuple[int, int]]:
+        """The view pairs ``(i, j)``, ``i < j``, in the order of the residuals."""
+        n = len(self.board_poses)
+        return [(i, j) for i in range(n) for j in range(i + 1, n)]
 
     def to_dict(self) -> dict[str, Any]:
         """The ``camera.yaml`` mapping that ``robostereo handeye`` writes."""
+        from pathlib import PurePath
+
         from robostereo.geometry.camera import camera_to_dict
         from robostereo.geometry.poses import pose_to_dict
 
-        return {
+        names = [PurePath(n).name for n in self.names] or [
+            f"view {i}" for i in range(len(self.board_poses))]
+        out: dict[str, Any] = {
             "camera": camera_to_dict(self.camera),
             "hand_eye": pose_to_dict(self.hand_eye),
             "method": self.method,
+            "refined": self.closed_form is not None,
             "reprojection_rms_px": round(self.reprojection_rms_px, 6),
             "per_view_rms_px": [round(float(v), 6) for v in self.per_view_rms_px],
             "handeye_residuals": {
                 "rotation_deg_rms": round(self.residuals.rms_rotation_deg, 6),
                 "translation_mm_rms": round(self.residuals.rms_translation_mm, 6),
+                "translation_mm_rms_predicted": round(self.predicted_translation_rms_mm, 6),
             },
+            "corner_noise_px": round(self.corner_noise_px, 6),
+            "views": [{"image": n, "reprojection_rms_px": round(float(v), 6),
+                       "outlier": n in {PurePath(o).name for o in self.outliers}}
+                      for n, v in zip(names, self.per_view_rms_px, strict=True)],
+            "pairs": [{"views": [names[i], names[j]], "rotation_deg": round(float(r), 6),
+                       "translation_mm": round(float(t), 6)}
+                      for (i, j), r, t in zip(self.pairs, self.residuals.rotation_deg,
+                                              self.residuals.translation_mm, strict=True)],
+            "rejected_views": [PurePath(n).name for n in self.rejected],
         }
+        if self.closed_form is not None:
+            out["hand_eye_closed_form"] = pose_to_dict(self.closed_form)
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class _Stage:
+    """Per-view poses with fixed intrinsics, and the closed form on them."""
+
+    K: NDArray[np.float64]
+    dist: NDArray[np.float64]
+    rvecs: list[NDArray[np.float64]]
+    tvecs: list[NDArray[np.float64]]
+    per_view: NDArray[np.float64]
+    noise: float
+    X: SE3
+    residuals: HandEyeResiduals
+    predicted: float
+    base_board: SE3
+
+
+def _board_poses(obj: list, pts: list, size: tuple[int, int], flanges: Sequence[SE3],
+                 camera: Camera | None, fix_k3: bool, method: HandEyeMethod,
+                 guess: tuple[NDArray, NDArray, list, list] | None = None) -> _Stage:
+    if camera is None and guess is None:
+        _, K, dist, rv, tv = cv2.calibrateCamera(obj, pts, size, None, None,
+                                                 flags=cv2.CALIB_FIX_K3 if fix_k3 else 0)
+        rvecs, tvecs = [r.ravel() for r in rv], [t.ravel() for t in tv]
+    else:
+        K, dist, r0, t0 = guess or (camera.K, camera.dist_coeffs, None, None)  # type: ignore[union-attr]
+        rvecs, tvecs = [], []
+        for k, (o, p) in enumerate(zip(obj, pts, strict=True)):
+            if r0 is None:
+                _, r, t = cv2.solvePnP(o, p, K, dist, flags=cv2.SOLVEPNP_IPPE)
+                _, r, t = cv2.solvePnP(o, p, K, dist, r, t, useExtrinsicGuess=True)
+            else:
+                _, r, t = cv2.solvePnP(o, p, K, dist, r0[k].copy(), t0[k].copy(),
+                                       useExtrinsicGuess=True)
+            rvecs.append(r.ravel())
+            tvecs.append(t.ravel())
+    K, d5 = np.asarray(K, dtype=np.float64), np.zeros(5)
+    d5[: min(5, np.asarray(dist).size)] = np.asarray(dist, dtype=np.float64).ravel()[:5]
+    dist = d5
+    res_px, per_view = [], []
+    for o, p, r, t in zip(obj, pts, rvecs, tvecs, strict=True):
+        proj, _ = cv2.projectPoints(o, r, t, K, dist)
+        d = (proj - p).reshape(-1, 2)
+        res_px.append(d)
+        per_view.append(float(np.sqrt(np.mean(np.sum(d**2, axis=1)))))
+    noise = corner_noise_px(np.concatenate(res_px))
+    C = [SE3.from_rotvec(t, r) for r, t in zip(rvecs, tvecs, strict=True)]
+    A, B = motion_pairs(list(flanges), C)
+    X = solve_ax_xb(A, B, method=method)
+    covs = pose_covariances(obj, rvecs, tvecs, K, dist, noise)
+    pred = predicted_pair_translation_mm(rvecs, tvecs, covs)
+    bb = [f @ X @ c for f, c in zip(flanges, C, strict=True)]
+    W = SE3(Rotation.from_matrix(np.stack([b.rotation for b in bb])).mean().as_matrix(),
+            np.mean([b.translation for b in bb], axis=0))
+    return _Stage(K, dist, rvecs, tvecs, np.asarray(per_view), noise, X,
+                  handeye_residuals(A, B, X), float(np.sqrt(np.mean(pred**2))), W)
+
+
+def _worst(labels: Sequence[str], z: NDArray[np.float64]) -> list[str]:
+    """The views that stand out, worst first, or else the two with the highest scores."""
+    return [labels[i] for i in np.argsort(z)[::-1][: int((z > OUTLIER_Z).sum()) or 2]]
 
 
 def calibrate_eye_in_hand(
@@ -389,8 +515,12 @@ def calibrate_eye_in_hand(
     method: HandEyeMethod = DEFAULT_METHOD,
     names: Sequence[str] | None = None,
     fix_k3: bool = True,
+    camera: Camera | None = None,
+    refine: bool = True,
+    reject_outliers: bool = False,
+    source: str = "hand-eye views",
 ) -> EyeInHandCalibration:
-    """Intrinsics, distortion and ``T_flange_camera`` from views of a chessboard.
+    """Intrinsics, distortion and ``T_flange_camera`` from views of a calibration board.
 
     Parameters
     ----------
@@ -405,13 +535,25 @@ def calibrate_eye_in_hand(
     grey_levels : int
         Grey levels of the camera (for the :class:`Camera` returned).
     method : {'park', 'tsai', 'daniilidis'}
-        AX = XB solver (:func:`solve_ax_xb`).
+        AX = XB closed form (:func:`solve_ax_xb`) that starts the refinement.
     names : sequence of str, optional
-        View names for error messages (default ``view 0``, ``view 1``, ...).
+        View names for messages (default ``view 0``, ``view 1``, ...).
     fix_k3 : bool
         Hold the sixth-order radial term ``k3`` at 0 (default): a board that does not
         reach the image corners leaves ``k2`` and ``k3`` free to trade off against each
         other (seen: ``k2 = 0.8, k3 = -8.5`` for a true ``0.03, 0``).
+    camera : Camera, optional
+        Known intrinsics and distortion: held fixed (only ``X`` and the board pose are
+        refined); its image size must be the views'.
+    refine : bool
+        Run the joint refinement (:func:`~robostereo.robot.handeye_refine.
+        refine_eye_in_hand`) after the closed form (default).
+    reject_outliers : bool
+        Drop the view that stands out most in the closed-form stage (robust z-score
+        above 3.5, :func:`~robostereo.robot.handeye_checks.view_scores`) and solve
+        again, one view at a time while one stands out, at most a third of the views.
+    source : str
+        The input's name for messages (e.g. the views.yaml path).
 
     Returns
     -------
@@ -421,57 +563,104 @@ def calibrate_eye_in_hand(
     ------
     InputError
         Images of different sizes, a board not found in a view (naming it), fewer than
-        :data:`MIN_VIEWS` views, flange rotations about one axis only.
+        :data:`MIN_VIEWS` views, flange rotations about one axis only, or an implausible
+        result (:func:`~robostereo.robot.handeye_checks.check_plausible`: wrong board
+        or square size, flange positions in metres, poses paired with the wrong images).
 
     Notes
     -----
     1. :func:`detect_board` in every view.
-    2. :func:`cv2.calibrateCamera` (``k1, k2, p1, p2, k3``) gives ``K``, the
-       distortion and ``C_i = T_camera_board`` per view.
-    3. :func:`motion_pairs`, :func:`solve_ax_xb`, :func:`handeye_residuals`.
+    2. :func:`cv2.calibrateCamera` (``k1, k2, p1, p2, k3``), or :func:`cv2.solvePnP`
+       with the known `camera`, gives ``C_i = T_camera_board`` per view.
+    3. :func:`motion_pairs`, :func:`solve_ax_xb` (Tsai-Lenz or Park-Martin rotation,
+       then ``(R_A - I) t_X = R_X t_B - t_A``), :func:`handeye_residuals`; with
+       `reject_outliers`, the worst view that stands out is dropped and 2-3 repeated.
+    4. The corner noise's prediction of the pair translation residuals (:func:`~robostereo.
+       robot.handeye_checks.predicted_pair_translation_mm`) bounds them; a result
+       beyond the bounds is refused.
+    5. Joint refinement of the intrinsics (unless known), ``X`` and ``T_base_board`` on
+       all corners, flange poses fixed (Strobl and Hirzinger 2006; Koide and Menegatti
+       2019); a reprojection RMS above 1 px is refused.
+    6. Final board poses by :func:`cv2.solvePnP` with the final intrinsics, the pair
+       residuals with the final ``X``, the views that stand out named.
     """
+    from robostereo.robot.handeye_refine import refine_eye_in_hand
+
     n = len(images)
     if len(flange_poses) != n:
         raise InputError(f"images and flange_poses must be as many, got {n} and "
                          f"{len(flange_poses)}")
     labels = list(names) if names is not None else [f"view {i}" for i in range(n)]
+    if len(labels) != n:
+        raise InputError(f"names must be as many as the images ({n}), got {len(labels)}")
     if n < MIN_VIEWS:
         raise InputError(f"hand-eye needs at least {MIN_VIEWS} usable views, got {n}")
     shapes = {np.asarray(im).shape for im in images}
     if len(shapes) != 1:
         raise InputError(f"the views must have one size, got shapes {sorted(shapes)}")
     h, w = next(iter(shapes))[:2]
+    if camera is not None and tuple(camera.image_size) != (w, h):
+        raise InputError(f"camera: image size {camera.image_size[0]} x "
+                         f"{camera.image_size[1]} is not the views' {w} x {h}")
     obj, img_pts = [], []
     for im, name in zip(images, labels, strict=True):
         found = detect_board(np.asarray(im), board)
         if found is None:
             raise InputError(f"{name}: {describe_board(board)} not found")
-        obj.append(found[0].astype(np.float32))
-        img_pts.append(found[1].astype(np.float32).reshape(-1, 1, 2))
-    flags = cv2.CALIB_FIX_K3 if fix_k3 else 0
-    rms, K, dist, rvecs, tvecs = cv2.calibrateCamera(obj, img_pts, (w, h), None, None,
-                                                     flags=flags)
-    C = [SE3.from_rotvec(t.ravel(), r.ravel()) for r, t in zip(rvecs, tvecs, strict=True)]
-    per_view = []
-    for o, p, r, t in zip(obj, img_pts, rvecs, tvecs, strict=True):
-        proj, _ = cv2.projectPoints(o, r, t, K, dist)
-        per_view.append(float(np.sqrt(np.mean(np.sum((proj - p) ** 2, axis=2)))))
-    A, B = motion_pairs(list(flange_poses), C)
-    X = solve_ax_xb(A, B, method=method)
-    res = handeye_residuals(A, B, X)
-    bb = [f @ X @ c for f, c in zip(flange_poses, C, strict=True)]
-    mean_t = np.mean([b.translation for b in bb], axis=0)
-    mean_R = Rotation.from_matrix(np.stack([b.rotation for b in bb])).mean().as_matrix()
+        obj.append(found[0].astype(np.float64).reshape(-1, 1, 3))
+        img_pts.append(found[1].astype(np.float64).reshape(-1, 1, 2))
+    obj32 = [o.astype(np.float32) for o in obj]
+    pts32 = [p.astype(np.float32) for p in img_pts]
+    F = list(flange_poses)
+    st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method)
+    z = view_scores(st.per_view, st.residuals.translation_mm, st.residuals.rotation_deg, n)
+    rejected: list[str] = []
+    # one view at a time, the worst first: a wrong view biases X and so the others' scores
+    while reject_outliers and z.max() > OUTLIER_Z and len(F) > max(MIN_VIEWS, 2 * n // 3):
+        keep = np.flatnonzero(np.arange(len(F)) != int(np.argmax(z)))
+        rejected.append(labels[int(np.argmax(z))])
+        obj, img_pts, obj32, pts32, F, labels = (
+            [seq[i] for i in keep] for seq in (obj, img_pts, obj32, pts32, F, labels))
+        st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method)
+        z = view_scores(st.per_view, st.residuals.translation_mm, st.residuals.rotation_deg,
+                        len(F))
+    check_plausible(rotation_rms_deg=st.residuals.rms_rotation_deg,
+                    translation_rms_mm=st.residuals.rms_translation_mm,
+                    predicted_translation_rms_mm=st.predicted, reprojection_rms_px=None,
+                    source=source, worst=_worst(labels, z))
+    K, dist, X, W = st.K, st.dist, st.X, st.base_board
+    if refine:
+        ref = refine_eye_in_hand([o.reshape(-1, 3) for o in obj],
+                                 [p.reshape(-1, 2) for p in img_pts], F, K, dist, X, W,
+                                 fix_intrinsics=camera is not None, fix_k3=fix_k3,
+                                 noise_px=st.noise)
+        check_plausible(rotation_rms_deg=0.0, translation_rms_mm=0.0,
+                        predicted_translation_rms_mm=st.predicted,
+                        reprojection_rms_px=ref.rms_px, source=source,
+                        worst=[labels[i] for i in np.argsort(ref.per_view_rms_px)[::-1][:2]])
+        K, dist, X, W = ref.K, ref.dist, ref.hand_eye, ref.base_board
+        st_final = _board_poses(obj, img_pts, (w, h), F, None, fix_k3, method,
+                                guess=(K, dist, st.rvecs, st.tvecs))
+        per_view = ref.per_view_rms_px
+        rms = ref.rms_px
+    else:
+        st_final, per_view = st, st.per_view
+        rms = float(np.sqrt(np.mean(per_view**2)))
+    C = [SE3.from_rotvec(t, r) for r, t in zip(st_final.rvecs, st_final.tvecs, strict=True)]
+    res = handeye_residuals(*motion_pairs(F, C), X)
+    flagged = outlier_views(per_view, res.translation_mm, res.rotation_deg, len(F))
     fmm = float(K[0, 0]) * pixel_pitch_mm
-    camera = Camera(
+    cam = camera if camera is not None else Camera(
         focal_length_mm=fmm, pixel_pitch_mm=(pixel_pitch_mm, fmm / float(K[1, 1])),
         image_size=(int(w), int(h)), principal_point=(float(K[0, 2]), float(K[1, 2])),
         grey_levels=grey_levels, distortion=tuple(float(v) for v in dist.ravel()[:5]),
     )
     return EyeInHandCalibration(
-        camera=camera, hand_eye=X, method=method, reprojection_rms_px=float(rms),
+        camera=cam, hand_eye=X, method=method, reprojection_rms_px=rms,
         per_view_rms_px=np.asarray(per_view), board_poses=tuple(C), residuals=res,
-        base_board=SE3(mean_R, mean_t),
+        base_board=W, names=tuple(labels), closed_form=st.X if refine else None,
+        corner_noise_px=st.noise, predicted_translation_rms_mm=st.predicted,
+        outliers=tuple(labels[i] for i in np.flatnonzero(flagged)), rejected=tuple(rejected),
     )
 
 

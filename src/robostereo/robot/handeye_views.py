@@ -56,8 +56,20 @@ class Chessboard:
     The board frame has its origin at the first inner corner, x along the columns,
     y along the rows, z into the board (the right-handed frame of OpenCV's
     ``objectPoints``).  The square diagonally outside the first inner corner is dark,
-    the one outside the last is light when ``columns + rows`` is odd (e.g. 9 x 6):
-    that fixes the order of the detected corners.
+    the one outside the last is light: that fixes the order of the detected corners.
+
+    Only boards with ``columns + rows`` odd (one count odd, one even, e.g. 9 x 6) are
+    accepted: when the sum is even (8 x 6, 7 x 5, any square board) the board looks the
+    same turned by 180 degrees, both outside squares have one colour, and the corner
+    order of each view would be a guess (the hand-eye transform then comes out
+    hundreds of millimetres off); use a ChArUco board (:class:`Charuco`) for those.
+
+    Examples
+    --------
+    >>> Chessboard((8, 6), 12.0)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: inner_corners 8 x 6: columns + rows is even, so the ...
     """
 
     inner_corners: tuple[int, int] = (9, 6)
@@ -70,6 +82,12 @@ class Chessboard:
                              f"{self.inner_corners}")
         if not (math.isfinite(self.square_mm) and self.square_mm > 0):
             raise InputError(f"square_mm must be a finite number > 0, got {self.square_mm}")
+        if (int(c) + int(r)) % 2 == 0:
+            raise InputError(
+                f"inner_corners {int(c)} x {int(r)}: columns + rows is even, so the board "
+                "looks the same turned 180 degrees and its corner order cannot be told; use "
+                "a board with one odd and one even count of inner corners (e.g. 9 x 6) or "
+                "a ChArUco board")
         object.__setattr__(self, "inner_corners", (int(c), int(r)))
 
     @property
@@ -284,8 +302,6 @@ def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | 
 
 def read_views(directory: Any) -> HandEyeViews:
     """Read a views folder (:class:`HandEyeViews`); one-line InputError on bad input."""
-
-
     from robostereo.geometry.poses import as_se3, pose_from_dict
     from robostereo.io import read_folder_yaml
     from robostereo.io.images import load_image
@@ -308,15 +324,16 @@ def read_views(directory: Any) -> HandEyeViews:
         else:
             board = Charuco(tuple(b["squares"]), float(b["square_mm"]),  # type: ignore[arg-type]
                             float(b["marker_mm"]), str(b.get("dictionary", "DICT_5X5_100")))
-    except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{src}: board: missing or bad key ({exc})") from None
     except InputError as exc:
         raise InputError(f"{src}: board: {exc}") from None
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{src}: board: missing or bad key ({exc})") from None
     pitch = data.get("pixel_pitch_mm", 0.01)
     if isinstance(pitch, list):
         pitch = pitch[0] if pitch else None
-    if not isinstance(pitch, int | float) or isinstance(pitch, bool) or not pitch > 0:
-        raise InputError(f"{src}: pixel_pitch_mm must be a number > 0, got {pitch!r}")
+    if (not isinstance(pitch, int | float) or isinstance(pitch, bool)
+            or not math.isfinite(pitch) or not pitch > 0):
+        raise InputError(f"{src}: pixel_pitch_mm must be a finite number > 0, got {pitch!r}")
     grey = data.get("grey_levels", 256)
     if not isinstance(grey, int) or isinstance(grey, bool) or grey < 2:
         raise InputError(f"{src}: grey_levels must be an integer >= 2, got {grey!r}")
@@ -328,7 +345,8 @@ def read_views(directory: Any) -> HandEyeViews:
         if not isinstance(v, dict) or "image" not in v or "flange" not in v:
             raise InputError(f"{src}: views[{i}] must be a mapping {{image, flange}}")
         name = str(v["image"])
-        poses.append(as_se3(pose_from_dict(v["flange"], source=f"{src}: views[{i}].flange")))
+        poses.append(as_se3(pose_from_dict(v["flange"],
+                                           source=f"{src}: views[{i}] ({name}): flange")))
         img, _bits = load_image(d / name)
         if img.ndim == 3:
             img = cv2.cvtColor(np.ascontiguousarray(img[..., :3]), cv2.COLOR_RGB2GRAY)
