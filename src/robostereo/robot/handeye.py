@@ -96,8 +96,8 @@ HandEyeMethod = Literal["tsai", "park", "daniilidis"]
 METHODS: tuple[str, ...] = ("tsai", "park", "daniilidis")
 DEFAULT_METHOD: HandEyeMethod = "park"
 """The default method: the most accurate of the three on the simulated views (see
-the user guide's hand-eye table (docs/guide/robot.md); Park-Martin and Daniilidis are within a few percent,
-Tsai-Lenz behind)."""
+the hand-eye table in docs/guide/robot.md; Park-Martin and Daniilidis are within a few
+percent, Tsai-Lenz behind)."""
 MIN_AXIS_SPREAD_DEG = 2.0  # least angle between the motions' rotation axes
 
 
