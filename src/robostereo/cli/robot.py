@@ -285,8 +285,7 @@ def run_locate_command(args: argparse.Namespace) -> int:
         return _run_locate_fused(args)
 
     output = args.output if args.output is not None else args.capture / "located.csv"
-    inputs = [args.capture / n for n in ("capture.yaml", "left.png", "right.png")]
-    outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=inputs)
+    outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
     located = locate_capture(args.capture)
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], located.table())
@@ -301,20 +300,27 @@ def run_locate_command(args: argparse.Namespace) -> int:
     return 0
 
 
+def _capture_files(args: argparse.Namespace) -> list[Path]:
+    """The files of the capture folders a ``locate`` reads (none may be an output)."""
+    from robostereo.robot.capture import CAPTURE_YAML
+
+    return [d / n for d in (args.capture, args.fuse) if d is not None
+            for n in (CAPTURE_YAML, "left.png", "right.png")]
+
+
 def _run_locate_fused(args: argparse.Namespace) -> int:
-    from robostereo.io import write_csv, write_ply
+    from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
     from robostereo.robot.capture import locate_capture
     from robostereo.robot.planning import fuse_located
 
     output = args.output if args.output is not None else args.capture / "located-fused.csv"
-    for p in (output, args.ply):
-        if p is not None:
-            require_output_folder(p)
+    outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
     a, b = locate_capture(args.capture), locate_capture(args.fuse)
     fused = fuse_located(a, b)
-    write_csv(output, fused.table())
-    if args.ply is not None:
-        write_ply(args.ply, fused.world)
+    with atomic_outputs(outs) as tmp:  # all outputs or none
+        write_csv(tmp["-o"], fused.table())
+        if "--ply" in tmp:
+            write_ply(tmp["--ply"], fused.world)
     print(f"{args.capture}: {len(a)} located; {args.fuse}: {len(b)} located; fused "
           f"{len(fused)} points ({fused.duplicates} seen twice) -> {output}")
     return 0
