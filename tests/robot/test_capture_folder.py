@@ -215,3 +215,12 @@ def test_identity_hand_eye_warns_and_the_cli_prints_warnings_as_lines(
             "frame = flange frame): a placeholder, not a calibration? (robostereo handeye "
             "estimates it)") in err
     assert all(line.startswith("robostereo: ") for line in err)
+
+
+def test_a_baseline_within_its_uncertainty_is_reported_as_such(tmp_path, capsys):
+    assert main(["capture", "--baseline", "1e-6", "--out", str(tmp_path / "c")]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["robostereo: error: baseline D = 1e-06 mm is not longer than its "
+                   "uncertainty 0.01 mm (eq. 9's dD): the two views are one viewpoint; "
+                   "move the camera further between them"]
+    assert not (tmp_path / "c").exists()

@@ -421,6 +421,10 @@ def locate(capture: Capture, *, params: LocateParameters | None = None,
     try:
         geometry = capture.geometry(p.rectification)
         drange = capture.resolved_disparity_range(geometry)
+        if not drange[1] >= 1.0:
+            raise InputError(
+                f"baseline D = {geometry.baseline_mm:.3g} mm gives disparities of at most "
+                f"{drange[1]:g} px over the searched range: too short to measure depth")
         check_shared_scene(capture, geometry, drange)
         if isinstance(geometry, GeneralEpipolarGeometry):
             geometry.check_overlap()

@@ -195,6 +195,13 @@ class Capture:
         for name in ("baseline_uncertainty_mm", "focal_length_uncertainty_mm",
                      "disparity_uncertainty_px"):
             require_nonnegative(name, getattr(self, name))
+        d = float(np.linalg.norm(as_se3(self.pose_left).translation
+                                 - as_se3(self.pose_right).translation))
+        if 0 < d <= self.baseline_uncertainty_mm:
+            raise InputError(
+                f"baseline D = {d:.3g} mm is not longer than its uncertainty "
+                f"{self.baseline_uncertainty_mm:g} mm (eq. 9's dD): the two views are one "
+                "viewpoint; move the camera further between them")
         if self.is_scara:
             if abs(self.pose_left.z - self.pose_right.z) > 1e-3:
                 raise InputError(
