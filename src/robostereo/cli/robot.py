@@ -490,10 +490,11 @@ def run_plan(args: argparse.Namespace) -> int:
     plan = plan_baseline(camera, args.depth, args.accuracy, depth_range_mm=(near, far),
                          disparity_uncertainty_px=args.disparity_uncertainty, **extra)
     out: dict[str, Any] = {
-        "baseline_mm": round(plan.baseline_mm, 4),
-        "disparity_px": round(plan.disparity_px, 3),
+        # significant digits, not decimals: a 1e-5 mm baseline is not 0
+        "baseline_mm": float(f"{plan.baseline_mm:.6g}"),
+        "disparity_px": float(f"{plan.disparity_px:.6g}"),
         "disparity_range": list(plan.disparity_range),
-        "bound_terms_mm": [round(v, 4) for v in plan.bound_terms_mm],
+        "bound_terms_mm": [float(f"{v:.6g}") for v in plan.bound_terms_mm],
     }
     if args.image is not None:
         from robostereo.io.images import load_image

@@ -228,7 +228,10 @@ def best_baseline_direction(
     for every ``t``.
     """
     try:
-        img = np.asarray(image, dtype=np.float64)
+        raw = np.asarray(image)
+        if raw.dtype.kind not in "biuf":
+            raise TypeError
+        img = raw.astype(np.float64)
     except (TypeError, ValueError):
         raise InputError(f"image must be a grey (H, W) array of numbers, got "
                          f"{type(image).__name__}") from None
