@@ -38,16 +38,16 @@ def test_interrupt_on_main_thread_cancels_the_rest_and_waits_for_running_calls(m
         with lock:
             started.append(i)
         if i == 0:
-            os.kill(os.getpid(), signal.SIGUSR1)  # the main thread is waiting meanwhile
+            os.kill(os.getpid(), signal.SIGTERM)  # the main thread is waiting meanwhile
         time.sleep(0.2)
         with lock:
             ended.append(i)
         return i
 
-    def on_usr1(signum, frame):
+    def on_term(signum, frame):
         raise KeyboardInterrupt
 
-    previous = signal.signal(signal.SIGUSR1, on_usr1)
+    previous = signal.signal(signal.SIGTERM, on_term)
     try:
         with pytest.raises(KeyboardInterrupt):
             run_all([lambda i=i: call(i) for i in range(8)])
@@ -56,7 +56,7 @@ def test_interrupt_on_main_thread_cancels_the_rest_and_waits_for_running_calls(m
         assert sorted(started) == sorted(ended)
         assert len(started) < 8
     finally:
-        signal.signal(signal.SIGUSR1, previous)
+        signal.signal(signal.SIGTERM, previous)
     time.sleep(0.3)
     assert len(started) == len(ended) < 8
 

@@ -64,6 +64,19 @@ def _show_warning(message: Warning | str, category: type[Warning], *rest: Any,
 _default_show = warnings.showwarning
 
 
+def _interrupt_in(error: BaseException) -> KeyboardInterrupt | None:
+    """The KeyboardInterrupt (SIGINT, or SIGTERM as :class:`Terminated`) that `error`
+    was raised from, if any."""
+    seen: set[int] = set()
+    e: BaseException | None = error
+    while e is not None and id(e) not in seen:
+        if isinstance(e, KeyboardInterrupt):
+            return e
+        seen.add(id(e))
+        e = e.__cause__ or e.__context__
+    return None
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (0 ok, 2 bad input, 130 SIGINT,
     143 SIGTERM)."""
@@ -92,6 +105,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("robostereo: interrupted", file=sys.stderr)
         return 130
+    except SystemError as e:
+        # the signal handler ran inside a numba dispatcher's call on this thread, which
+        # then reports "returned a result with an exception set": the interrupt it is
+        cause = _interrupt_in(e)
+        if cause is None:
+            raise
+        print(f"robostereo: {'terminated' if isinstance(cause, Terminated) else 'interrupted'}",
+              file=sys.stderr)
+        return 143 if isinstance(cause, Terminated) else 130
     finally:
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)

@@ -491,10 +491,10 @@ def run_plan(args: argparse.Namespace) -> int:
                          disparity_uncertainty_px=args.disparity_uncertainty, **extra)
     out: dict[str, Any] = {
         # significant digits, not decimals: a 1e-5 mm baseline is not 0
-        "baseline_mm": float(f"{plan.baseline_mm:.6g}"),
-        "disparity_px": float(f"{plan.disparity_px:.6g}"),
+        "baseline_mm": float(f"{plan.baseline_mm:.10g}"),
+        "disparity_px": float(f"{plan.disparity_px:.10g}"),
         "disparity_range": list(plan.disparity_range),
-        "bound_terms_mm": [float(f"{v:.6g}") for v in plan.bound_terms_mm],
+        "bound_terms_mm": [float(f"{v:.10g}") for v in plan.bound_terms_mm],
     }
     if args.image is not None:
         from robostereo.io.images import load_image

@@ -41,6 +41,7 @@ __all__ = [
     "read_folder_yaml",
     "remove_live_parts",
     "remove_stale_parts",
+    "signals_held",
     "write_csv",
     "write_image_folder",
     "write_ply",
@@ -326,6 +327,31 @@ def check_outputs(
 
 
 @contextlib.contextmanager
+def signals_held() -> Iterator[None]:
+    """SIGINT and SIGTERM held back on this thread while the block runs, delivered on
+    leaving it (POSIX; elsewhere a plain block).
+
+    For the steps that must not be cut in two by an interrupt: renaming a command's
+    outputs into place (all or none), starting worker threads.  Threads started inside
+    inherit the held mask, so the signals go to the main thread.
+
+    >>> with signals_held():
+    ...     pass
+    """
+    import signal
+
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+        yield
+        return
+    held = {signal.SIGINT, signal.SIGTERM}
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+@contextlib.contextmanager
 def atomic_outputs(outputs: Mapping[str, Path]) -> Iterator[dict[str, Path]]:
     """Temporary paths for all of a command's outputs, renamed into place together.
 
@@ -347,11 +373,12 @@ def atomic_outputs(outputs: Mapping[str, Path]) -> Iterator[dict[str, Path]]:
         for key, target in outputs.items():
             temps[key] = stack.enter_context(_temp_beside(Path(target)))
         yield temps
-        for key, target in outputs.items():
-            try:
-                os.replace(temps[key], target)
-            except OSError as e:
-                raise InputError(f"{target}: cannot write output ({_why(e)})") from None
+        with signals_held():  # an interrupt between two renames: some outputs, not all
+            for key, target in outputs.items():
+                try:
+                    os.replace(temps[key], target)
+                except OSError as e:
+                    raise InputError(f"{target}: cannot write output ({_why(e)})") from None
 
 
 @contextlib.contextmanager

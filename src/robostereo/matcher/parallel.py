@@ -21,15 +21,14 @@ image takes seconds at most) and then raises the interrupt.
 
 from __future__ import annotations
 
-import contextlib
 import os
-import signal
 import threading
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from concurrent.futures import FIRST_EXCEPTION, Future, ThreadPoolExecutor, wait
 from typing import Any, TypeVar
 
 from robostereo.errors import InputError
+from robostereo.io.files import signals_held
 
 __all__ = ["n_threads", "run_all"]
 
@@ -118,7 +117,9 @@ def _run_waiting(calls: list[Callable[[], T]], pool: ThreadPoolExecutor) -> list
     """Every call on the pool; the caller (the main thread) waits interruptibly."""
     futures: list[Future[Any]] = []
     try:
-        with _signals_held():  # not inside submit: a thread started, never told to end
+        # held back: an interrupt inside submit, between a worker's start and its
+        # registration, leaves a thread the interpreter waits for forever at exit
+        with signals_held():
             for c in calls:
                 futures.append(pool.submit(c))
         pending = set(futures)
@@ -135,25 +136,6 @@ def _run_waiting(calls: list[Callable[[], T]], pool: ThreadPoolExecutor) -> list
         if err is not None:
             raise err
     return [f.result() for f in futures]
-
-
-@contextlib.contextmanager
-def _signals_held() -> Iterator[None]:
-    """SIGINT and SIGTERM held back (delivered on leaving) on this thread, and so on the
-    pool threads it starts, where they are not wanted anyway.
-
-    An interrupt raised inside :meth:`ThreadPoolExecutor.submit` between a worker's
-    start and its registration leaves a thread that the interpreter waits for forever
-    at exit (seen as a hang after ``robostereo: terminated``)."""
-    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
-        yield
-        return
-    held = {signal.SIGINT, signal.SIGTERM}
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def _cancel_and_drain(futures: list[Future[Any]]) -> None:
