@@ -738,7 +738,7 @@ def test_pose_quaternions(q, decimals, scale) -> None:
         return
     assert T is not None
     noted = [w for w in rec if issubclass(w.category, PlausibilityWarning)]
-    assert bool(noted) == (abs(n - 1) > 1e-9)
+    assert bool(noted) == (abs(n - 1) > 1e-6)
     assert np.allclose(T.quaternion, np.sign(printed[3] or 1) * printed / n, atol=1e-9) or \
         np.allclose(T.quaternion, -np.sign(printed[3] or 1) * printed / n, atol=1e-9)
 

@@ -175,7 +175,8 @@ class SE3:
         A norm within :data:`QUATERNION_TOLERANCE` of 1 is taken as rounding of the
         printed components: the quaternion is normalised, with a
         :class:`~robostereo.errors.PlausibilityWarning` when the norm is off by more
-        than 1e-9 (a slip in a component is never normalised in silence).
+        than 1e-6, the former tolerance (what it took in silence still passes in
+        silence; what it refused is normalised aloud).
 
         Examples
         --------
@@ -188,7 +189,7 @@ class SE3:
             raise InputError(f"{source}: quaternion must have norm 1 (a unit quaternion in "
                              f"ROS order x, y, z, w), got norm {n:.9g}, more than "
                              f"{QUATERNION_TOLERANCE:g} off")
-        if abs(n - 1.0) > 1e-9:
+        if abs(n - 1.0) > 1e-6:
             warn_input(f"{source}: quaternion of norm {n:.9g} normalised (components "
                        "rounded when printed?); the order is (x, y, z, w)")
         return SE3(Rotation.from_quat(q / n).as_matrix(), _vector("position", position, 3))
