@@ -648,3 +648,140 @@ def test_command_line(workdir: Path, args: list[str]) -> None:
             assert len([ln for ln in lines if "error" in ln]) == 1, text
             assert not new, new  # all or nothing
     assert math.isfinite(rc)
+
+
+# -- planning, fusing, quaternions, signals --------------------------------------------
+
+extreme = st.one_of(st.floats(allow_nan=True, allow_infinity=True),
+                    st.sampled_from([1e-300, 1e300, 1e200, 5e-324, 0.0, -1.0, 1000.0, 5.0]),
+                    st.floats(1e-3, 1e5))
+
+
+@given(depth=extreme, accuracy=extreme, near=st.one_of(st.none(), extreme),
+       far=st.one_of(st.none(), extreme), unc=st.one_of(st.just(0.2), extreme))
+def test_plan_command(depth, accuracy, near, far, unc) -> None:
+    args = ["plan", f"--depth={depth!r}", f"--accuracy={accuracy!r}",
+            f"--disparity-uncertainty={unc!r}", "--json"]
+    args += [] if near is None else [f"--near={near!r}"]
+    args += [] if far is None else [f"--far={far!r}"]
+    err, out = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(out):
+        try:
+            rc = main(args)
+        except SystemExit as e:  # argparse refused a number
+            assert e.code == 2 and err.getvalue().startswith("usage:")
+            return
+    lines = err.getvalue().splitlines()
+    if rc == 0:
+        import json
+
+        plan = json.loads(out.getvalue())
+        assert math.isfinite(plan["baseline_mm"]) and plan["baseline_mm"] > 0
+        lo, hi = plan["disparity_range"]
+        assert 0 <= lo <= hi <= 509 and plan["disparity_px"] >= 1
+        assert lines == []
+    else:
+        assert rc == 2 and len(lines) == 1 and lines[0].startswith("robostereo: error: ")
+
+
+class _Points:
+    def __init__(self, world: Any, z_bound: Any) -> None:
+        self.world, self.z_bound = world, z_bound
+
+
+point_sets = st.integers(0, 12).flatmap(lambda n: st.tuples(
+    hnp.arrays(np.float64, st.sampled_from([(n, 3), (n, 3), (n, 2), (n,)]),
+               elements=st.one_of(st.floats(-1e3, 1e3), any_float)),
+    hnp.arrays(np.float64, st.sampled_from([(n,), (n,), (n + 1,)]),
+               elements=st.one_of(st.floats(0, 10), any_float))))
+
+
+@given(a=point_sets, b=point_sets, merge=st.one_of(st.floats(0.01, 10), numbers))
+def test_fuse_located(a, b, merge) -> None:
+    from robostereo.robot.planning import fuse_located
+
+    fused = _expect(fuse_located, _Points(*a), _Points(*b), merge_mm=merge)
+    if fused is not None:
+        assert np.isfinite(fused.world).all() and np.isfinite(fused.z_bound).all()
+        assert len(fused) + fused.duplicates == len(a[0]) + len(b[0])
+
+
+@given(image=images(), crossing=st.one_of(st.just(30.0), numbers),
+       threshold=st.one_of(st.just(8.0), numbers))
+def test_best_baseline_direction(image, crossing, threshold) -> None:
+    from robostereo.robot.planning import best_baseline_direction
+
+    bd = _expect(best_baseline_direction, image, min_crossing_deg=crossing, threshold=threshold)
+    if bd is not None:
+        assert 0 <= bd.direction_deg < 180 and 0 <= bd.matchable_fraction <= 1 + 1e-9
+
+
+@given(q=hnp.arrays(np.float64, 4, elements=st.floats(-1, 1)).filter(
+           lambda v: np.linalg.norm(v) > 0.1),
+       decimals=st.integers(1, 9), scale=st.sampled_from([1.0, 1.0, 1.0005, 1.5, 0.9]))
+def test_pose_quaternions(q, decimals, scale) -> None:
+    """Printed with few decimals (or scaled): normalised with a warning within 1e-3 of
+    unit norm, refused beyond, never silently wrong."""
+    import warnings
+
+    from robostereo.errors import PlausibilityWarning
+    from robostereo.geometry.poses import QUATERNION_TOLERANCE, pose_from_dict
+
+    printed = np.round(q / np.linalg.norm(q) * scale, decimals)
+    n = float(np.linalg.norm(printed))
+    with warnings.catch_warnings(record=True) as rec:
+        warnings.simplefilter("always")
+        T = _expect(pose_from_dict, {"position": [1, 2, 3], "quaternion": printed.tolist()},
+                    source="p.yaml")
+    if abs(n - 1) > QUATERNION_TOLERANCE:
+        assert T is None
+        return
+    assert T is not None
+    noted = [w for w in rec if issubclass(w.category, PlausibilityWarning)]
+    assert bool(noted) == (abs(n - 1) > 1e-6)
+    assert np.allclose(T.quaternion, np.sign(printed[3] or 1) * printed / n, atol=1e-9) or \
+        np.allclose(T.quaternion, -np.sign(printed[3] or 1) * printed / n, atol=1e-9)
+
+
+@hypothesis.settings(max_examples=6, deadline=None)
+@given(delay=st.floats(0.0, 0.4), sig=st.sampled_from(["SIGTERM", "SIGINT"]))
+def test_interrupted_command_leaves_no_output(delay, sig, tmp_path_factory) -> None:
+    """A command interrupted at a random moment of its work (counted from when its
+    matcher threads start, so that the moments fall in the matching and the writing,
+    not in Python's start-up): either it finished (exit 0, whole outputs) or it stopped
+    (130/143, one line, no output and no .part at all)."""
+    import os
+    import signal
+    import subprocess
+    import time
+
+    d = tmp_path_factory.mktemp("sig")
+    left, right, _ = synthetic_pair(np.random.default_rng(1), height=480, width=640)
+    cv2.imwrite(str(d / "l.png"), left)
+    cv2.imwrite(str(d / "r.png"), right)
+    src = Path(__file__).resolve().parents[1] / "src"
+    p = subprocess.Popen(
+        [sys.executable, "-m", "robostereo.cli", "match", str(d / "l.png"), str(d / "r.png"),
+         "--min-disparity", "0", "--max-disparity", "32", "-o", str(d / "m.csv"),
+         "--edges", str(d / "e.csv")],
+        env={**os.environ, "PYTHONPATH": str(src), "ROBOSTEREO_THREADS": "2",
+             **{k: "1" for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS",
+                                 "MKL_NUM_THREADS")}},
+        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    while p.poll() is None and len(os.listdir(f"/proc/{p.pid}/task")) < 2:
+        time.sleep(0.002)  # the matcher's pool is up: the work has begun
+    time.sleep(delay)
+    p.send_signal(getattr(signal, sig))
+    _, err = p.communicate(timeout=120)
+    names = sorted(q.name for q in d.iterdir())
+    whole, none = ["e.csv", "l.png", "m.csv", "r.png"], ["l.png", "r.png"]
+    hypothesis.event(f"exit {p.returncode}")
+    if p.returncode == 0:
+        assert names == whole
+    elif p.returncode in (130, 143):
+        assert names == none, names
+        assert len(err.splitlines()) == 1 and err.startswith("robostereo: ")
+    else:  # after the command had returned (its outputs whole): killed on the way out
+        assert p.returncode in (-signal.SIGINT, -signal.SIGTERM), (p.returncode, err)
+        assert names in (whole, none), names

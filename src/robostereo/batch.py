@@ -518,6 +518,9 @@ def run_batch(
         raise InputError(f"{out}: cannot create output folder ({e.__class__.__name__})") from None
     if not os.access(out, os.W_OK | os.X_OK):
         raise InputError(f"{out}: output folder is not writable")
+    from robostereo.io import remove_stale_parts
+
+    remove_stale_parts(out)  # what killed workers of an earlier run left half-written
     names = [p.name for p in inputs]
     if len(set(names)) != len(names):
         raise InputError(f"{input_dir}: input folder names must be unique")
@@ -599,9 +602,11 @@ def _die_with_parent(parent: int) -> None:
     On Linux the kernel kills the worker when its parent dies (``PR_SET_PDEATHSIG``),
     even by SIGKILL; elsewhere, and as a fallback, a thread checks twice a second that
     the parent is still there.  SIGINT is left to the main process, which stops the
-    workers itself.
+    workers itself (with SIGTERM): a worker then removes its temporary outputs and
+    ends at once (exit code 143).
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, _worker_terminated)
     if sys.platform.startswith("linux"):
         try:
             import ctypes
@@ -618,6 +623,14 @@ def _die_with_parent(parent: int) -> None:
         os._exit(1)
 
     threading.Thread(target=watch, name="robostereo-parent-watch", daemon=True).start()
+
+
+def _worker_terminated(signum: int, frame: Any) -> None:
+    """SIGTERM in a local worker: no half-written ``.part`` left, no traceback."""
+    from robostereo.io import remove_live_parts
+
+    remove_live_parts()
+    os._exit(143)
 
 
 def _stop_workers(pool: ProcessPoolExecutor) -> None:

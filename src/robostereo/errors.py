@@ -3,6 +3,11 @@
 Every check on user input raises :class:`InputError` with a one-line message that
 names the offending parameter or file and what was expected; the command-line tool
 prints that line and exits with code 2.
+
+Input that can be used but is probably not what was meant (a translation that looks
+like metres in a millimetre file, a quaternion normalised, few edge points located)
+gives a :class:`PlausibilityWarning` (:func:`warn_input`) with a one-line message; the
+command-line tool prints it as ``robostereo: warning: ...`` and goes on.
 """
 
 from __future__ import annotations
@@ -10,12 +15,14 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import warnings
 from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
 __all__ = [
     "InputError",
+    "PlausibilityWarning",
     "UnreachablePoseError",
     "require_file",
     "require_finite",
@@ -23,6 +30,7 @@ __all__ = [
     "require_nonnegative",
     "require_positive",
     "require_range",
+    "warn_input",
 ]
 
 
@@ -37,6 +45,24 @@ class InputError(ValueError):
     def __init__(self, message: object = "", *args: object) -> None:
         text = str(message)
         super().__init__(text.replace("\r", "\\r").replace("\n", "\\n"), *args)
+
+
+class PlausibilityWarning(UserWarning):
+    """Input that is used but is probably not what was meant (one-line message)."""
+
+
+def warn_input(message: str) -> None:
+    """Warn with a one-line :class:`PlausibilityWarning` (shown once per call site and
+    message, as Python shows warnings).
+
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     warn_input("pose_left: translation looks like metres")
+    >>> w[0].category.__name__, str(w[0].message)
+    ('PlausibilityWarning', 'pose_left: translation looks like metres')
+    """
+    warnings.warn(str(message).replace("\n", "\\n"), PlausibilityWarning, stacklevel=2)
 
 
 class UnreachablePoseError(InputError):

@@ -144,8 +144,8 @@ def test_an_output_file_needs_its_folder(tmp_path, capsys) -> None:
         missing = tmp_path / "no" / "fused.out"
         err = _refused(["locate", str(tmp_path / "a"), "--fuse", str(tmp_path / "b"), option,
                         str(missing)], tmp_path, capsys)
-        assert err == (f"robostereo: error: {missing}: output folder {missing.parent} "
-                       "does not exist")
+        assert err == (f"robostereo: error: {option} {missing}: output folder "
+                       f"{missing.parent} does not exist")
     require_output_folder(Path("here.csv"))  # the working folder
 
 

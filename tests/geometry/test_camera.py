@@ -38,3 +38,23 @@ def test_wrap_angle():
     assert wrap_angle(math.radians(358.0)) == pytest.approx(math.radians(-2.0))
     assert wrap_angle(-math.pi) == pytest.approx(math.pi)
     assert wrap_angle(0.25) == 0.25
+
+
+def test_distortion_that_folds_the_image_or_cannot_be_inverted_is_refused(tmp_path):
+    import pytest
+
+    from robostereo.errors import InputError
+    from robostereo.io.cameras import load_camera_yaml
+
+    base = ("focal_length_mm: 25\npixel_pitch_mm: [0.0172, 0.0137]\n"
+            "image_size: [509, 481]\n")
+    for k, why in (([-10.0, 0, 0, 0, 0], "folds the image over"),
+                   ([50.0, 0, 0, 0, 0], "cannot be inverted over the image")):
+        f = tmp_path / "cam.yaml"
+        f.write_text(base + f"distortion: {k}\n")
+        with pytest.raises(InputError, match=rf"^{f}: .*{why}"):
+            load_camera_yaml(f)
+    # lens-like values, strong barrel included, are accepted
+    for k in ([-0.3, 0.1, 0.001, -0.002, 0.0], [-3.0, 0, 0, 0, 0], [0.3, 0, 0, 0, 0]):
+        f.write_text(base + f"distortion: {k}\n")
+        assert load_camera_yaml(f).distortion

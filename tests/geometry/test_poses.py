@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -182,3 +183,33 @@ def test_one_pose_from_dict_reads_the_scara_form() -> None:
         pose_from_dict({"x": 0, "y": 10}, source="left.yaml")
     with pytest.raises(InputError, match=r"p\.yaml: unknown key 'phi'"):
         scara_pose_from_dict({"x": 0, "y": 1, "z": 2, "phi": 3}, source="p.yaml")
+
+
+def test_quaternions_printed_with_few_decimals_are_normalised_with_a_warning():
+    from scipy.spatial.transform import Rotation
+
+    from robostereo.errors import PlausibilityWarning
+
+    rng = np.random.default_rng(5)
+    for decimals in (3, 4, 5):
+        for q in Rotation.random(50, random_state=rng).as_quat():
+            printed = np.round(q, decimals).tolist()
+            with warnings.catch_warnings(record=True) as rec:
+                warnings.simplefilter("always")
+                T = pose_from_dict({"position": [0, 0, 0], "quaternion": printed},
+                                   source="left.yaml")
+            noted = [str(w.message) for w in rec if w.category is PlausibilityWarning]
+            off = abs(np.linalg.norm(printed) - 1)
+            assert len(noted) == (off > 1e-6)  # the former tolerance: silent below
+            assert all(m.startswith("left.yaml: quaternion of norm") for m in noted)
+            assert np.degrees(T.distance_to(SE3(Rotation.from_quat(q).as_matrix(),
+                                                np.zeros(3)))[1]) < 0.2
+
+
+def test_a_quaternion_far_from_unit_norm_is_refused_naming_the_file():
+    for q in ([0.0, 0.0, 0.0, 2.0], [0.5, 0.5, 0.5, 0.49], [1.0, 1.0, 0.0, 0.0]):
+        with pytest.raises(InputError, match=r"^a\.yaml: quaternion must have norm 1 .*x, y, z, w"):
+            pose_from_dict({"position": [0, 0, 0], "quaternion": q}, source="a.yaml")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # an exact unit quaternion: no warning
+        pose_from_dict({"position": [0, 0, 0], "quaternion": [0, 0, 0, 1]})

@@ -82,3 +82,24 @@ def test_pfm_round_trip_colour_and_errors(tmp_path: Path) -> None:
         read_pfm(tmp_path / "h.pfm")
     with pytest.raises(InputError, match=r"x\.pfm: PFM file not found"):
         read_pfm(tmp_path / "x.pfm")
+
+
+def test_truncated_png_gives_our_line_only(tmp_path, capfd):
+    """libpng writes its complaint to file descriptor 2 from C; it must not show."""
+    import cv2
+
+    from robostereo.cli import main
+
+    img = np.random.default_rng(0).integers(0, 255, (100, 100)).astype(np.uint8)
+    data = cv2.imencode(".png", img)[1].tobytes()
+    for n in (len(data) // 2, len(data) - 12):  # in the pixel data; the end chunk cut
+        p = tmp_path / f"t{n}.png"
+        p.write_bytes(data[:n])
+        code = main(["plan", "--depth", "1000", "--accuracy", "5", "--image", str(p)])
+        err = capfd.readouterr().err
+        assert "libpng" not in err
+        if code == 2:
+            assert err.splitlines() == [err.splitlines()[0]]
+            assert err.startswith(f"robostereo: error: {p}: cannot decode image")
+        else:  # every pixel was there: read in full
+            assert code == 0 and err == ""

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from robostereo.cli import main
+from robostereo.errors import InputError
 from robostereo.experiments import run_block_experiment
 from robostereo.geometry.camera import SEED_CAMERA, Camera
 from robostereo.geometry.poses import Pose
@@ -92,3 +93,83 @@ def test_demo_command(tmp_path, capsys):
                                                      "pulley_iterations.png"]
     assert main(["demo", "--seed", "-1", "--out", str(tmp_path / "x")]) == 2
     assert not (tmp_path / "x").exists()
+
+
+# -- plausibility checks, on views of a small renderer of our own (not the simulator) --
+
+
+def _render_plane(camera: Camera, pose, *, cell_mm: float = 9.0) -> np.ndarray:
+    """A 7-bit view of the plane z = 0 tiled with turned cells of random grey, ray-cast with
+    4 x 4 samples a pixel (anti-aliased: edges move by fractions of a pixel)."""
+    from robostereo.geometry.poses import as_se3
+
+    w, h = camera.image_size
+    k = 4
+    off = (np.arange(k) + 0.5) / k - 0.5
+    u, v = np.meshgrid((np.arange(w)[:, None] + off).ravel(),
+                       (np.arange(h)[:, None] + off).ravel())
+    cx, cy = camera.principal_point
+    rays = np.stack([(u - cx) / camera.fx, (v - cy) / camera.fy, np.ones_like(u)], axis=-1)
+    T = as_se3(pose)
+    d = rays @ T.rotation.T
+    s = -T.translation[2] / d[..., 2]
+    p = T.translation + s[..., None] * d
+    c, sn = np.cos(0.5), np.sin(0.5)  # cells turned: no edge along a whole row
+    i = np.floor((c * p[..., 0] - sn * p[..., 1]) / cell_mm).astype(np.int64)
+    j = np.floor((sn * p[..., 0] + c * p[..., 1]) / cell_mm).astype(np.int64)
+    grey = ((i * 7919 + j * 104729 + (i * j) % 97) % 97).astype(float)  # per cell, fixed
+    grey = grey.reshape(h, k, w, k).mean(axis=(1, 3))
+    return np.rint(15 + grey).astype(np.uint8)
+
+
+def _plane_capture(x_left: float, x_right: float, **kw):
+    from robostereo.geometry.poses import SE3
+    from robostereo.robot.capture import Capture
+
+    cam = SEED_CAMERA
+    poses = [SE3.look_at([x, 0.0, 1000.0], [x, 0.0, 0.0], up=(0.0, -1.0, 0.0))
+             for x in (x_left, x_right)]
+    return Capture(left=_render_plane(cam, poses[0]), right=_render_plane(cam, poses[1]),
+                   camera=cam, pose_left=poses[0], pose_right=poses[1], **kw)
+
+
+def test_views_that_share_no_scene_are_refused_naming_the_capture():
+    """400 mm apart at 1 m the seed camera's views (350 mm wide there) share nothing;
+    every rectified row is shared all the same, which the former check counted."""
+    cap = _plane_capture(-200.0, 200.0, depth_range_mm=(900.0, 1100.0))
+    with pytest.raises(InputError, match=r"^cap\.yaml: the two views share no scene"):
+        locate(cap, source="cap.yaml")
+    cap = _plane_capture(-200.0, 200.0, disparity_range=(540.0, 660.0))
+    with pytest.raises(InputError, match="share no scene"):
+        locate(cap)
+
+
+def test_views_of_one_plane_locate_it_without_warnings():
+    import warnings
+
+    cap = _plane_capture(-15.0, 15.0, depth_range_mm=(900.0, 1100.0))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        located = locate(cap)
+    assert len(located) > 0.3 * len(located.result.left_edges)
+    # the plane z = 0: most points within their eq. 9 bound
+    assert np.mean(np.abs(located.world[:, 2]) <= located.z_bound) > 0.9
+
+
+def test_few_located_edge_points_warn():
+    """The right pose's quaternion read in (w, x, y, z) order: the poses say something
+    the images do not, and hardly any edge point finds a partner."""
+    from dataclasses import replace
+
+    from scipy.spatial.transform import Rotation
+
+    from robostereo.errors import PlausibilityWarning
+    from robostereo.geometry.poses import SE3
+
+    good = _plane_capture(-15.0, 15.0, depth_range_mm=(900.0, 1100.0))
+    x, y, z, w = good.pose_right.quaternion
+    misread = SE3(Rotation.from_quat([w, x, y, z]).as_matrix(), good.pose_right.translation)
+    bad = replace(good, pose_right=misread)
+    with pytest.warns(PlausibilityWarning, match=r"^c\.yaml: only \d+ of \d+ edge points"):
+        located = locate(bad, source="c.yaml")
+    assert len(located) < 0.05 * len(located.result.left_edges)

@@ -151,3 +151,76 @@ class _no_raise:
 
     def __exit__(self, *exc: object) -> bool:
         return False
+
+
+@pytest.fixture(scope="module")
+def six_axis_folder(tmp_path_factory):
+    from robostereo.robot.capture import write_capture
+    from robostereo.robot.simulated import simulate_six_axis_capture
+
+    d = tmp_path_factory.mktemp("six") / "cap"
+    write_capture(d, simulate_six_axis_capture("block").capture)
+    return d
+
+
+def _copy_with(src, dst, edit):
+    import shutil
+
+    import yaml
+
+    shutil.copytree(src, dst)
+    data = yaml.safe_load((dst / "capture.yaml").read_text())
+    edit(data)
+    (dst / "capture.yaml").write_text(yaml.safe_dump(data))
+    return dst
+
+
+def test_translations_in_metres_without_a_unit_warn_naming_the_key(six_axis_folder, tmp_path):
+    import warnings
+
+    from robostereo.errors import PlausibilityWarning
+    from robostereo.robot.capture_folder import read_capture
+
+    def metres(data, unit):
+        for k in ("flange_left", "flange_right", "hand_eye"):
+            data[k]["position"] = [v / 1000.0 for v in data[k]["position"]]
+            if unit:
+                data[k]["unit"] = "m"
+
+    d = _copy_with(six_axis_folder, tmp_path / "m", lambda data: metres(data, False))
+    with pytest.warns(PlausibilityWarning) as rec:
+        read_capture(d)
+    msgs = [str(w.message) for w in rec]
+    assert any("flange_left and flange_right" in m and "unit: m" in m for m in msgs)
+    assert any(": hand_eye: every translation" in m for m in msgs)
+    assert all(m.startswith(str(d / "capture.yaml")) for m in msgs)
+    d = _copy_with(six_axis_folder, tmp_path / "ok", lambda data: metres(data, True))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        read_capture(d)
+        read_capture(six_axis_folder)
+
+
+def test_identity_hand_eye_warns_and_the_cli_prints_warnings_as_lines(
+        six_axis_folder, tmp_path, capsys):
+    from robostereo.cli import main
+
+    def identity(data):
+        data["hand_eye"] = {"position": [0, 0, 0], "quaternion": [0, 0, 0, 1]}
+
+    d = _copy_with(six_axis_folder, tmp_path / "id", identity)
+    main(["locate", str(d), "-o", str(tmp_path / "o.csv")])
+    err = capsys.readouterr().err.splitlines()
+    assert (f"robostereo: warning: {d / 'capture.yaml'}: hand_eye is the identity (camera "
+            "frame = flange frame): a placeholder, not a calibration? (robostereo handeye "
+            "estimates it)") in err
+    assert all(line.startswith("robostereo: ") for line in err)
+
+
+def test_a_baseline_within_its_uncertainty_is_reported_as_such(tmp_path, capsys):
+    assert main(["capture", "--baseline", "1e-6", "--out", str(tmp_path / "c")]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert err == ["robostereo: error: baseline D = 1e-06 mm is not longer than its "
+                   "uncertainty 0.01 mm (eq. 9's dD): the two views are one viewpoint; "
+                   "move the camera further between them"]
+    assert not (tmp_path / "c").exists()

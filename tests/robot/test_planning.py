@@ -12,7 +12,7 @@ from robostereo.errors import InputError
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.triangulation import depth_error_bound
 from robostereo.robot.capture import write_capture
-from robostereo.robot.planning import best_baseline_direction, plan_baseline
+from robostereo.robot.planning import best_baseline_direction, fuse_located, plan_baseline
 from robostereo.robot.simulated import run_fused_block
 from robostereo.robot.simulated_scara import RigSetup, block_scene, simulate_capture
 
@@ -66,3 +66,66 @@ def test_plan_and_fused_locate_commands(tmp_path, capsys):
     caps = [line.rsplit(",", 1)[1] for line in text[1:]]
     assert "0" in caps and "1" in caps
     assert main(["locate", str(tmp_path / "x"), "--fuse", str(tmp_path / "none")]) == 2
+
+
+@pytest.mark.parametrize(("argv", "words"), [
+    (["--depth", "1e200", "--accuracy", "1e200"], "not a finite number"),
+    (["--depth", "1e-300", "--accuracy", "1e300"], "not a finite number"),
+    (["--depth", "1000", "--accuracy", "5", "--near", "1e-300"], "more than the 509 px"),
+    (["--depth", "1000", "--accuracy", "1e300"], "too little to measure"),
+    (["--depth", "-5", "--accuracy", "5"], "--depth must be > 0"),
+])
+def test_plan_numeric_edge_cases_are_refused_with_one_line(argv, words, capsys):
+    assert main(["plan", *argv]) == 2
+    err = capsys.readouterr().err.splitlines()
+    assert len(err) == 1 and err[0].startswith("robostereo: error: ") and words in err[0]
+
+
+def test_plan_takes_the_match_stereo_camera_yaml(tmp_path, capsys):
+    cam = Camera()
+    pixel = tmp_path / "pixel.yaml"
+    pixel.write_text(f"fx: {cam.fx}\nfy: {cam.fy}\nbaseline_mm: 20\n"
+                     f"focal_uncertainty_px: {0.01 / cam.pixel_pitch_mm[0]}\n"
+                     "baseline_uncertainty_mm: 0.01\n")
+    physical = tmp_path / "physical.yaml"
+    physical.write_text("focal_length_mm: 25\npixel_pitch_mm: [0.0172, 0.0137]\n"
+                        "baseline_mm: 20\n")
+    plans = []
+    for f in (pixel, physical):
+        assert main(["plan", "--depth", "1000", "--accuracy", "5", "--camera", str(f),
+                     "--json"]) == 0
+        plans.append(json.loads(capsys.readouterr().out))
+    # the seed camera in pixels, with its uncertainties: the seed camera's plan
+    assert plans[0]["baseline_mm"] == pytest.approx(32.09, abs=0.01)
+    assert plans[1]["baseline_mm"] == pytest.approx(32.09, abs=0.01)
+
+
+class _Pts:
+    def __init__(self, world, z_bound):
+        self.world, self.z_bound = world, z_bound
+
+
+@pytest.mark.parametrize(("first", "merge"), [
+    (_Pts(np.array([[0.0, 0.0, np.nan]]), np.array([1.0])), 0.5),
+    (_Pts(np.zeros((2, 3)), np.ones(3)), 0.5),
+    (_Pts(np.zeros((2, 2)), np.ones(2)), 0.5),
+    (object(), 0.5),
+    (_Pts(np.zeros((1, 3)), np.ones(1)), float("nan")),
+    (_Pts(np.zeros((1, 3)), np.array([np.inf])), 0.5),
+])
+def test_fuse_located_refuses_bad_input_and_nan(first, merge):
+    good = _Pts(np.ones((2, 3)), np.ones(2))
+    with pytest.raises(InputError) as e:
+        fuse_located(first, good, merge_mm=merge)
+    assert "\n" not in str(e.value)
+
+
+@pytest.mark.parametrize("image", [
+    np.full((20, 20), np.nan), np.zeros((3, 3)), np.zeros((0, 10)), [["a"]],
+    np.zeros((10, 10, 3)), np.full((20, 20), 1e300),
+])
+def test_best_baseline_direction_refuses_bad_images(image):
+    with pytest.raises(InputError):
+        best_baseline_direction(image)
+    with pytest.raises(InputError):
+        best_baseline_direction(np.zeros((20, 20)), threshold=float("nan"))

@@ -289,8 +289,7 @@ def run_locate_command(args: argparse.Namespace) -> int:
         return _run_locate_fused(args)
 
     output = args.output if args.output is not None else args.capture / "located.csv"
-    inputs = [args.capture / n for n in ("capture.yaml", "left.png", "right.png")]
-    outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=inputs)
+    outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
     located = locate_capture(args.capture)
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], located.table())
@@ -305,20 +304,27 @@ def run_locate_command(args: argparse.Namespace) -> int:
     return 0
 
 
+def _capture_files(args: argparse.Namespace) -> list[Path]:
+    """The files of the capture folders a ``locate`` reads (none may be an output)."""
+    from robostereo.robot.capture import CAPTURE_YAML
+
+    return [d / n for d in (args.capture, args.fuse) if d is not None
+            for n in (CAPTURE_YAML, "left.png", "right.png")]
+
+
 def _run_locate_fused(args: argparse.Namespace) -> int:
-    from robostereo.io import write_csv, write_ply
+    from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
     from robostereo.robot.capture import locate_capture
     from robostereo.robot.planning import fuse_located
 
     output = args.output if args.output is not None else args.capture / "located-fused.csv"
-    for p in (output, args.ply):
-        if p is not None:
-            require_output_folder(p)
+    outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
     a, b = locate_capture(args.capture), locate_capture(args.fuse)
     fused = fuse_located(a, b)
-    write_csv(output, fused.table())
-    if args.ply is not None:
-        write_ply(args.ply, fused.world)
+    with atomic_outputs(outs) as tmp:  # all outputs or none
+        write_csv(tmp["-o"], fused.table())
+        if "--ply" in tmp:
+            write_ply(tmp["--ply"], fused.world)
     print(f"{args.capture}: {len(a)} located; {args.fuse}: {len(b)} located; fused "
           f"{len(fused)} points ({fused.duplicates} seen twice) -> {output}")
     return 0
@@ -494,26 +500,35 @@ def add_plan_parser(sub: Any) -> None:
                     "--image, the baseline direction that makes most of the scene's edges "
                     "cross the epipolar lines.",
     )
-    p.add_argument("--depth", type=float, required=True, help="target depth, mm")
-    p.add_argument("--accuracy", type=float, required=True, help="wanted eq. 9 bound, mm")
+    p.add_argument("--depth", type=finite("--depth"), required=True, help="target depth, mm")
+    p.add_argument("--accuracy", type=finite("--accuracy"), required=True,
+                   help="wanted eq. 9 bound, mm")
     p.add_argument("--camera", type=Path,
-                   help="camera YAML, or robostereo handeye's camera file (default: the "
-                        "seed's camera)")
-    p.add_argument("--near", type=float, help="nearest depth to search, mm (0.8 x depth)")
-    p.add_argument("--far", type=float, help="farthest depth to search, mm (1.2 x depth)")
-    p.add_argument("--disparity-uncertainty", type=float, default=0.2,
-                   help="d(disp) of eq. 9, px (0.2)")
+                   help="camera YAML (a capture's camera, or match's stereo camera YAML), "
+                        "or robostereo handeye's camera file (default: the seed's camera)")
+    p.add_argument("--near", type=finite("--near"),
+                   help="nearest depth to search, mm (0.8 x depth)")
+    p.add_argument("--far", type=finite("--far"),
+                   help="farthest depth to search, mm (1.2 x depth)")
+    p.add_argument("--disparity-uncertainty", type=finite("--disparity-uncertainty"),
+                   default=0.2, help="d(disp) of eq. 9, px (0.2)")
     p.add_argument("--image", type=Path, help="an image of the scene from the camera")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(handler=run_plan)
 
 
-def _load_any_camera(path: Path) -> Any:
-    """The camera of a camera YAML or of ``robostereo handeye``'s camera file."""
+def _load_any_camera(path: Path) -> tuple[Any, dict[str, float]]:
+    """The camera of a camera YAML, of ``robostereo handeye``'s camera file or of
+    ``match``'s stereo camera YAML; with the eq. 9 uncertainties that file gives.
+
+    A stereo camera YAML (keys ``fx``/``fy`` or ``baseline_mm``) gives a camera of its
+    focal length in pixels (a nominal 1 mm lens over pixels of ``1/fx`` mm, so the
+    focal-length uncertainty keeps its ratio) and, without ``image_size``, no image
+    width to bound the disparities by."""
     import yaml
 
-    from robostereo.geometry.camera import camera_from_dict
-    from robostereo.io.cameras import load_camera_yaml
+    from robostereo.geometry.camera import Camera, camera_from_dict
+    from robostereo.io.cameras import load_camera_yaml, stereo_camera_from_dict
 
     require_file(path, "camera file")
     try:
@@ -521,28 +536,42 @@ def _load_any_camera(path: Path) -> Any:
     except (OSError, UnicodeDecodeError, yaml.YAMLError):
         data = None
     if isinstance(data, dict) and "camera" in data:
-        return camera_from_dict(data["camera"], source=f"{path}: camera")
-    return load_camera_yaml(path)
+        return camera_from_dict(data["camera"], source=f"{path}: camera"), {}
+    if isinstance(data, dict) and ("fx" in data or "baseline_mm" in data):
+        sc = stereo_camera_from_dict(data, source=str(path))
+        size = data.get("image_size")
+        known = isinstance(size, list | tuple) and len(size) == 2
+        cam = Camera(focal_length_mm=1.0, pixel_pitch_mm=(1.0 / sc.fx, 1.0 / sc.fy),
+                     image_size=(int(size[0]), int(size[1])) if known else (5, 5))
+        extra: dict[str, float] = {
+            "baseline_uncertainty_mm": sc.baseline_uncertainty_mm,
+            "focal_length_uncertainty_mm": sc.focal_uncertainty_px / sc.fx}
+        if not known:
+            extra["max_disparity_px"] = math.inf
+        return cam, extra
+    return load_camera_yaml(path), {}
 
 
 def run_plan(args: argparse.Namespace) -> int:
     from robostereo.geometry.camera import SEED_CAMERA
     from robostereo.robot.planning import best_baseline_direction, plan_baseline
 
-    for name in ("depth", "accuracy", "near", "far", "disparity_uncertainty"):
+    for name in ("depth", "accuracy", "near", "far"):
         v = getattr(args, name)
-        if v is not None and not math.isfinite(v):
-            raise InputError(f"--{name.replace('_', '-')} must be finite, got {v}")
-    camera = _load_any_camera(args.camera) if args.camera is not None else SEED_CAMERA
+        if v is not None and not v > 0:
+            raise InputError(f"--{name} must be > 0 mm, got {v:g}")
+    camera, extra = (_load_any_camera(args.camera) if args.camera is not None
+                     else (SEED_CAMERA, {}))
     near = args.near if args.near is not None else 0.8 * args.depth
     far = args.far if args.far is not None else 1.2 * args.depth
     plan = plan_baseline(camera, args.depth, args.accuracy, depth_range_mm=(near, far),
-                         disparity_uncertainty_px=args.disparity_uncertainty)
+                         disparity_uncertainty_px=args.disparity_uncertainty, **extra)
     out: dict[str, Any] = {
-        "baseline_mm": round(plan.baseline_mm, 4),
-        "disparity_px": round(plan.disparity_px, 3),
+        # significant digits, not decimals: a 1e-5 mm baseline is not 0
+        "baseline_mm": float(f"{plan.baseline_mm:.10g}"),
+        "disparity_px": float(f"{plan.disparity_px:.10g}"),
         "disparity_range": list(plan.disparity_range),
-        "bound_terms_mm": [round(v, 4) for v in plan.bound_terms_mm],
+        "bound_terms_mm": [float(f"{v:.10g}") for v in plan.bound_terms_mm],
     }
     if args.image is not None:
         from robostereo.io.images import load_image
@@ -558,7 +587,7 @@ def run_plan(args: argparse.Namespace) -> int:
         print(json.dumps(out))
         return 0
     t = plan.bound_terms_mm
-    print(f"baseline D = {plan.baseline_mm:.2f} mm for a {args.accuracy:g} mm bound at "
+    print(f"baseline D = {plan.baseline_mm:.4g} mm for a {args.accuracy:g} mm bound at "
           f"{args.depth:g} mm (eq. 9 terms: baseline {t[0]:.3f}, focal length {t[1]:.3f}, "
           f"disparity {t[2]:.3f} mm)")
     print(f"disparity {plan.disparity_px:.1f} px at the target; search "

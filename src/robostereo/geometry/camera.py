@@ -36,12 +36,19 @@ from robostereo.geometry.mapping_checks import check_keys, get_number, get_pair,
 from robostereo.geometry.poses import SE3
 
 __all__ = [
+    "DISTORTION_ROUND_TRIP_PX",
     "SEED_CAMERA",
     "Camera",
     "camera_from_dict",
     "camera_to_dict",
     "wrap_angle",
 ]
+
+DISTORTION_ROUND_TRIP_PX = 0.01
+"""Largest error, pixels, of ``distort(undistort(p))`` on the image border for a lens
+model to be accepted: a twentieth of eq. 9's 0.2 px disparity uncertainty, far above
+the ~1e-12 px of the fixed-point inverse on real lenses."""
+
 
 @dataclass(frozen=True)
 class Camera:
@@ -124,6 +131,58 @@ class Camera:
             )
         require_finite("distortion", list(dist))
         object.__setattr__(self, "distortion", () if not any(dist) else dist)
+        if self.distortion:
+            self._check_distortion()
+
+    def _check_distortion(self) -> None:
+        """Refuse a lens model that folds the image over or cannot be inverted on it.
+
+        Notes
+        -----
+        1. Radial model ``rd(r) = r (1 + k1 r^2 + k2 r^4 + k3 r^6)`` on normalised
+           radii: it must rise, ``rd'(r) > 0``, from the centre until it reaches the
+           image's corner radius ``r_c`` (the farthest pixel corner from the principal
+           point, normalised), else points on both sides of the fold land on one pixel
+           and the undistorted image is folded over (searched up to ``r = 4 r_c``).
+        2. Every grabbed pixel on the image's border must come back from
+           :meth:`undistort` to within :data:`DISTORTION_ROUND_TRIP_PX` of itself
+           (e.g. ``k1 = 50`` is monotone but the inverse, which rectification and
+           locating use, does not converge: 3.3 px off at the seed camera's corner).
+        """
+        k1, k2, _p1, _p2, k3 = self.dist_coeffs
+        w, h = self.image_size
+        cx, cy = self.principal_point
+        xs = np.array([-0.5 - cx, w - 0.5 - cx]) / self.fx
+        ys = np.array([-0.5 - cy, h - 0.5 - cy]) / self.fy
+        r_c = float(np.sqrt(np.max(xs**2) + np.max(ys**2)))
+        r = np.linspace(0.0, 4.0 * r_c, 4001)
+        r2 = r * r
+        rd = r * (1.0 + r2 * (k1 + r2 * (k2 + r2 * k3)))
+        slope = 1.0 + r2 * (3.0 * k1 + r2 * (5.0 * k2 + r2 * 7.0 * k3))
+        reach = np.flatnonzero(rd >= r_c)
+        fold = np.flatnonzero(slope <= 0.0)
+        end = reach[0] if reach.size else r.size
+        if fold.size and fold[0] <= end:
+            raise InputError(
+                f"distortion {list(self.distortion)} folds the image over: the radial "
+                f"model turns back at normalised radius {r[fold[0]]:.3g}, inside the "
+                f"image (corner radius {r_c:.3g})")
+        if not reach.size:
+            raise InputError(f"distortion {list(self.distortion)} never reaches the image's "
+                             f"corner radius {r_c:.3g}: not a lens model")
+        t = np.linspace(0.0, 1.0, 33)
+        u = np.concatenate([t * (w - 1), t * (w - 1), np.zeros_like(t), np.full_like(t, w - 1)])
+        v = np.concatenate([np.zeros_like(t), np.full_like(t, h - 1), t * (h - 1), t * (h - 1)])
+        n = np.column_stack([(u - cx) / self.fx, (v - cy) / self.fy])
+        with np.errstate(all="ignore"):
+            back = self.distort(self.undistort(n))
+            err = np.abs((back - n) * [self.fx, self.fy]).max(axis=1)
+        worst = float(np.nanmax(np.where(np.isfinite(err), err, np.inf)))
+        if not worst <= DISTORTION_ROUND_TRIP_PX:
+            raise InputError(
+                f"distortion {list(self.distortion)} cannot be inverted over the image: "
+                f"border pixels come back {worst:.3g} px off (a lens model's inverse "
+                f"converges; is the distortion from another camera or in other units?)")
 
     @property
     def dist_coeffs(self) -> NDArray[np.float64]:

@@ -238,12 +238,33 @@ class GeneralEpipolarGeometry:
         return out
 
     def check_overlap(self) -> None:
-        """Raise InputError if fewer than :data:`MIN_OVERLAP_ROWS` rectified rows hold
-        data in both views (views that do not overlap)."""
+        """Raise InputError if the pair cannot be rectified into rows: an epipole inside
+        an image (the baseline runs along the view, e.g. the camera moved forward), or
+        fewer than :data:`MIN_OVERLAP_ROWS` rectified rows that hold data in both
+        views."""
+        cam = self.camera
+        w, h = cam.image_size
+        for side, pose, other in (("left", self.pose_left, self.pose_right),
+                                  ("right", self.pose_right, self.pose_left)):
+            c = (other.translation - pose.translation) @ pose.rotation  # in this camera
+            if abs(c[2]) > 1e-12:
+                u = cam.fx * c[0] / c[2] + cam.principal_point[0]
+                v = cam.fy * c[1] / c[2] + cam.principal_point[1]
+                if -0.5 <= u <= w - 0.5 and -0.5 <= v <= h - 0.5:
+                    raise InputError(
+                        f"the baseline (D = {self.baseline_mm:.4g} mm) runs along the "
+                        f"{side} view: the other camera's centre projects inside its image "
+                        f"at ({u:.0f}, {v:.0f}), so no rectification makes rows; move the "
+                        "camera across its view, not along it")
         vl, vr = self.valid_mask("left"), self.valid_mask("right")
         both = int(np.count_nonzero((vl.sum(axis=1) >= 10) & (vr.sum(axis=1) >= 10)))
         if both < MIN_OVERLAP_ROWS:
+            b = self.pose_left.rotation.T @ (self.pose_right.translation
+                                             - self.pose_left.translation)
+            tilt = math.degrees(math.asin(min(1.0, abs(b[2]) / float(np.linalg.norm(b)))))
             raise InputError(
-                f"the two views do not overlap: {both} rectified rows are seen by both "
-                f"(need at least {MIN_OVERLAP_ROWS})"
+                f"the two views do not overlap once rectified: {both} rectified rows are "
+                f"seen by both (need at least {MIN_OVERLAP_ROWS}); the baseline (D = "
+                f"{self.baseline_mm:.4g} mm) runs {tilt:.0f} deg out of the left image "
+                "plane and rectification turns the views by as much"
             )

@@ -40,11 +40,12 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from robostereo.errors import InputError, require_finite
+from robostereo.errors import InputError, require_finite, warn_input
 from robostereo.geometry.mapping_checks import check_keys, get_number
 
 __all__ = [
     "ORTHONORMAL_TOLERANCE",
+    "QUATERNION_TOLERANCE",
     "SE3",
     "Pose",
     "as_se3",
@@ -58,6 +59,15 @@ __all__ = [
 
 ORTHONORMAL_TOLERANCE = 1e-6
 """Largest ``|R^T R - I|`` entry accepted for a rotation matrix (files hold ~1e-9)."""
+
+QUATERNION_TOLERANCE = 1e-3
+"""Largest ``| |q| - 1 |`` of a quaternion that is normalised (with a warning).
+
+Rounding each of the four components to ``k`` decimals moves the norm of a unit
+quaternion by at most ``|q . e| <= |e| <= 2 * 0.5 * 10**-k``: 1e-3 for 3 decimals, 1e-4
+for 4.  So 1e-3 takes every quaternion printed with 3 or more decimals (1e-6 refused
+97.5 % of those printed with 4 decimals); a norm further off is no rounding but a wrong
+or missing component, and is refused."""
 
 
 def _vector(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
@@ -143,17 +153,46 @@ class SE3:
         return SE3(M[:3, :3], M[:3, 3])
 
     @classmethod
-    def from_quaternion(cls, position: ArrayLike, quaternion: ArrayLike) -> SE3:
+    def from_quaternion(cls, position: ArrayLike, quaternion: ArrayLike, *,
+                        source: str = "quaternion") -> SE3:
         """From a position (mm) and a unit quaternion ``(x, y, z, w)`` (ROS order).
 
-        A quaternion whose norm is not 1 (to 1e-6) is refused: it usually means a
-        wrong order or a typing slip.
+        Parameters
+        ----------
+        position : array_like, shape (3,)
+        quaternion : array_like, shape (4,)
+            ``(x, y, z, w)``.
+        source : str
+            Name used in the warning and the error (the file and key).
+
+        Raises
+        ------
+        InputError
+            A norm off 1 by more than :data:`QUATERNION_TOLERANCE`.
+
+        Notes
+        -----
+        A norm within :data:`QUATERNION_TOLERANCE` of 1 is taken as rounding of the
+        printed components: the quaternion is normalised, with a
+        :class:`~robostereo.errors.PlausibilityWarning` when the norm is off by more
+        than 1e-6, the former tolerance (what it took in silence still passes in
+        silence; what it refused is normalised aloud).
+
+        Examples
+        --------
+        >>> SE3.from_quaternion([0, 0, 0], [0, 0, 0.70710678, 0.70710678]).rotvec.round(4)
+        array([0.    , 0.    , 1.5708])
         """
         q = _vector("quaternion", quaternion, 4)
         n = float(np.linalg.norm(q))
+        if not abs(n - 1.0) <= QUATERNION_TOLERANCE:
+            raise InputError(f"{source}: quaternion must have norm 1 (a unit quaternion in "
+                             f"ROS order x, y, z, w), got norm {n:.9g}, more than "
+                             f"{QUATERNION_TOLERANCE:g} off")
         if abs(n - 1.0) > 1e-6:
-            raise InputError(f"quaternion (x, y, z, w) must have norm 1, got norm {n:.9g}")
-        return SE3(Rotation.from_quat(q).as_matrix(), _vector("position", position, 3))
+            warn_input(f"{source}: quaternion of norm {n:.9g} normalised (components "
+                       "rounded when printed?); the order is (x, y, z, w)")
+        return SE3(Rotation.from_quat(q / n).as_matrix(), _vector("position", position, 3))
 
     @classmethod
     def from_rotvec(cls, position: ArrayLike, rotvec: ArrayLike) -> SE3:
@@ -490,7 +529,8 @@ def pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> SE3:
             s = _unit_scale(data, source)
             if "quaternion" in keys:
                 _check_only(data, {"position", "quaternion", "unit"}, source)
-                T = SE3.from_quaternion(data["position"], data["quaternion"])
+                T = SE3.from_quaternion(data["position"], data["quaternion"],
+                                        source=source)
             elif "rotvec" in keys:
                 _check_only(data, {"position", "rotvec", "unit"}, source)
                 T = SE3.from_rotvec(data["position"], data["rotvec"])
@@ -501,7 +541,7 @@ def pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> SE3:
             _check_only(data, {"translation", "rotation"}, source)
             t = _ros_xyz(data["translation"], ("x", "y", "z"), source, "translation")
             q = _ros_xyz(data["rotation"], ("x", "y", "z", "w"), source, "rotation")
-            T = SE3.from_quaternion(t, q)
+            T = SE3.from_quaternion(t, q, source=source)
             return SE3(T.rotation, T.translation * 1000.0)
     except InputError as exc:
         msg = str(exc)

@@ -6,8 +6,13 @@ output file.  A command with several outputs is all or nothing too:
 :func:`check_outputs` refuses, before any work, an output path that is a folder, lies
 in a missing or unwritable folder, or names an input or another output;
 :func:`atomic_outputs` gives every output a temporary name and renames them into place
-only when all are written.  Images are read by :mod:`robostereo.io.images`, cameras by
-:mod:`robostereo.io.cameras`, calibrations by :mod:`robostereo.io.calibration_files`.
+only when all are written.  Temporary names are ``.NAME.PID-XXXXXXXX.part`` beside
+the target ``NAME``, made by process ``PID``: a command that is killed outright
+(SIGKILL, a power cut) cannot remove its own, so :func:`remove_stale_parts` removes
+those whose process is gone, on every later write of the same target (and
+:func:`check_outputs` before any work; a batch for its whole folder).  Images are
+read by :mod:`robostereo.io.images`, cameras by :mod:`robostereo.io.cameras`,
+calibrations by :mod:`robostereo.io.calibration_files`.
 """
 
 from __future__ import annotations
@@ -15,8 +20,10 @@ from __future__ import annotations
 import contextlib
 import math
 import os
+import re
 import shutil
 import tempfile
+import time
 from collections.abc import Iterable, Iterator, Mapping
 from pathlib import Path
 from typing import Any
@@ -32,12 +39,118 @@ __all__ = [
     "atomic_path",
     "check_outputs",
     "read_folder_yaml",
+    "remove_live_parts",
+    "remove_stale_parts",
+    "signals_held",
     "write_csv",
     "write_image_folder",
     "write_ply",
 ]
 
 PathLike = str | os.PathLike[str]
+
+
+_PART = re.compile(r"\.(\d+)-[A-Za-z0-9_]+\.part$")
+_OLD_PART = re.compile(r"\.[A-Za-z0-9_]{8}\.part$")
+OLD_PART_SECONDS = 3600.0
+"""Age after which a temporary file of the former naming (no process id) is stale."""
+_live: set[Path] = set()  # this process's temporary outputs, for remove_live_parts
+
+
+def _alive(pid: int) -> bool:
+    if pid <= 0:
+        return False
+    if pid == os.getpid():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # another user's process: alive
+        return True
+    return True
+
+
+def remove_stale_parts(folder: PathLike, names: Iterable[str] | None = None) -> list[Path]:
+    """Remove the temporary outputs of processes that are gone.
+
+    Parameters
+    ----------
+    folder : path
+        Where the outputs are written.
+    names : iterable of str, optional
+        Target file or folder names whose temporaries are meant; default all.
+
+    Returns
+    -------
+    list of Path
+        What was removed.
+
+    Notes
+    -----
+    A temporary output ``.NAME.PID-XXXXXXXX.part`` (a file, or a folder for an image
+    folder) is stale when no process ``PID`` runs on this machine; one of the former
+    naming ``.NAME.XXXXXXXX.part`` when it is older than :data:`OLD_PART_SECONDS`.
+    Output folders shared by machines (a network file system with a batch on several
+    hosts) should not be written by two runs at once anyway: a process id of another
+    machine is taken as gone.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> _ = (d / ".m.csv.999999999-abcdefgh.part").write_text("half")
+    >>> [p.name for p in remove_stale_parts(d, ["m.csv"])]
+    ['.m.csv.999999999-abcdefgh.part']
+    """
+    d = Path(folder)
+    wanted = None if names is None else tuple(f".{n}." for n in names)
+    removed: list[Path] = []
+    try:
+        entries = list(os.scandir(d))
+    except OSError:
+        return removed
+    now = time.time()
+    for e in entries:
+        name = e.name
+        if not (name.startswith(".") and name.endswith(".part")):
+            continue
+        if wanted is not None and not name.startswith(wanted):
+            continue
+        m = _PART.search(name)
+        try:
+            if m is not None:
+                stale = not _alive(int(m.group(1)))
+            elif _OLD_PART.search(name):
+                stale = now - e.stat(follow_symlinks=False).st_mtime > OLD_PART_SECONDS
+            else:
+                stale = False
+            if not stale:
+                continue
+            if e.is_dir(follow_symlinks=False):
+                shutil.rmtree(e.path)
+            else:
+                os.unlink(e.path)
+            removed.append(Path(e.path))
+        except OSError:
+            continue
+    return removed
+
+
+def remove_live_parts() -> None:
+    """Remove this process's temporary outputs now (a worker ended by a signal, which
+    leaves no time to unwind); they would be stale once the process is gone anyway."""
+    for p in list(_live):
+        with contextlib.suppress(OSError):
+            if p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p)
+            else:
+                p.unlink()
+        _live.discard(p)
+
+
+def _part_prefix(target: Path) -> str:
+    return f".{target.name}.{os.getpid()}-"
 
 
 @contextlib.contextmanager
@@ -82,7 +195,9 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
         raise InputError(f"{target}: parent folder {parent} does not exist")
     if target.exists() and (not target.is_dir() or any(target.iterdir())):
         raise InputError(f"{target}: exists and is not an empty folder")
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.", suffix=".part", dir=parent))
+    remove_stale_parts(parent, [target.name])
+    tmp = Path(tempfile.mkdtemp(prefix=_part_prefix(target), suffix=".part", dir=parent))
+    _live.add(tmp)
     try:
         for name, img in images.items():
             ok, buf = cv2.imencode(".png", np.asarray(img, dtype=np.uint8))
@@ -100,6 +215,7 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
+        _live.discard(tmp)
     return target
 
 
@@ -172,6 +288,10 @@ def check_outputs(
         An output that is an existing folder or other non-file, lies in a missing or
         unwritable folder, is the same file as an input, or the same as another output.
 
+    Notes
+    -----
+    Stale temporary files of these outputs (:func:`remove_stale_parts`) are removed.
+
     Examples
     --------
     >>> check_outputs({"-o": "m.csv", "--edges": "./m.csv"})
@@ -201,7 +321,34 @@ def check_outputs(
                 raise InputError(f"{opt} {p} is the same file as {other} {q}; give each "
                                  "output its own name")
         seen.append((opt, p))
+    for p in outs.values():  # what a killed earlier run left of these outputs
+        remove_stale_parts(p.parent if str(p.parent) else Path("."), [p.name])
     return outs
+
+
+@contextlib.contextmanager
+def signals_held() -> Iterator[None]:
+    """SIGINT and SIGTERM held back on this thread while the block runs, delivered on
+    leaving it (POSIX; elsewhere a plain block).
+
+    For the steps that must not be cut in two by an interrupt: renaming a command's
+    outputs into place (all or none), starting worker threads.  Threads started inside
+    inherit the held mask, so the signals go to the main thread.
+
+    >>> with signals_held():
+    ...     pass
+    """
+    import signal
+
+    if not hasattr(signal, "pthread_sigmask"):  # pragma: no cover - not POSIX
+        yield
+        return
+    held = {signal.SIGINT, signal.SIGTERM}
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, held)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 @contextlib.contextmanager
@@ -226,11 +373,12 @@ def atomic_outputs(outputs: Mapping[str, Path]) -> Iterator[dict[str, Path]]:
         for key, target in outputs.items():
             temps[key] = stack.enter_context(_temp_beside(Path(target)))
         yield temps
-        for key, target in outputs.items():
-            try:
-                os.replace(temps[key], target)
-            except OSError as e:
-                raise InputError(f"{target}: cannot write output ({_why(e)})") from None
+        with signals_held():  # an interrupt between two renames: some outputs, not all
+            for key, target in outputs.items():
+                try:
+                    os.replace(temps[key], target)
+                except OSError as e:
+                    raise InputError(f"{target}: cannot write output ({_why(e)})") from None
 
 
 @contextlib.contextmanager
@@ -240,12 +388,14 @@ def _temp_beside(target: Path) -> Iterator[Path]:
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
         raise InputError(f"{target}: output folder {parent} does not exist")
+    remove_stale_parts(parent, [target.name])
     try:
-        fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=parent)
+        fd, tmp = tempfile.mkstemp(prefix=_part_prefix(target), suffix=".part", dir=parent)
     except OSError as e:
         raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
     os.close(fd)
     tmp_path = Path(tmp)
+    _live.add(tmp_path)
     umask = os.umask(0)
     os.umask(umask)
     try:
@@ -256,6 +406,7 @@ def _temp_beside(target: Path) -> Iterator[Path]:
     finally:
         if tmp_path.exists():
             tmp_path.unlink()
+        _live.discard(tmp_path)
 
 
 def _column_text(values: NDArray[Any]) -> list[str]:

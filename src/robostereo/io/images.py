@@ -7,9 +7,13 @@ Middlebury 2014/2021.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
+import sys
+import tempfile
 import warnings
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -36,18 +40,49 @@ def _pnm_maxval(data: bytes) -> int | None:
     return int(m.group(3)) if m else None
 
 
+@contextlib.contextmanager
+def _native_stderr_captured() -> Iterator[list[str]]:
+    """File descriptor 2 taken into a temporary file while the block runs; yields the
+    list that receives its lines.  libpng writes its complaints there from C (``libpng
+    error: PNG input buffer is incomplete``), past OpenCV's log level and Python."""
+    lines: list[str] = []
+    try:
+        sys.stderr.flush()
+        saved = os.dup(2)
+    except (OSError, ValueError):  # no fd 2 (embedded): nothing to capture
+        yield lines
+        return
+    with tempfile.TemporaryFile() as tmp:
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield lines
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            lines.extend(tmp.read().decode("utf-8", "replace").splitlines())
+
+
 def _cv2_decode(raw: bytes) -> NDArray[Any] | None:
-    """``cv2.imdecode`` with OpenCV's log lines silenced; None where it cannot decode."""
+    """``cv2.imdecode`` with OpenCV's and libpng's lines silenced; None where it cannot
+    decode or libpng reported an error (a truncated PNG decodes with a complaint)."""
     import cv2.utils.logging as cv_log
 
     level = cv_log.getLogLevel()
     cv_log.setLogLevel(cv_log.LOG_LEVEL_SILENT)
     try:
-        return cv2.imdecode(np.frombuffer(raw, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
+        with _native_stderr_captured() as lines:
+            img = cv2.imdecode(np.frombuffer(raw, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
     except cv2.error:
         return None
     finally:
         cv_log.setLogLevel(level)
+    others = [ln for ln in lines if not ln.startswith("libpng")]
+    if others:  # not ours to swallow: another thread's, or a library's other notice
+        print("\n".join(others), file=sys.stderr)
+    if any(ln.startswith("libpng error") for ln in lines):
+        return None
+    return img
 
 
 def load_image(path: PathLike) -> tuple[NDArray[Any], int]:

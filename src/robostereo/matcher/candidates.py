@@ -16,12 +16,12 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba as nb
 import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError, require_finite
 from robostereo.matcher.edges import EdgeSet
+from robostereo.matcher.jit import kernel
 
 __all__ = [
     "Candidates",
@@ -285,7 +285,7 @@ def pair_similarity(
     return gi, pi, ai, profile, w
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _one_side(a, b, ha, hb):  # type: ignore[no-untyped-def]
     """Difference of one side's connection (see ``edges.pattern_difference``)."""
     if ha and hb:
@@ -293,7 +293,7 @@ def _one_side(a, b, ha, hb):  # type: ignore[no-untyped-def]
     return 0 if ha == hb else 3
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _similarity(li, ri, mag_l, uo_l, do_l, up_l, dn_l, mean_l, bef_l, aft_l,
                 mag_r, uo_r, do_r, up_r, dn_r, mean_r, bef_r, aft_r
                 ):  # type: ignore[no-untyped-def]

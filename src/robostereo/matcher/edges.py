@@ -18,11 +18,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import cv2
-import numba as nb
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError, require_int, require_positive
+from robostereo.matcher.jit import kernel
 
 __all__ = [
     "SEED_KERNEL",
@@ -313,7 +313,7 @@ def pattern_type(up_offset: ArrayLike, down_offset: ArrayLike, has_up: ArrayLike
     return out.reshape(u.shape)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _pattern(u, v, hu, hd):  # type: ignore[no-untyped-def]
     """Pattern type of one edge point (:func:`pattern_type`)."""
     if hu and hd:
@@ -325,7 +325,7 @@ def _pattern(u, v, hu, hd):  # type: ignore[no-untyped-def]
     return 16
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _patterns(u, v, hu, hd):  # type: ignore[no-untyped-def]
     out = np.empty(u.shape[0], np.int8)
     for i in range(u.shape[0]):
@@ -385,7 +385,7 @@ def connectivity(
     return up.astype(np.intp), down.astype(np.intp), up_off, down_off
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _connect(line, column, sign, n_lines, width):  # type: ignore[no-untyped-def]
     n = line.shape[0]
     stride = width + 2
@@ -412,7 +412,7 @@ def _connect(line, column, sign, n_lines, width):  # type: ignore[no-untyped-def
     return up, down, up_off, down_off
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _abs_gradient(s, out):  # type: ignore[no-untyped-def]
     """``out[x] = |(s[x + 1] - s[x - 1]) / 2|`` for 1 <= x <= w - 2 (float32)."""
     half = np.float32(0.5)
@@ -420,7 +420,7 @@ def _abs_gradient(s, out):  # type: ignore[no-untyped-def]
         out[x] = abs((s[x + 1] - s[x - 1]) * half)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
     """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of
     ``smoothed`` (the lines used, ``(L, W)`` float32):
@@ -462,7 +462,7 @@ def _peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
     return line, column, mag_before, mag_peak, mag_after, gradient
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
     """Mean of the 5 x 5 grey levels around each pixel, the border reflected
     (``cv2.BORDER_REFLECT_101``), summed in float64."""
@@ -483,7 +483,7 @@ def _mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
     return out
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _features(line, column, mag_before, mag_peak, mag_after, gradient, smoothed, grey,
               row_offset, row_step, subpixel, n_lines):  # type: ignore[no-untyped-def]
     """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
@@ -524,7 +524,7 @@ def _features(line, column, mag_before, mag_peak, mag_after, gradient, smoothed,
     return x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_lines,
                  usable, check):  # type: ignore[no-untyped-def]
     """:func:`_peaks`, with ``check`` only those on ``usable`` pixels, then

@@ -8,6 +8,15 @@ itself, and work given to the pool never waits on the pool, so concurrent caller
 
 The number of threads is the number of cores this process may run on, or the
 environment variable ``ROBOSTEREO_THREADS`` (1: everything on the calling thread).
+
+Signals: Python runs signal handlers on the main thread only, between bytecodes, so a
+main thread inside a numba kernel would see SIGINT or SIGTERM only when the kernel
+ends, and a main thread that gave up while pool threads still ran kernels let the
+interpreter shut down under them (a segmentation fault, or numba's traceback).  So
+when called on the main thread, :func:`run_all` gives every call to the pool and waits
+in short interruptible waits; on an interrupt it cancels the calls not yet started,
+waits for the running ones to end (a kernel cannot be stopped midway; a share of an
+image takes seconds at most) and then raises the interrupt.
 """
 
 from __future__ import annotations
@@ -15,10 +24,11 @@ from __future__ import annotations
 import os
 import threading
 from collections.abc import Callable, Sequence
-from concurrent.futures import Future, ThreadPoolExecutor
+from concurrent.futures import FIRST_EXCEPTION, Future, ThreadPoolExecutor, wait
 from typing import Any, TypeVar
 
 from robostereo.errors import InputError
+from robostereo.io.files import signals_held
 
 __all__ = ["n_threads", "run_all"]
 
@@ -26,6 +36,10 @@ T = TypeVar("T")
 
 _lock = threading.Lock()
 _pool: tuple[int, int, ThreadPoolExecutor] | None = None  # (pid, workers, pool)
+
+WAIT_SECONDS = 0.2
+"""Longest single wait of the main thread for the pool (a signal is handled at once
+anyway; the timeout only bounds a wait that a platform would not interrupt)."""
 
 
 def n_threads() -> int:
@@ -65,8 +79,11 @@ def _executor(workers: int) -> ThreadPoolExecutor:
 def run_all(calls: Sequence[Callable[[], T]]) -> list[T]:
     """Run the calls at once, up to :func:`n_threads` at a time; their results in order.
 
-    The first call runs on the calling thread, the others on the pool.  An exception
-    of any call is raised after all have ended.
+    On the main thread every call runs on the pool while the main thread waits
+    (interruptibly, see the module notes); on any other thread the first call runs on
+    the calling thread and the others on the pool.  An exception of any call is raised
+    after all started calls have ended; so is a KeyboardInterrupt (SIGINT, or SIGTERM
+    as the command line raises it), after the calls not yet started are cancelled.
 
     >>> run_all([lambda: 1, lambda: 2, lambda: 3])
     [1, 2, 3]
@@ -75,7 +92,9 @@ def run_all(calls: Sequence[Callable[[], T]]) -> list[T]:
     n = min(n_threads(), len(calls))
     if n <= 1:
         return [c() for c in calls]
-    pool = _executor(n - 1)
+    if threading.current_thread() is threading.main_thread():
+        return _run_waiting(calls, _executor(n_threads()))
+    pool = _executor(n_threads())
     futures: list[Future[Any]] = [pool.submit(c) for c in calls[1:]]
     first: list[T] = []
     error: BaseException | None = None
@@ -92,3 +111,45 @@ def run_all(calls: Sequence[Callable[[], T]]) -> list[T]:
     if error is not None:
         raise error
     return first + rest
+
+
+def _run_waiting(calls: list[Callable[[], T]], pool: ThreadPoolExecutor) -> list[T]:
+    """Every call on the pool; the caller (the main thread) waits interruptibly."""
+    futures: list[Future[Any]] = []
+    try:
+        # held back: an interrupt inside submit, between a worker's start and its
+        # registration, leaves a thread the interpreter waits for forever at exit
+        with signals_held():
+            for c in calls:
+                futures.append(pool.submit(c))
+        pending = set(futures)
+        while pending:
+            done, pending = wait(pending, timeout=WAIT_SECONDS, return_when=FIRST_EXCEPTION)
+            if any(f.exception() is not None for f in done):
+                break
+    except BaseException:
+        _cancel_and_drain(futures)
+        raise
+    _cancel_and_drain(futures)  # after an error: let the started calls end first
+    for f in futures:
+        err = None if f.cancelled() else f.exception()
+        if err is not None:
+            raise err
+    return [f.result() for f in futures]
+
+
+def _cancel_and_drain(futures: list[Future[Any]]) -> None:
+    """Cancel the calls not started and wait until the started ones have ended; a
+    second interrupt meanwhile does not cut the wait short (the kernels would run on
+    while the interpreter shuts down) and is raised after it."""
+    for f in futures:
+        f.cancel()
+    again: BaseException | None = None
+    while True:
+        try:
+            wait(futures)
+            break
+        except BaseException as e:  # KeyboardInterrupt again: keep draining
+            again = again or e
+    if again is not None:
+        raise again

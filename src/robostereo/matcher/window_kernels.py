@@ -20,11 +20,12 @@ from __future__ import annotations
 from collections import namedtuple
 from typing import NamedTuple
 
-import numba as nb
 import numpy as np
 from llvmlite import ir
 from numba import types
 from numba.extending import intrinsic
+
+from robostereo.matcher.jit import kernel
 
 __all__ = [
     "CENSUS_SIZE",
@@ -144,13 +145,13 @@ def _popcount(typingctx, x):  # type: ignore[no-untyped-def]
     return sig, codegen
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _census_bits(acc, nbr, centre):  # type: ignore[no-untyped-def]
     for x in range(acc.shape[0]):
         acc[x] = (acc[x] << np.uint64(1)) | np.uint64(nbr[x] < centre[x])
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def census_padded(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
     out = np.zeros((h, w), np.uint64)
     for y in range(h):
@@ -162,14 +163,14 @@ def census_padded(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
     return out
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _shift_in(acc, nbr, centre):  # type: ignore[no-untyped-def]
     """``acc = acc << 1 | (nbr < centre)`` along a row (32-bit lanes, as the floats)."""
     for x in range(acc.shape[0]):
         acc[x] = (acc[x] << np.uint32(1)) | np.uint32(nbr[x] < centre[x])
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _census_row(g, y, out, buf, acc):  # type: ignore[no-untyped-def]
     """Row ``y`` of the default 7 x 5 census [1]_ of ``g`` into ``out`` (W,), the borders
     replicated.  ``buf`` (5, W + 6) float32 receives the five rows padded; ``acc``
@@ -198,7 +199,7 @@ def _census_row(g, y, out, buf, acc):  # type: ignore[no-untyped-def]
         out[x] = (np.uint64(hi[x]) << np.uint64(32)) | np.uint64(lo[x])
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def census_7x5(g):  # type: ignore[no-untyped-def]
     h, w = g.shape
     out = np.empty((h, w), np.uint64)
@@ -209,7 +210,7 @@ def census_7x5(g):  # type: ignore[no-untyped-def]
     return out
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _sobel_row(g, y, out):  # type: ignore[no-untyped-def]
     """Row ``y`` of the horizontal 3 x 3 Sobel derivative of ``g``, rounded to int16,
     the border reflected without repeating the edge pixel (``BORDER_REFLECT_101``)."""
@@ -225,7 +226,7 @@ def _sobel_row(g, y, out):  # type: ignore[no-untyped-def]
         out[x] = np.int16(min(max(np.rint(v), -32767.0), 32767.0))
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def sobel(g):  # type: ignore[no-untyped-def]
     h, w = g.shape
     out = np.empty((h, w), np.int16)
@@ -234,7 +235,7 @@ def sobel(g):  # type: ignore[no-untyped-def]
     return out
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _pixel_row(grey, y, valid, check, census_bad, sobel_bad, census, sobel_row, padded_rows,
                census_bits):  # type: ignore[no-untyped-def]
     """Census and Sobel of row ``y``; pixels outside ``valid`` (where ``check``) get
@@ -249,7 +250,7 @@ def _pixel_row(grey, y, valid, check, census_bad, sobel_bad, census, sobel_row, 
                 sobel_row[x] = sobel_bad
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, sobel_right,
                   truncation, hamming):  # type: ignore[no-untyped-def]
     """Replace one ring row of pixel costs and update the column sums, for 1-D rows:
@@ -268,14 +269,14 @@ def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, 
         ring_row[x] = pixel
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _constant_update(column_sums, ring_row, value):  # type: ignore[no-untyped-def]
     for x in range(column_sums.shape[0]):
         column_sums[x] += value - ring_row[x]
         ring_row[x] = value
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _row_update(pixels, settings, margin, column_sums, ring_slot,
                 compute):  # type: ignore[no-untyped-def]
     """Pixel costs of one row for every disparity into a ring slot, with the column
@@ -304,7 +305,7 @@ def _row_update(pixels, settings, margin, column_sums, ring_slot,
                           sobel_right[x0 - d:x1 - d], settings.truncation, pixels.hamming)
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _box(col, out, pair_sums, quad_sums):  # type: ignore[no-untyped-def]
     """``out[x] = col[x - 4] + ... + col[x + 4]`` (nine columns) by pair sums."""
     n = col.shape[0]
@@ -318,7 +319,7 @@ def _box(col, out, pair_sums, quad_sums):  # type: ignore[no-untyped-def]
         out[x + 4] = pair_sums[x] + col[x + 8]
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _least(boxes_up, boxes_mid, boxes_down, k, x, hw, vertical):  # type: ignore[no-untyped-def]
     """Least window sum at column ``x``, disparity ``k``: centred and half a window left
     and right on the row's box sums ``boxes_mid`` (returned second), and with
@@ -330,7 +331,7 @@ def _least(boxes_up, boxes_mid, boxes_down, k, x, hw, vertical):  # type: ignore
     return row, row
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True, inline="always")
+@kernel(fastmath=True, nogil=True, inline="always")
 def _path_step(cost, prev, cur, p1, p2):  # type: ignore[no-untyped-def]
     """One step of a scanline path (semi-global matching, [2]_ eq. 13):
     ``cur[k] = cost[k] + min(prev[k], prev[k -/+ 1] + p1, min(prev) + p2) - min(prev)``
@@ -355,7 +356,7 @@ def _path_step(cost, prev, cur, p1, p2):  # type: ignore[no-untyped-def]
     cur[nd - 1] = cost[nd - 1] + (jump if jump < c else c) - least
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left, from_right,
               a, b, c, d):  # type: ignore[no-untyped-def]
     """Window costs of one row aggregated along it, both ways (two paths of
@@ -409,7 +410,7 @@ def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left, from_rig
             from_right[x, 0] = costs[x, 0]
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _load_row(images, y, pixels):  # type: ignore[no-untyped-def]
     """Census and Sobel rows ``y`` of both images (:class:`StreamImages`) into
     ``pixels`` (:class:`RowPixels`), once per row."""
@@ -423,7 +424,7 @@ def _load_row(images, y, pixels):  # type: ignore[no-untyped-def]
         pixels.loaded_row[0] = y
 
 
-@nb.njit(cache=True, fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True)
 def stream_rows(images, settings, row_start, columns, y_first, y_last,
                 out):  # type: ignore[no-untyped-def]
     """One pass down rows ``y_first .. y_last - 1`` of a pair; ``out[i]`` receives the
@@ -655,7 +656,7 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
                                       else big)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def nearest_on_lines(left_line, left_sign, x_right, right_line, right_x, right_sign, n_lines
                      ):  # type: ignore[no-untyped-def]
     """Per left edge point ``i`` the right edge point of the same line and contrast sign
@@ -681,7 +682,7 @@ def nearest_on_lines(left_line, left_sign, x_right, right_line, right_x, right_s
     return nearest, distance
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _unique(best, second):  # type: ignore[no-untyped-def]
     """``(second - best) / second`` clipped to 0..1; 0 where either is out of view."""
     if best >= OUT_OF_VIEW or second >= OUT_OF_VIEW:
@@ -689,7 +690,7 @@ def _unique(best, second):  # type: ignore[no-untyped-def]
     return min(max((second - best) / max(second, 1.0), 0.0), 1.0)
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def _vertex(k, before, cost, after, d_min):  # type: ignore[no-untyped-def]
     """Disparity of the parabola's vertex through the costs at ``k - 1, k, k + 1``."""
     curvature = before - 2.0 * cost + after
@@ -699,7 +700,7 @@ def _vertex(k, before, cost, after, d_min):  # type: ignore[no-untyped-def]
     return d_min + k + offset
 
 
-@nb.njit(cache=True, nogil=True)
+@kernel(nogil=True)
 def evidence(summary, d_min, nd, swap_uniqueness, features,
              columns):  # type: ignore[no-untyped-def]
     """Per point: the whole-pixel disparity refined by its parabola (the paths' where

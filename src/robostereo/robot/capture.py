@@ -33,7 +33,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.errors import InputError
+from robostereo.errors import InputError, warn_input
 from robostereo.geometry.pose_rectification import GeneralEpipolarGeometry
 from robostereo.geometry.scara_rectification import rectified_valid_mask
 from robostereo.matcher.pipeline import MatchParameters, MatchResult, match_stereo
@@ -52,17 +52,21 @@ from robostereo.robot.capture_folder import (
 __all__ = [
     "CAPTURE_YAML",
     "DISPARITY_UNCERTAINTY_PX",
+    "MIN_EDGE_POINTS_FOR_FRACTION",
+    "MIN_LOCATED_FRACTION",
     "Capture",
     "LocateParameters",
     "Located",
     "RectifiedPair",
     "capture_from_acquisition",
+    "check_shared_scene",
     "disparity_range_from_depth",
     "fill_invalid_rows",
     "locate",
     "locate_capture",
     "read_capture",
     "rectify_pair",
+    "searched_depths",
     "write_capture",
 ]
 
@@ -289,43 +293,156 @@ class Located:
         }
 
 
-def locate(capture: Capture, *, params: LocateParameters | None = None) -> Located:
+MIN_LOCATED_FRACTION = 0.05
+"""Fewest located edge points, as a fraction of the left view's, before :func:`locate`
+warns that the poses are probably wrong (order or convention).
+
+Correct simulated captures located 48.8 % (six-axis hub-pulley, the worst) to 100 %
+(SCARA block and hub-pulley, six-axis block); the six-axis block with its hand-eye
+quaternion read in (w, x, y, z) order located 0 of 411, and a tester's capture with a
+(w, x, y, z) quaternion 0.6 % (65 of 11 018).  5 % lies ten times below the worst
+correct capture and well above the wrong ones; a scene of few, weak or occluded edges
+can fall below it rightly, hence a warning, not an error.  Not every wrong pose shows:
+both camera poses' quaternions in (w, x, y, z) order still located 94 % of the block
+(a consistent but wrong world frame)."""
+
+MIN_EDGE_POINTS_FOR_FRACTION = 200
+"""Left edge points below which the located fraction says nothing (no warning)."""
+
+_SCENE_GRID = 21  # pixels per image side sampled by the shared-scene check
+_SCENE_DEPTHS = 9  # depths sampled over the searched range
+
+
+def searched_depths(capture: Capture, geometry: Geometry,
+                    drange: tuple[float, float]) -> tuple[float, float] | None:
+    """``(near, far)`` depth, mm, that a locate searches: the capture's
+    ``depth_range_mm``, or the disparity range's ``fx D / d`` (a disparity below a
+    quarter pixel taken as a quarter pixel); None if it searches no positive depth."""
+    if capture.depth_range_mm is not None:
+        return capture.depth_range_mm
+    lo, hi = drange
+    if not hi > 0:
+        return None
+    f = float(capture.stereo_camera(geometry).fx) * geometry.baseline_mm
+    return f / hi, f / max(lo, 0.25)
+
+
+def check_shared_scene(capture: Capture, geometry: Geometry,
+                       drange: tuple[float, float]) -> None:
+    """Raise :class:`InputError` if no point of either view, at the searched depths,
+    falls inside the other view's image.
+
+    Parameters
+    ----------
+    capture : Capture
+    geometry : EpipolarGeometry or GeneralEpipolarGeometry
+    drange : tuple of float
+        The disparity range searched.
+
+    Notes
+    -----
+    1. The searched depths (:func:`searched_depths`), 9 of them, geometric.
+    2. A 21 x 21 grid of each view's pixels back-projected to each depth
+       (:meth:`Camera.backproject`, distortion included) and projected into the other
+       view (:meth:`Camera.project`).
+    3. Views share a scene when some of these points lie in front of the other camera
+       and inside its image, both ways.  Rectified rows shared by both views (the
+       former check) are not enough: two views side by side 400 mm apart share every
+       row and no scene, and their "matches" lay 4.3 m below the table.
+    """
+    depths = searched_depths(capture, geometry, drange)
+    if depths is None:
+        return
+    cam = capture.camera
+    w, h = cam.image_size
+    g = np.linspace(0.0, 1.0, _SCENE_GRID)
+    u, v = np.meshgrid(g * (w - 1), g * (h - 1))
+    pix = np.column_stack([u.ravel(), v.ravel()])
+    zs = np.geomspace(depths[0], depths[1], _SCENE_DEPTHS)
+    pix_all = np.tile(pix, (len(zs), 1))
+    z_all = np.repeat(zs, len(pix))
+    poses = {"left": capture.pose_left, "right": capture.pose_right}
+    for a, b in (("left", "right"), ("right", "left")):
+        world = cam.backproject(pix_all, z_all, poses[a])
+        with np.errstate(all="ignore"):
+            uv, z = cam.project(world, poses[b])
+        inside = (z > 0) & (uv[:, 0] >= -0.5) & (uv[:, 0] <= w - 0.5) \
+            & (uv[:, 1] >= -0.5) & (uv[:, 1] <= h - 0.5)
+        if not inside.any():
+            raise InputError(
+                f"the two views share no scene: no point of the {a} view at depths "
+                f"{depths[0]:.4g} .. {depths[1]:.4g} mm falls in the {b} image (views "
+                f"{geometry.baseline_mm:.4g} mm apart); check the poses and the depth or "
+                "disparity range")
+
+
+def locate(capture: Capture, *, params: LocateParameters | None = None,
+           source: str = "capture") -> Located:
     """Match a capture's two views and give the object points in the world frame.
 
     Parameters
     ----------
     capture : Capture
     params : LocateParameters, optional
+    source : str
+        Name of the capture in errors and warnings (its file, when read from one).
 
     Returns
     -------
     Located
 
+    Raises
+    ------
+    InputError
+        Views that share no scene at the searched depths (:func:`check_shared_scene`).
+
+    Warns
+    -----
+    PlausibilityWarning
+        Fewer than :data:`MIN_LOCATED_FRACTION` of the left edge points located.
+
     Notes
     -----
     1. Epipolar frame of the two reported poses (the thesis, 2.2; :meth:`Capture.geometry`).
-    2. Rectify and fill (:func:`rectify_pair`).
-    3. :func:`robostereo.matcher.pipeline.match_stereo` with the capture's bit depth and
+    2. Check that the views share a scene (:func:`check_shared_scene`).
+    3. Rectify and fill (:func:`rectify_pair`).
+    4. :func:`robostereo.matcher.pipeline.match_stereo` with the capture's bit depth and
        disparity range (chapter 3).
-    4. Eq. (6)-(9) with :func:`robostereo.geometry.triangulation.triangulate` (rectified
+    5. Eq. (6)-(9) with :func:`robostereo.geometry.triangulation.triangulate` (rectified
        intrinsics are the camera's; ``D`` from the poses), then to the world frame.
-    5. Each left point mapped back to the grabbed image (exact point map).
+    6. Each left point mapped back to the grabbed image (exact point map).
+    7. Warn when few edge points located (:data:`MIN_LOCATED_FRACTION`).
 
     References
     ----------
     Kim (1989), the thesis, 2.2, chapter 3, 3.6 (eq. 6-8), 3.7 (eq. 9), 4.2.
     """
     p = params or LocateParameters()
-    geometry = capture.geometry(p.rectification)
-    if isinstance(geometry, GeneralEpipolarGeometry):
-        geometry.check_overlap()
+    try:
+        geometry = capture.geometry(p.rectification)
+        drange = capture.resolved_disparity_range(geometry)
+        if not drange[1] >= 1.0:
+            raise InputError(
+                f"baseline D = {geometry.baseline_mm:.3g} mm gives disparities of at most "
+                f"{drange[1]:g} px over the searched range: too short to measure depth")
+        check_shared_scene(capture, geometry, drange)
+        if isinstance(geometry, GeneralEpipolarGeometry):
+            geometry.check_overlap()
+    except InputError as e:
+        msg = str(e)
+        raise InputError(msg if msg.startswith(source) else f"{source}: {msg}") from None
     rect = rectify_pair(capture.left, capture.right, geometry,
                         interpolation=p.interpolation)
     mp = replace(p.match, bit_depth=int(capture.bit_depth))
-    drange = capture.resolved_disparity_range(geometry)
     sc = capture.stereo_camera(geometry)
     result = match_stereo(rect.left, rect.right, drange, params=mp, camera=sc,
                           valid_left=rect.valid_left, valid_right=rect.valid_right)
+    n_edges = len(result.left_edges)
+    if n_edges >= MIN_EDGE_POINTS_FOR_FRACTION and len(result) < MIN_LOCATED_FRACTION * n_edges:
+        warn_input(f"{source}: only {len(result)} of {n_edges} edge points located "
+                   f"({100 * len(result) / n_edges:.1f} %, under "
+                   f"{100 * MIN_LOCATED_FRACTION:g} %): are the poses right (left/right "
+                   "order, quaternion order x, y, z, w, hand-eye direction, unit)?")
     rows, xl, xr = result.rows, result.x_left, result.x_right
     xyz, zb = result.triangulated()
     world = geometry.to_world(xyz) if len(rows) else np.zeros((0, 3))
@@ -356,4 +473,7 @@ def locate_capture(
         ``.world`` (M, 3) world millimetres, ``.z_bound`` (M,) eq. (9) bounds,
         ``.table()`` the columns of ``robostereo locate``.
     """
-    return locate(read_capture(directory), params=params)
+    from pathlib import Path
+
+    return locate(read_capture(directory), params=params,
+                  source=str(Path(directory) / CAPTURE_YAML))

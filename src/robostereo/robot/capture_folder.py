@@ -46,7 +46,13 @@ import numpy as np
 import yaml
 from numpy.typing import NDArray
 
-from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
+from robostereo.errors import (
+    InputError,
+    require_finite,
+    require_nonnegative,
+    require_positive,
+    warn_input,
+)
 from robostereo.geometry.camera import Camera, camera_from_dict, camera_to_dict
 from robostereo.geometry.pose_rectification import GeneralEpipolarGeometry
 from robostereo.geometry.poses import SE3, Pose, as_se3
@@ -58,6 +64,7 @@ from robostereo.geometry.triangulation import StereoCamera
 __all__ = [
     "CAPTURE_YAML",
     "DISPARITY_UNCERTAINTY_PX",
+    "METRES_AS_MM_BELOW",
     "Capture",
     "Geometry",
     "Rectification",
@@ -65,6 +72,7 @@ __all__ = [
     "capture_to_dict",
     "disparity_range_from_depth",
     "read_capture",
+    "warn_units",
     "write_capture",
 ]
 
@@ -187,6 +195,13 @@ class Capture:
         for name in ("baseline_uncertainty_mm", "focal_length_uncertainty_mm",
                      "disparity_uncertainty_px"):
             require_nonnegative(name, getattr(self, name))
+        d = float(np.linalg.norm(as_se3(self.pose_left).translation
+                                 - as_se3(self.pose_right).translation))
+        if 0 < d <= self.baseline_uncertainty_mm:
+            raise InputError(
+                f"baseline D = {d:.3g} mm is not longer than its uncertainty "
+                f"{self.baseline_uncertainty_mm:g} mm (eq. 9's dD): the two views are one "
+                "viewpoint; move the camera further between them")
         if self.is_scara:
             if abs(self.pose_left.z - self.pose_right.z) > 1e-3:
                 raise InputError(
@@ -481,7 +496,66 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
             kw[attr] = float(v)
     notes = {k: data[k] for k in ("robot", "scene") if k in data}
     try:
-        return Capture(left=images[0], right=images[1], camera=camera, pose_left=poses[0],
-                       pose_right=poses[1], bit_depth=bit_depth, notes=notes, **extra, **kw)
+        capture = Capture(left=images[0], right=images[1], camera=camera, pose_left=poses[0],
+                          pose_right=poses[1], bit_depth=bit_depth, notes=notes, **extra, **kw)
     except InputError as exc:
         raise InputError(f"{d}: {exc}") from None
+    warn_units(data, capture, src)
+    return capture
+
+
+METRES_AS_MM_BELOW = 5.0
+"""Largest translation, mm, that :func:`warn_units` takes for metres written as mm.
+
+A flange or camera pose lies hundreds of millimetres from a robot's base and a camera
+some tens from the flange; in metres the same numbers are under 2 (a 2 m reach), so a
+file whose translations of one key are all under 5 "mm" while the scene lies 100 mm or
+more away (``depth_range_mm``, when given) almost surely holds metres."""
+
+
+def warn_units(data: Mapping[str, Any], capture: Capture, source: str) -> None:
+    """Warn about poses of a capture file that look like metres read as millimetres,
+    and about an identity hand-eye transform.
+
+    Parameters
+    ----------
+    data : mapping
+        The parsed ``capture.yaml``.
+    capture : Capture
+        The capture read from it.
+    source : str
+        The file, for the messages.
+
+    Notes
+    -----
+    For ``pose_left``/``pose_right`` (together), ``flange_left``/``flange_right``
+    (together) and ``hand_eye``, written in a form with a translation (``position``
+    or ``matrix``) and no ``unit``: a :class:`~robostereo.errors.PlausibilityWarning`
+    when every translation component is under :data:`METRES_AS_MM_BELOW` mm and the
+    scene's far depth is unknown or at least 100 mm.  A hand-eye transform that is the
+    identity (camera frame = flange frame) is a placeholder, not a calibration: a
+    warning too.
+    """
+    far = capture.depth_range_mm[1] if capture.depth_range_mm is not None else None
+    if far is not None and far < 100.0:
+        return
+    groups = (("pose_left", "pose_right"), ("flange_left", "flange_right"), ("hand_eye",))
+    for keys in groups:
+        raw = [data.get(k) for k in keys]
+        if not all(isinstance(r, Mapping) and ("position" in r or "matrix" in r)
+                   and "unit" not in r for r in raw):
+            continue
+        poses = [getattr(capture, k) for k in keys]
+        if any(p is None for p in poses):
+            continue
+        t = np.array([as_se3(p).translation for p in poses])
+        if float(np.abs(t).max()) < METRES_AS_MM_BELOW and (keys[0] != "hand_eye"
+                                                             or np.abs(t).max() > 0):
+            where = f" with the scene {far:g} mm away" if far is not None else ""
+            warn_input(f"{source}: {' and '.join(keys)}: every translation is under "
+                       f"{METRES_AS_MM_BELOW:g} mm (largest {float(np.abs(t).max()):.4g})"
+                       f"{where}: metres written as millimetres? add 'unit: m'")
+    he = capture.hand_eye
+    if he is not None and np.allclose(he.matrix, np.eye(4), atol=1e-9):
+        warn_input(f"{source}: hand_eye is the identity (camera frame = flange frame): a "
+                   "placeholder, not a calibration? (robostereo handeye estimates it)")

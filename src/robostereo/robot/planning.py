@@ -25,6 +25,7 @@ from robostereo.errors import InputError, require_positive
 from robostereo.geometry.camera import Camera
 
 __all__ = [
+    "MIN_PLAN_DISPARITY_PX",
     "BaselineDirection",
     "BaselinePlan",
     "FusedPoints",
@@ -32,6 +33,12 @@ __all__ = [
     "fuse_located",
     "plan_baseline",
 ]
+
+
+MIN_PLAN_DISPARITY_PX = 1.0
+"""Least disparity at the target of a plan: below a pixel the eq. 9 bound still
+holds on paper, but edges one pixel apart cannot be told from noise (``d(disp)`` is
+0.2 px), so such a plan is refused rather than printed with a baseline of 0.00 mm."""
 
 
 @dataclass(frozen=True)
@@ -68,6 +75,7 @@ def plan_baseline(
     baseline_uncertainty_mm: float = 0.01,
     focal_length_uncertainty_mm: float = 0.01,
     disparity_uncertainty_px: float = 0.2,
+    max_disparity_px: float | None = None,
 ) -> BaselinePlan:
     """The baseline ``D`` whose eq. 9 bound at `depth_mm` is `accuracy_mm`.
 
@@ -82,6 +90,9 @@ def plan_baseline(
         Depths to search; default ``0.8 Z .. 1.2 Z``.
     baseline_uncertainty_mm, focal_length_uncertainty_mm, disparity_uncertainty_px
         ``dD``, ``ds`` (mm) and ``d(disp)`` (px) of eq. 9 (the capture defaults).
+    max_disparity_px : float, optional
+        Largest disparity a pair can show: default the camera's image width (a point
+        further apart than the image is wide is in one view only).
 
     Returns
     -------
@@ -90,8 +101,12 @@ def plan_baseline(
     Raises
     ------
     InputError
-        Non-positive inputs, or an accuracy that no baseline reaches (the focal-length
-        term ``ds Z / s`` alone exceeds it).
+        Non-positive or non-finite inputs; an accuracy that no baseline reaches (the
+        focal-length term ``ds Z / s`` alone exceeds it); a plan whose baseline or
+        disparities are not finite numbers (depths or accuracies near the limits of
+        floating point); a disparity at the target under
+        :data:`MIN_PLAN_DISPARITY_PX` (an accuracy so loose that no baseline is
+        needed); a search range beyond `max_disparity_px` (a near depth too near).
 
     Notes
     -----
@@ -111,8 +126,9 @@ def plan_baseline(
     >>> round(p.baseline_mm, 2), p.disparity_range
     (32.09, (38.0, 59.0))
     """
-    require_positive("depth_mm", depth_mm)
-    require_positive("accuracy_mm", accuracy_mm)
+    for name, v in (("depth_mm", depth_mm), ("accuracy_mm", accuracy_mm)):
+        if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+            raise InputError(f"{name} must be a finite number > 0, got {v!r}")
     for name, v in (("baseline_uncertainty_mm", baseline_uncertainty_mm),
                     ("focal_length_uncertainty_mm", focal_length_uncertainty_mm),
                     ("disparity_uncertainty_px", disparity_uncertainty_px)):
@@ -126,13 +142,32 @@ def plan_baseline(
             f"accuracy_mm = {accuracy_mm:g} mm is unreachable at {Z:g} mm: the focal-length "
             f"uncertainty alone gives {focal_term:.3g} mm (eq. 9)"
         )
-    D = (baseline_uncertainty_mm * Z + disparity_uncertainty_px * Z * Z / f) / room
     near, far = depth_range_mm if depth_range_mm is not None else (0.8 * Z, 1.2 * Z)
-    require_positive("near depth", near)
+    for name, v in (("near depth", near), ("far depth", far)):
+        if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+            raise InputError(f"{name} must be a finite number > 0, got {v!r}")
     if not far >= near:
         raise InputError(f"depth_range_mm must be [near, far] with near <= far, got "
                          f"{[near, far]}")
-    drange = (float(math.floor(f * D / far)), float(math.ceil(f * D / near)))
+    with np.errstate(all="ignore"):  # the limits of floating point: checked below
+        D = float(np.float64(baseline_uncertainty_mm * Z)
+                  + np.float64(disparity_uncertainty_px) * Z * Z / f) / room
+        disp = f * D / Z
+        hi, lo = f * D / near, f * D / far
+    if not (math.isfinite(D) and math.isfinite(hi) and D > 0):
+        raise InputError(f"no plan for depth {Z:g} mm and accuracy {accuracy_mm:g} mm: the "
+                         f"baseline is not a finite number (D = {D:g} mm)")
+    if not disp >= MIN_PLAN_DISPARITY_PX:
+        raise InputError(
+            f"accuracy_mm = {accuracy_mm:g} mm at {Z:g} mm needs a baseline of only "
+            f"{D:.3g} mm, a disparity of {disp:.3g} px (< {MIN_PLAN_DISPARITY_PX:g} px): "
+            "too little to measure; ask for a tighter accuracy")
+    limit = camera.width if max_disparity_px is None else max_disparity_px
+    if hi > limit:
+        raise InputError(
+            f"near depth {near:g} mm gives a disparity of {hi:.4g} px, more than the "
+            f"{limit:g} px of the image: give a farther near depth")
+    drange = (float(math.floor(lo)), float(math.ceil(hi)))
     terms = (baseline_uncertainty_mm * Z / D, focal_term,
              disparity_uncertainty_px * Z * Z / (f * D))
     return BaselinePlan(baseline_mm=D, depth_mm=Z, accuracy_mm=float(accuracy_mm),
@@ -192,11 +227,29 @@ def best_baseline_direction(
     and the histogram is summed circularly over ``|g - t| <= 90 - min_crossing_deg``
     for every ``t``.
     """
-    img = np.asarray(image, dtype=np.float32)
-    if img.ndim != 2:
-        raise InputError(f"image must be a grey (H, W) image, got shape {img.shape}")
+    try:
+        raw = np.asarray(image)
+        if raw.dtype.kind not in "biuf":
+            raise TypeError
+        img = raw.astype(np.float64)
+    except (TypeError, ValueError):
+        raise InputError(f"image must be a grey (H, W) array of numbers, got "
+                         f"{type(image).__name__}") from None
+    if img.ndim != 2 or min(img.shape) < 5:
+        raise InputError(f"image must be a grey (H, W) image of at least 5 x 5 pixels, got "
+                         f"shape {img.shape}")
+    if not np.isfinite(img).all():
+        raise InputError("image has NaN or infinite grey levels")
+    if np.abs(img).max() > 1e30:
+        raise InputError(f"image grey levels must be within +-1e30, got {np.abs(img).max():g}")
+    img = img.astype(np.float32)
+    for name, v in (("min_crossing_deg", min_crossing_deg), ("threshold", threshold)):
+        if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v):
+            raise InputError(f"{name} must be a finite number, got {v!r}")
     if not 0 < min_crossing_deg < 90:
         raise InputError(f"min_crossing_deg must be in (0, 90), got {min_crossing_deg}")
+    if not threshold > 0:
+        raise InputError(f"threshold must be > 0, got {threshold}")
     s = cv2.GaussianBlur(img, (5, 5), 1.0)
     gx = cv2.Sobel(s, cv2.CV_32F, 1, 0, ksize=3) / 8.0
     gy = cv2.Sobel(s, cv2.CV_32F, 0, 1, ksize=3) / 8.0
@@ -262,16 +315,52 @@ def fuse_located(first: Any, second: Any, *, merge_mm: float = 0.5) -> FusedPoin
     Returns
     -------
     FusedPoints
+
+    Raises
+    ------
+    InputError
+        An argument without ``world`` (N, 3) and ``z_bound`` (N,) arrays of finite
+        numbers (a located point is never NaN: NaN would pass the merge unseen), or a
+        bad `merge_mm`.
+
+    Notes
+    -----
+    A k-d tree of `first`'s points (:class:`scipy.spatial.cKDTree`); each point of
+    `second` is dropped when its nearest neighbour there is within `merge_mm`.
     """
     from scipy.spatial import cKDTree
 
+    if isinstance(merge_mm, bool) or not isinstance(merge_mm, int | float) \
+            or not math.isfinite(merge_mm):
+        raise InputError(f"merge_mm must be a finite number > 0, got {merge_mm!r}")
     require_positive("merge_mm", merge_mm)
-    a, b = np.asarray(first.world), np.asarray(second.world)
+    a, za = _located_points("first", first)
+    b, zb_b = _located_points("second", second)
     keep = np.ones(len(b), bool)
     if len(a) and len(b):
         d, _ = cKDTree(a).query(b, distance_upper_bound=merge_mm)
         keep = ~np.isfinite(d)
     world = np.vstack([a.reshape(-1, 3), b[keep].reshape(-1, 3)])
-    zb = np.concatenate([np.asarray(first.z_bound), np.asarray(second.z_bound)[keep]])
+    zb = np.concatenate([za, zb_b[keep]])
     cap = np.concatenate([np.zeros(len(a), np.int8), np.ones(int(keep.sum()), np.int8)])
     return FusedPoints(world=world, z_bound=zb, capture=cap, duplicates=int((~keep).sum()))
+
+
+def _located_points(name: str, located: Any) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``world`` (N, 3) and ``z_bound`` (N,) of a Located, checked."""
+    try:
+        world = np.asarray(located.world, dtype=np.float64)
+        bound = np.asarray(located.z_bound, dtype=np.float64)
+    except AttributeError:
+        raise InputError(f"{name} must be a Located (with world and z_bound), got "
+                         f"{type(located).__name__}") from None
+    except (TypeError, ValueError):
+        raise InputError(f"{name}: world and z_bound must be arrays of numbers") from None
+    if world.ndim != 2 or world.shape[1] != 3 or bound.shape != (world.shape[0],):
+        raise InputError(f"{name}: world must be (N, 3) and z_bound (N,), got "
+                         f"{world.shape} and {bound.shape}")
+    if not (np.isfinite(world).all() and np.isfinite(bound).all()):
+        raise InputError(f"{name}: world and z_bound must be finite (NaN or inf found)")
+    if np.abs(world).max(initial=0.0) > 1e12:
+        raise InputError(f"{name}: world points must be within +-1e12 mm")
+    return world, bound
