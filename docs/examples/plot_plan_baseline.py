@@ -6,19 +6,31 @@ Eq. 9 of the thesis bounds the depth error by three terms: the baseline's and th
 focal length's uncertainty, and the disparity's, which grows as ``Z^2 / (f D)``.
 :func:`robostereo.robot.planning.plan_baseline` inverts it: the baseline ``D`` whose
 bound at the target depth is the wanted accuracy.  Here, for the thesis's camera, the
-baseline needed at each depth for 1, 2 and 5 mm.
+baseline needed at each depth for 1, 2 and 5 mm.  Where a line stops, the plan is
+refused: the disparity at the near end of the depth range would be wider than the
+image (1 mm beyond about 1 m with this 509-pixel sensor).
 """
 
 import matplotlib.pyplot as plt
 import numpy as np
 
+from robostereo.errors import InputError
 from robostereo.geometry.camera import SEED_CAMERA
 from robostereo.robot.planning import plan_baseline
+
+
+def baseline(depth, accuracy):
+    """The planned baseline (mm), NaN where no plan fits the image."""
+    try:
+        return plan_baseline(SEED_CAMERA, depth, accuracy).baseline_mm
+    except InputError:
+        return np.nan
+
 
 depths = np.linspace(400.0, 1500.0, 45)
 fig, ax = plt.subplots(figsize=(6.4, 4.0), layout="constrained")
 for accuracy in (1.0, 2.0, 5.0):
-    baselines = [plan_baseline(SEED_CAMERA, z, accuracy).baseline_mm for z in depths]
+    baselines = [baseline(z, accuracy) for z in depths]
     ax.plot(depths, baselines, label=f"{accuracy:g} mm")
 plan = plan_baseline(SEED_CAMERA, 1000.0, 2.0)
 ax.plot([plan.depth_mm], [plan.baseline_mm], "ko")
