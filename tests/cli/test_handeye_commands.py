@@ -134,3 +134,11 @@ def test_an_unwritable_out_is_found_before_any_work(capsys, argv):
     # /proc takes no new folder, not even from root: the probe must fail at once
     _refused(capsys, [*argv, "--out", "/proc/robostereo-test"], None,
              "/proc/robostereo-test: folder /proc is not writable")
+
+
+def test_intrinsics_from_a_stereo_camera_yaml_are_refused(folder, tmp_path, capsys):
+    stereo = tmp_path / "stereo.yaml"
+    stereo.write_text("fx: 800.0\nfy: 800.0\ncx: 320.0\ncy: 240.0\nbaseline_mm: 60.0\n")
+    out = tmp_path / "cam.yaml"
+    _refused(capsys, ["handeye", str(folder), "-o", str(out), "--intrinsics", str(stereo)],
+             out, "--intrinsics", "stereo camera YAML")

@@ -375,7 +375,13 @@ def run_handeye(args: argparse.Namespace) -> int:
     )
 
     require_output_folder(args.output)
-    camera = _load_any_camera(args.intrinsics) if args.intrinsics is not None else None
+    camera = None
+    if args.intrinsics is not None:
+        camera, extra = _load_any_camera(args.intrinsics)
+        if extra:  # the stereo camera YAML of match --camera
+            raise InputError(f"--intrinsics {args.intrinsics}: a stereo camera YAML has no "
+                             "distortion or image size; give a camera YAML or the file "
+                             "robostereo handeye wrote")
     v = read_views(args.views)
     # refuse an input as the output (views.yaml, an image, the intrinsics file)
     check_outputs({"-o": args.output},
