@@ -224,3 +224,18 @@ def test_a_baseline_within_its_uncertainty_is_reported_as_such(tmp_path, capsys)
                    "uncertainty 0.01 mm (eq. 9's dD): the two views are one viewpoint; "
                    "move the camera further between them"]
     assert not (tmp_path / "c").exists()
+
+
+def test_a_pose_near_the_float_range_gives_no_numpy_warning(block_sim):
+    # found by the long property profile: the baseline's norm overflowed while squaring
+    import warnings
+
+    from robostereo.geometry.poses import Pose
+
+    far = Pose(1.3407807929942597e154, 0.0, block_sim.capture.pose_left.z, 0.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        try:
+            replace(block_sim.capture, pose_left=far)
+        except InputError:
+            pass

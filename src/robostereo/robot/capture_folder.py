@@ -195,8 +195,9 @@ class Capture:
         for name in ("baseline_uncertainty_mm", "focal_length_uncertainty_mm",
                      "disparity_uncertainty_px"):
             require_nonnegative(name, getattr(self, name))
-        d = float(np.linalg.norm(as_se3(self.pose_left).translation
-                                 - as_se3(self.pose_right).translation))
+        # math.hypot scales: no overflow for translations near the float range
+        d = math.hypot(*(as_se3(self.pose_left).translation
+                         - as_se3(self.pose_right).translation))
         if 0 < d <= self.baseline_uncertainty_mm:
             raise InputError(
                 f"baseline D = {d:.3g} mm is not longer than its uncertainty "
@@ -210,8 +211,6 @@ class Capture:
                 )
             EpipolarGeometry.from_poses(self.camera, self.pose_left, self.pose_right)  # D > 0
         else:
-            d = float(np.linalg.norm(as_se3(self.pose_left).translation
-                                     - as_se3(self.pose_right).translation))
             if not d > 1e-9:
                 raise InputError(f"baseline: the two optical centres coincide (D = {d} mm)")
 
