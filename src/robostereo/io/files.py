@@ -290,7 +290,8 @@ def check_outputs(
 
     Notes
     -----
-    Stale temporary files of these outputs (:func:`remove_stale_parts`) are removed.
+    Stale temporary files of these outputs (:func:`remove_stale_parts`) are removed when
+    each is written (:func:`atomic_outputs`, :func:`atomic_path`), not here.
 
     Examples
     --------
@@ -321,8 +322,6 @@ def check_outputs(
                 raise InputError(f"{opt} {p} is the same file as {other} {q}; give each "
                                  "output its own name")
         seen.append((opt, p))
-    for p in outs.values():  # what a killed earlier run left of these outputs
-        remove_stale_parts(p.parent if str(p.parent) else Path("."), [p.name])
     return outs
 
 
