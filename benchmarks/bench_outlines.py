@@ -16,7 +16,12 @@ default (read at the same edge points).  Printed per pair and pooled:
   surface's disparity within 4 px of a boundary): signed median, median ``|offset|`` and
   the fraction above 1 px, against the exact boundaries and against boundaries read off
   the ground-truth rows (:func:`robostereo.evaluation_outlines.row_boundaries`, as on
-  real scenes), to show what pixel-sampled ground truth adds.
+  real scenes), to show what pixel-sampled ground truth adds;
+* the edge localisation alone: the signed offsets of *every* left edge point within
+  1.5 px of an exact boundary, matched or not
+  (:func:`robostereo.evaluation_outlines.boundary_offsets`), so that a bias of the
+  localisation at steps between two textured surfaces is told from the acceptance's
+  choice of which silhouette edges it keeps.
 """
 
 from __future__ import annotations
@@ -41,6 +46,7 @@ from robostereo.evaluation import (
 from robostereo.evaluation_outlines import (
     OffsetSummary,
     RowBoundaries,
+    boundary_offsets,
     row_boundaries,
     settings_curve,
     silhouette_offsets,
@@ -57,7 +63,7 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     pooled: dict[str, list[np.ndarray]] = {k: [] for k in
                                             ("row", "x", "d", "best", "conf", "sg",
-                                             "exact", "rows_off")}
+                                             "exact", "rows_off", "located")}
     sweeps: list[tuple[np.ndarray, ...]] = []
     labels: tuple[float, ...] = ()
     print(f"{'pair':>4} {'method':<10} {'rule':<10}  near: {'n':>4} {'matched':>8} {'false':>7}"
@@ -82,13 +88,14 @@ def main(argv: list[str] | None = None) -> int:
                       f"{100 * b.false_fraction:>6.2f}%")
         _, exact = silhouette_offsets(e.row, e.x, d, RowBoundaries(*p.boundaries()))
         _, from_rows = silhouette_offsets(e.row, e.x, d, row_boundaries(gt))
+        _, located, _ = boundary_offsets(e.row, e.x, RowBoundaries(*p.boundaries()))
         # pool the pairs side by side in one wide ground truth (rows stay rows)
         offset = offset_rows
         gts.append(gt)
         offset_rows += gt.shape[1] + 8
         for k, v in (("row", e.row), ("x", e.x + offset), ("d", d), ("best", res.edge_disparity),
                      ("conf", res.edge_confidence), ("sg", sg), ("exact", exact),
-                     ("rows_off", from_rows)):
+                     ("rows_off", from_rows), ("located", located)):
             pooled[k].append(np.asarray(v, dtype=float))
         sweeps.append(sw)
     h = max(g.shape[0] for g in gts)
@@ -126,6 +133,10 @@ def main(argv: list[str] | None = None) -> int:
         print(f"silhouette offsets, {label}: {o.count} edges, signed median {signed:+.2f} px "
               f"(+ = outside the object), median |offset| {o.median_abs_px:.2f} px, "
               f"{100 * o.over_1px:.1f} % > 1 px")
+    o = OffsetSummary.of(cat["located"])
+    print(f"edge localisation, every edge within 1.5 px of an exact boundary: {o.count} edges, "
+          f"signed median {float(np.median(cat['located'])):+.2f} px, median |offset| "
+          f"{o.median_abs_px:.2f} px, {100 * o.over_1px:.1f} % > 1 px")
     return 0
 
 

@@ -1,9 +1,13 @@
 """Choose the window matcher's confidence model and its defaults, leave-one-scene-out.
 
-Run:  python benchmarks/fit_confidence.py [--synthetic N] [--rule {project,silhouette}]
+Run:  python benchmarks/fit_confidence.py [--synthetic N] [--occluders M]
+                                          [--rule {project,silhouette}] [--weights W W W W W]
 
-Every developer scene of ../shared/data/stereo (or $ROBOSTEREO_DATA) and N synthetic
-layered pairs (tests/synthetic.py: a slanted plane and boxes, occlusions, noise) give
+Every developer scene of ../shared/data/stereo (or $ROBOSTEREO_DATA), N synthetic
+layered pairs (tests/synthetic.py: a slanted plane and boxes, occlusions, noise) and M
+synthetic occluder pairs (:func:`robostereo.simulation.occluders.occluder_pair`, seeds
+1000.. so that the benchmarks' and tests' seeds 0..99 stay unseen: thousands of
+points near depth steps with exact ground truth) give
 one sample per left edge point with ground truth and a best disparity: the evidence of
 :data:`robostereo.matcher.confidence.FEATURES` and whether the match is right by the project's
 evaluation rule (``--rule project``, the default) or by the silhouette rule
@@ -18,8 +22,15 @@ the row within 2 px of the edge, :mod:`robostereo.evaluation_rules`).  Then
    coverage at <= 2, 3 and 5 % false, and its operating point at each candidate
    ``min_confidence``; then its ECE and coverage at <= 1.65, 2 and 3 % false near depth
    steps (within 4 px of a ground-truth jump of more than 2 px) and away;
-2. the weights chosen and the curve fitted on all scenes are printed as the literal
-   for ``robostereo.matcher.confidence.DEFAULT_MODEL``.
+2. the acceptance threshold is chosen on the other real scenes too: the lowest
+   ``min_confidence`` of a fine grid (0.80 .. 0.995 by 0.005, and 20/21) at which every
+   one of them is at most :data:`MAX_FALSE` (1 %) false; the held-out scene's operating
+   point at it is printed, near depth steps and away;
+   ``--weights`` keeps the score's five weights instead of choosing them (the curve
+   and the threshold are still fitted held out);
+3. the weights chosen and the curve fitted on all scenes are printed as the literal
+   for ``robostereo.matcher.confidence.DEFAULT_MODEL``, and the threshold chosen on all
+   real scenes as the window method's ``DEFAULT_MIN_CONFIDENCE``.
 """
 
 from __future__ import annotations
@@ -52,6 +63,13 @@ GRID = list(itertools.product((0.0, 0.1, 0.2, 0.3), (0.0, 0.1, 0.2, 0.3, 0.4, 0.
 LEVELS = (0.02, 0.03, 0.05)
 #: the scoring rule of the labels and curves (set from --rule)
 RULE = "project"
+#: the acceptance threshold is the lowest at which every (training) scene's default
+#: point is at most this false: the issue's target for the default point
+MAX_FALSE = 0.01
+#: the thresholds it is chosen among
+THRESHOLDS = sorted({*np.round(np.arange(0.80, 0.9951, 0.005), 3).tolist(), 20 / 21})
+#: the first occluder pair's seed (benchmarks and tests use seeds below 100)
+OCCLUDER_SEED = 1000
 
 
 def samples(left, right, gt, disparity_range, bit_depth=None) -> dict:
@@ -61,12 +79,15 @@ def samples(left, right, gt, disparity_range, bit_depth=None) -> dict:
     known, err = rule_errors(e.row, e.x, res.edge_disparity, gt, rule=RULE)
     take = known & np.isfinite(err)
     return dict(features=res.window.features[take], correct=err[take] <= 1.0,
-                counted=int(known.sum()), rows=e.row, x=e.x, d=res.edge_disparity, gt=gt,
+                counted=int(known.sum()), known=known, rows=e.row, x=e.x,
+                d=res.edge_disparity, gt=gt,
                 take=take, synthetic=False, near=near_steps(e.row, e.x, depth_step_mask(gt)))
 
 
-def dataset(n_synthetic: int) -> dict[str, dict]:
+def dataset(n_synthetic: int, n_occluders: int = 0) -> dict[str, dict]:
     from synthetic import layered_pair
+
+    from robostereo.simulation.occluders import occluder_pair
 
     out = {}
     data = find_data_dir()
@@ -77,6 +98,10 @@ def dataset(n_synthetic: int) -> dict[str, dict]:
     for k in range(n_synthetic):
         left, right, gt = layered_pair(rng, height=200, width=360)
         out[f"synthetic-{k}"] = samples(left, right, gt, (4.0, 27.0)) | {"synthetic": True}
+    for k in range(n_occluders):
+        p = occluder_pair(OCCLUDER_SEED + k)
+        out[f"occluders-{k}"] = (samples(p.left, p.right, p.disparity, p.disparity_range)
+                                 | {"synthetic": True})
     return out
 
 
@@ -120,13 +145,43 @@ def fit(sets: list[dict], weights: tuple[float, ...]) -> ConfidenceModel:
     return fit_confidence(x, y, weights=weights, sample_weight=w)
 
 
+#: the score's weights when given (--weights): only the curve and threshold are fitted
+WEIGHTS: tuple[float, ...] | None = None
+
+
 def choose(sets: list[dict]) -> ConfidenceModel:
-    """The grid's weights with the largest mean coverage over ``sets``, then the curve."""
+    """The grid's weights with the largest mean coverage over ``sets`` (or
+    :data:`WEIGHTS` when given), then the curve."""
+    if WEIGHTS is not None:
+        return fit(sets, WEIGHTS)
+
     def merit(wts: tuple[float, ...]) -> float:
         m = ConfidenceModel((0.0,), (0.5,), *wts)  # the ranking is the score's
         return float(np.mean([np.mean(coverages(m, s, by_score=True)) for s in sets]))
 
     return fit(sets, max(GRID, key=merit))
+
+
+def operating_point(model: ConfidenceModel, s: dict, t: float,
+                    subset: np.ndarray | None = None) -> tuple[float, float]:
+    """% matched and % false of ``s`` accepted at ``min_confidence`` ``t`` (a subset of
+    its edge points: ``(N,)`` bool)."""
+    sub = np.ones(len(s["d"]), bool) if subset is None else subset
+    acc = sub[s["take"]] & (model(s["features"]) >= t)
+    counted = int((sub & s["known"]).sum())
+    matched = int(acc.sum())
+    false = int((acc & ~s["correct"]).sum())
+    return 100 * matched / max(counted, 1), 100 * false / max(matched, 1)
+
+
+def choose_threshold(model: ConfidenceModel, sets: list[dict]) -> float:
+    """The lowest of :data:`THRESHOLDS` at which every real scene of ``sets`` is at most
+    :data:`MAX_FALSE` false (the highest when none is)."""
+    real = [s for s in sets if not s["synthetic"]]
+    for t in THRESHOLDS:
+        if all(operating_point(model, s, t)[1] <= 100 * MAX_FALSE for s in real):
+            return float(t)
+    return float(THRESHOLDS[-1])
 
 
 def ece(conf: np.ndarray, correct: np.ndarray) -> float:
@@ -138,16 +193,24 @@ def ece(conf: np.ndarray, correct: np.ndarray) -> float:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--synthetic", type=int, default=6, help="synthetic layered pairs (6)")
+    ap.add_argument("--occluders", type=int, default=0,
+                    help="synthetic occluder pairs, seeds 1000.. (0)")
     ap.add_argument("--thresholds", type=float, nargs="+",
                     default=[0.5, 0.8, 0.9, 0.95, 20 / 21, 0.97, 0.98])
+    ap.add_argument("--weights", type=float, nargs=5, default=None,
+                    metavar=("EDGE", "SIMILARITY", "ROW", "PATH", "SWAP"),
+                    help="keep these score weights (right edge, similarity, row agreement, "
+                         "path uniqueness, path taken): fit only the curve and threshold")
     ap.add_argument("--rule", choices=RULES, default="project",
                     help="scoring rule of the labels and curves (default: the project's)")
     args = ap.parse_args(argv)
-    global RULE
+    global RULE, WEIGHTS
     RULE = args.rule
-    data = dataset(args.synthetic)
-    real = [k for k in data if not k.startswith("synthetic")]
-    print(f"{len(data)} scenes: {', '.join(data)}; rule: {RULE}\n")
+    WEIGHTS = tuple(args.weights) if args.weights else None
+    data = dataset(args.synthetic, args.occluders)
+    real = [k for k, v in data.items() if not v["synthetic"]]
+    print(f"{len(data)} scenes: {', '.join(k for k in data if not k.startswith('occ'))}"
+          f"{f', {args.occluders} occluder pairs' if args.occluders else ''}; rule: {RULE}\n")
     print(f"{'held out':11s} {'weights':19s} {'ECE':>5s} {'@2%':>5s} {'@3%':>5s} {'@5%':>5s}  "
           + " ".join(f"{'t=' + format(t, '.3f'):>11s}" for t in args.thresholds))
     held: dict[str, ConfidenceModel] = {}
@@ -172,6 +235,17 @@ def main(argv: list[str] | None = None) -> int:
     print(f"\n{'held out':11s} near: {'ECE':>5s} {lv}   away: {'ECE':>5s} {lv}")
     for name, model in held.items():
         print(f"{name:11s}       {split(model, data[name])}")
+    print(f"\n{'held out':11s} {'min_confidence':>14s}   matched / false %: {'all':>11s} "
+          f"{'near steps':>11s} {'away':>11s}   (chosen on the other real scenes: the "
+          f"lowest with each <= {100 * MAX_FALSE:g} % false)")
+    for name, model in held.items():
+        others = [v for k, v in data.items() if k != name]
+        t = choose_threshold(model, others)
+        s = data[name]
+        pts = [operating_point(model, s, t, sub)
+               for sub in (None, s["near"], ~s["near"])]
+        print(f"{name:11s} {t:14.3f}                      "
+              + " ".join(f"{m:5.1f}/{f:4.2f}" for m, f in pts))
     model = choose(list(data.values()))
     print("\nall scenes: ConfidenceModel(")
     print(f"    knots_score=({', '.join(f'{v:.4f}' for v in model.knots_score)}),")
@@ -180,6 +254,8 @@ def main(argv: list[str] | None = None) -> int:
           f"similarity_weight={model.similarity_weight}, "
           f"row_agree_weight={model.row_agree_weight}, path_weight={model.path_weight}, "
           f"swap_weight={model.swap_weight})")
+    t_all = choose_threshold(model, list(data.values()))
+    print(f"min_confidence chosen on all real scenes: {t_all:.3f}")
     return 0
 
 

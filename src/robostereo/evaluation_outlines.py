@@ -14,7 +14,9 @@ ground-truth disparity jump of more than 2 px between known 4-neighbours) and *a
 * with a calibration, the 3-D distance from each located point to the ground-truth
   surface (:func:`surface_distances`), median and 95th percentile in mm;
 * the silhouette offsets (:func:`silhouette_offsets`): how far the edges matched with
-  the nearer surface's disparity lie from the ground truth's boundary.
+  the nearer surface's disparity lie from the ground truth's boundary
+  (:func:`boundary_offsets`: how far every edge point near a boundary lies from it,
+  the edge localisation alone).
 """
 
 from __future__ import annotations
@@ -48,6 +50,7 @@ __all__ = [
     "OutlineFigures",
     "RowBoundaries",
     "SplitFigures",
+    "boundary_offsets",
     "format_outline_figures",
     "outline_figures",
     "row_boundaries",
@@ -109,6 +112,62 @@ def row_boundaries(gt_disparity: ArrayLike, *, step: float = 2.0) -> RowBoundari
                          near_disparity=np.where(right_nearer, b[r, j], a[r, j]))
 
 
+def boundary_offsets(
+    rows: ArrayLike, x: ArrayLike, boundaries: RowBoundaries, *, reach: float = 1.5,
+) -> tuple[NDArray[np.intp], NDArray[np.float64], NDArray[np.intp]]:
+    """Signed offsets of edge points from the nearest boundary of their row, whatever
+    their match: how well the edge localisation finds outlines.
+
+    Parameters
+    ----------
+    rows, x : array_like, shape (N,)
+        Edge points (image row, sub-pixel column).
+    boundaries : RowBoundaries
+        Exact (a synthetic scene's) or from the ground truth (:func:`row_boundaries`).
+    reach : float
+        Pixels: only points this close to a boundary of their row count (1.5: the
+        boundary's own edge, not the texture beside it).
+
+    Returns
+    -------
+    index : ndarray of int, shape (M,)
+        The points among the N within ``reach`` of a boundary of their row.
+    offset : ndarray, shape (M,)
+        ``x`` minus the nearest boundary's ``x``, signed so that positive is towards
+        the farther surface (the edge lies outside the object), pixels.
+    boundary : ndarray of int, shape (M,)
+        Index of that boundary in ``boundaries``.
+
+    Examples
+    --------
+    >>> b = RowBoundaries(np.array([0, 0]), np.array([10.0, 20.0]), np.array([1, -1]),
+    ...                   np.array([9.0, 9.0]))
+    >>> i, off, k = boundary_offsets([0, 0, 0, 1], [9.6, 20.3, 15.0, 10.0], b)
+    >>> i.tolist(), off.round(2).tolist(), k.tolist()
+    ([0, 1], [0.4, 0.3], [0, 1])
+    """
+    r = np.asarray(rows, dtype=np.intp)
+    xs = np.asarray(x, dtype=float)
+    if not r.shape == xs.shape or r.ndim != 1:
+        raise InputError(f"rows and x must be 1-D of one length, got {r.shape}, {xs.shape}")
+    require_nonnegative("reach", reach)
+    empty = (np.zeros(0, dtype=np.intp), np.zeros(0), np.zeros(0, dtype=np.intp))
+    if boundaries.x.size == 0 or r.size == 0:
+        return empty
+    span = float(max(np.max(np.abs(boundaries.x)), np.max(np.abs(xs)))) * 2 + 4 * reach + 10
+    key_b = boundaries.rows * span + boundaries.x
+    order = np.argsort(key_b, kind="stable")
+    key_b = key_b[order]
+    key_p = r * span + xs
+    i = np.searchsorted(key_b, key_p)
+    cand = np.stack([np.clip(i - 1, 0, key_b.size - 1), np.clip(i, 0, key_b.size - 1)], 1)
+    dist = np.abs(key_b[cand] - key_p[:, None])
+    nearest = order[cand[np.arange(r.size), np.argmin(dist, axis=1)]]
+    dx = xs - boundaries.x[nearest]
+    idx = np.nonzero((boundaries.rows[nearest] == r) & (np.abs(dx) <= reach))[0]
+    return idx, -dx[idx] * boundaries.near_side[nearest[idx]], nearest[idx]
+
+
 def silhouette_offsets(
     rows: ArrayLike, x: ArrayLike, disparity: ArrayLike, boundaries: RowBoundaries, *,
     reach: float = 4.0, tolerance: float = 1.0,
@@ -136,6 +195,12 @@ def silhouette_offsets(
         ``x`` minus the nearest boundary's ``x``, signed so that positive is towards
         the farther surface (the edge lies outside the object), pixels.
 
+    Notes
+    -----
+    The offsets of the *accepted* silhouette matches mix two things: where the edge
+    localisation puts outlines (:func:`boundary_offsets`, every edge point) and which
+    of those edges the matcher accepts with the nearer surface's disparity.
+
     Examples
     --------
     >>> b = RowBoundaries(np.array([0]), np.array([10.0]), np.array([1]), np.array([9.0]))
@@ -148,26 +213,11 @@ def silhouette_offsets(
     if not r.shape == xs.shape == d.shape or r.ndim != 1:
         raise InputError(f"rows, x and disparity must be 1-D of one length, got {r.shape}, "
                          f"{xs.shape}, {d.shape}")
-    require_nonnegative("reach", reach)
     require_nonnegative("tolerance", tolerance)
-    empty = (np.zeros(0, dtype=np.intp), np.zeros(0))
-    if boundaries.x.size == 0 or r.size == 0:
-        return empty
-    span = float(max(np.max(np.abs(boundaries.x)), np.max(np.abs(xs)))) * 2 + 4 * reach + 10
-    key_b = boundaries.rows * span + boundaries.x
-    order = np.argsort(key_b, kind="stable")
-    key_b = key_b[order]
-    key_p = r * span + xs
-    i = np.searchsorted(key_b, key_p)
-    cand = np.stack([np.clip(i - 1, 0, key_b.size - 1), np.clip(i, 0, key_b.size - 1)], 1)
-    dist = np.abs(key_b[cand] - key_p[:, None])
-    nearest = order[cand[np.arange(r.size), np.argmin(dist, axis=1)]]
-    dx = xs - boundaries.x[nearest]
+    idx, off, nearest = boundary_offsets(r, xs, boundaries, reach=reach)
     with np.errstate(invalid="ignore"):
-        on = ((boundaries.rows[nearest] == r) & (np.abs(dx) <= reach)
-              & (np.abs(d - boundaries.near_disparity[nearest]) <= tolerance))
-    idx = np.nonzero(on)[0]
-    return idx, -dx[idx] * boundaries.near_side[nearest[idx]]
+        on = np.abs(d[idx] - boundaries.near_disparity[nearest]) <= tolerance
+    return idx[on], off[on]
 
 
 @dataclass(frozen=True)
