@@ -34,7 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -101,6 +101,14 @@ class ViewsParameters:
         default: on the simulated block (5 views on a line over 80 mm) 4 took the lift's
         error from 0.095 to 0.056 mm but the largest error from 0.53-0.60 to 0.88 mm
         (a point 3.5 mm from a corner that dropped the one unbiased view).
+    min_views : int
+        Views a point's fit must rest on (the reference included), when that many see
+        its window: a fit of two views matches exactly whatever it is given, so it
+        cannot reveal a wrong match; a third view can (default 3).
+    combine : {'best-half', 'all'}
+        How the views' window costs at one depth combine: the mean of the best half of
+        the views that see the window (Kang, Szeliski & Chai 2001: a view in which the
+        point is hidden does not vote), or of all of them (Okutomi & Kanade's sum).
     """
 
     threshold: float = 8.0
@@ -111,6 +119,8 @@ class ViewsParameters:
     min_epipolar_angle_deg: float = 15.0
     edge_lines: int = 2
     drop_sigmas: float | None = None
+    combine: Literal["best-half", "all"] = "best-half"
+    min_views: int = 3
 
     def __post_init__(self) -> None:
         require_positive("threshold", self.threshold)
@@ -124,6 +134,11 @@ class ViewsParameters:
         el = self.edge_lines
         if isinstance(el, bool) or not isinstance(el, int | np.integer) or not 0 <= el <= 5:
             raise InputError(f"edge_lines must be an integer in 0..5, got {el!r}")
+        mv = self.min_views
+        if isinstance(mv, bool) or not isinstance(mv, int | np.integer) or mv < 2:
+            raise InputError(f"min_views must be an integer >= 2, got {mv!r}")
+        if self.combine not in ("best-half", "all"):
+            raise InputError(f"combine must be 'best-half' or 'all', got {self.combine!r}")
         if self.drop_sigmas is not None:
             require_positive("drop_sigmas", self.drop_sigmas)
         if not 0 <= self.min_epipolar_angle_deg < 90:
@@ -319,12 +334,15 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
         if len(edges):
             rays = search_rays(views, ref, edges, capture.depth_range_mm,
                                half_window=p.half_window, step_px=p.step_px,
-                               min_sine=float(sine_min))
+                               min_sine=float(sine_min), combine=p.combine)
             fit = refine_points(views, ref, edges, rays, max_window_cost=p.max_window_cost,
                                 threshold=p.threshold, reject_px=p.reject_px, border=border,
                                 lines=p.edge_lines,
                                 drop_sigmas=p.drop_sigmas or math.inf)
             ok = fit.ok & (fit.epipolar_sine >= sine_min)
+            # a fit of two views cannot check its match: ask for a third where one exists
+            n_fit = fit.used.sum(axis=1) + fit.used_reference
+            ok &= n_fit >= np.minimum(p.min_views, 1 + np.isfinite(rays.costs).sum(axis=1))
             if ok.any():
                 parts.append(_collect(capture, views, ref, edges, rays, fit, ok, n))
                 _claim(claimed, ref, rays.others, edges, fit, ok)

@@ -48,6 +48,10 @@ __all__ = [
 
 _F = NDArray[np.float64]
 
+KEPT_FLOOR = 0.1
+"""Window cost (``1 - ZNCC``) a view may always have to enter the fit: below it a
+window fits well whatever the other views do."""
+
 
 @dataclass(frozen=True, eq=False)
 class PreparedViews:
@@ -216,6 +220,8 @@ class RayMatches:
         Each other view's ``1 - ZNCC`` at `rho` (NaN: not visible).
     combined : (M,)
         The robust combined cost at `rho` (mean of the best half).
+    kept : (M,)
+        The largest cost among the views that voted at `rho`.
     distinct : (M,)
         Combined cost at the best depth over that of the best depth at least three
         steps away (1: ambiguous, small: distinct).
@@ -227,6 +233,7 @@ class RayMatches:
     rho: _F
     costs: _F
     combined: _F
+    kept: _F
     distinct: _F
     affine: _F
 
@@ -248,7 +255,8 @@ def epipolar_sines(a: _F, b: _F, aff: _F, normal: _F, rho: float) -> _F:
 
 def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
                 depth_range: tuple[float, float], *, half_window: int,
-                step_px: float, min_sine: float = 0.0) -> RayMatches:
+                step_px: float, min_sine: float = 0.0,
+                combine: str = "best-half") -> RayMatches:
     """Search each edge point's ray in inverse depth and combine the views robustly.
 
     Notes
@@ -296,18 +304,20 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
     c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (M, V, K)
     srt = np.sort(c, axis=1)
     seen = np.isfinite(srt).sum(axis=1)  # (M, K)
-    keep = np.maximum((seen + 1) // 2, 1)
+    keep = np.maximum((seen + 1) // 2, 1) if combine == "best-half" else np.maximum(seen, 1)
     csum = np.cumsum(np.where(np.isfinite(srt), srt, 0.0), axis=1)
     comb = np.take_along_axis(csum, (keep - 1)[:, None, :], axis=1)[:, 0, :] / keep
     comb = np.where(seen > 0, comb, np.inf)
     k = np.argmin(comb, axis=1) if m else np.zeros(0, np.intp)
     best = comb[np.arange(m), k]
+    kept = srt[np.arange(m), keep[np.arange(m), k] - 1, k]  # the worst view that voted
     far_k = np.abs(np.arange(len(rho))[None, :] - k[:, None]) >= 3
     second = np.where(far_k, comb, np.inf).min(axis=1)
     with np.errstate(divide="ignore", invalid="ignore"):
         distinct = np.where(np.isfinite(second) & (second > 0), best / second, 1.0)
     return RayMatches(others=others, rho=rho[k], costs=costs[np.arange(m), :, k],
-                      combined=best, distinct=np.clip(distinct, 0.0, 1.0), affine=aff)
+                      combined=best, kept=kept, distinct=np.clip(distinct, 0.0, 1.0),
+                      affine=aff)
 
 
 @dataclass(frozen=True, eq=False)
@@ -408,8 +418,9 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
 
     Notes
     -----
-    1. Candidate views: those that see the window with ``1 - ZNCC <= max_window_cost``
-       at the best depth.
+    1. Candidate views: those that see the window at the best depth with ``1 - ZNCC``
+       at most twice the worst of the views that voted (or :data:`KEPT_FLOOR`) and at
+       most `max_window_cost`: a view where the point is hidden fits worse.
     2. In each, the sub-pixel edge point nearest the predicted position, on the pixel
        grid, whose gradient points along the reference normal carried over by the depth
        plane's map (:func:`~robostereo.robot.multiview_kernels.edge_near`).
@@ -426,7 +437,9 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
     world = views.C[ref] + _rays(views, ref, e_ref) / rho[:, None]
     edge = np.full((m, nv, 2), np.nan)
     normal = np.zeros((m, nv, 2))
-    cand = np.isfinite(rays.costs) & (rays.costs <= max_window_cost)
+    # views that fit about as well as the ones that voted (a hidden view fits worse)
+    like = np.maximum(2.0 * rays.kept, KEPT_FLOOR)[:, None]
+    cand = np.isfinite(rays.costs) & (rays.costs <= np.minimum(like, max_window_cost))
     for v, j in enumerate(others):
         uv, z = views.project(world, int(j))
         A = rays.affine[:, v]  # gradients map with the inverse transpose
