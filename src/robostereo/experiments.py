@@ -13,8 +13,7 @@ The application layer over the simulated rig of :mod:`robostereo.robot.simulated
 * :func:`run_demo`: both, as ``robostereo demo`` runs them; :func:`save_demo_figures`
   and :func:`print_demo_report` show them.
 * :func:`run_views_demo`: the block (two heights) and the hub-pulley from N views in a
-  pattern (:func:`~robostereo.robot.simulated_views.simulate_views`,
-  :func:`~robostereo.robot.multiview.locate_views`), SCARA or six-axis, as a summary.
+  pattern, SCARA or six-axis, as a summary.
 """
 
 from __future__ import annotations
@@ -27,6 +26,7 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+from scipy.spatial import cKDTree
 
 from robostereo.errors import InputError
 from robostereo.evaluation import MatchScore, score_matches
@@ -64,6 +64,7 @@ __all__ = [
     "save_demo_figures",
     "simulate_capture",
     "views_block_truth",
+    "views_correct",
     "views_outline_coverage",
     "views_pulley_score",
 ]
@@ -503,8 +504,7 @@ def views_block_truth(sim: SimulatedViews, located: LocatedViews
     top = box.z_base + box.size[2]
     m = len(located)
     on, err, edge = np.zeros(m, bool), np.full(m, np.nan), np.zeros(m, np.int8)
-    cam = sim.camera
-    assert cam is not None
+    cam = sim.camera or sim.capture.camera
     c, s = np.cos(box.yaw), np.sin(box.yaw)
     hx, hy = box.size[0] / 2, box.size[1] / 2
     for r in np.unique(located.reference):
@@ -529,8 +529,6 @@ def views_outline_coverage(sim: SimulatedViews, located: LocatedViews, *,
                            within_mm: float = 1.0) -> float:
     """Share of the block's true top outline, sampled every mm, within `within_mm` (3-D)
     of a located point."""
-    from scipy.spatial import cKDTree
-
     box = _top_box(sim)
     co = box.corners()
     top = co[co[:, 2] == co[:, 2].max()]
@@ -547,52 +545,72 @@ def views_outline_coverage(sim: SimulatedViews, located: LocatedViews, *,
     return float((cKDTree(located.world).query(outline)[0] <= within_mm).mean())
 
 
-def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
-                       threshold: float = 8.0) -> tuple[float, float]:
-    """``(matched, false)`` fractions of a hub-pulley capture located from N views.
+def views_correct(sim: SimulatedViews, located: LocatedViews) -> NDArray[np.bool_]:
+    """Whether each located point is right, by the renderings' truth.
 
-    Matched: the central reference view's edge points with a known depth that have a
-    located point (from any reference) within 1 pixel in that view.  False: located
-    points whose depth along their reference's axis differs from the true depth of every
-    pixel of the 3 x 3 around their reference pixel by more than one pixel of disparity
-    over the pattern's longest baseline (``Z^2 / (f span)``), the two-view rule's
-    tolerance.
+    Right: the true depth of some pixel of the 3 x 3 around the point's reference pixel
+    lies within one pixel of disparity over the pattern's longest baseline of the
+    located depth (``Z^2 / (f span)``; the two-view rule's tolerance).
     """
+    cap = sim.capture
+    h, w = sim.renderings[0].depth.shape
+    f = float(cap.camera.fx)
+    ok = np.zeros(len(located), bool)
+    for r in np.unique(located.reference):
+        k = np.nonzero(located.reference == r)[0]
+        d = sim.renderings[int(r)].depth
+        x = np.clip(np.rint(located.pixel[k, 0]).astype(int), 1, w - 2)
+        y = np.clip(np.rint(located.pixel[k, 1]).astype(int), 1, h - 2)
+        z = located.depth_mm[k]
+        tol = z**2 / (f * cap.span_mm)
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                ok[k] |= np.abs(d[y + dy, x + dx] - z) <= tol
+    return ok
+
+
+def _confident(located: LocatedViews, least: float) -> LocatedViews:
+    keep = located.confidence >= least
+    if keep.all():
+        return located
+    return LocatedViews(**{f: getattr(located, f)[keep]
+                           for f in located.__dataclass_fields__})
+
+
+def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
+                       threshold: float = 8.0, min_angle_deg: float = 15.0,
+                       min_confidence: float = 0.0) -> tuple[float, float, float]:
+    """``(matched, false, matched_all)`` fractions of a hub-pulley capture from N views.
+
+    Matched: of the central reference view's edge points with a known depth that cross
+    the epipolar line of some other view at `min_angle_deg` or more (the ones the views
+    can measure: the thesis's matcher, too, counts only edge points found along its
+    rows), those with a located point (from any reference) within 1 pixel in that view;
+    `matched_all` counts every edge point with a known depth.  False: located points
+    that are not right by :func:`views_correct`.  Only the points with a confidence of
+    at least `min_confidence` count.
+    """
+    located = _confident(located, min_confidence)
     cap = sim.capture
     views = prepare_views(cap)
     order = np.argsort(np.linalg.norm(cap.centres - cap.centres.mean(axis=0), axis=1),
                        kind="stable")
     ref = int(order[0])
     edges = reference_edges(views, ref, threshold, 5)
-    h, w = views.smoothed.shape[1:]
-    depth = sim.renderings[ref].depth
-    g = edges.grid
-    known = np.isfinite(depth[g[:, 1], g[:, 0]])
-    f = float(cap.camera.fx)
-    false = 0
+    known = np.isfinite(sim.renderings[ref].depth[edges.grid[:, 1], edges.grid[:, 0]])
+    # the edges the views can measure: across some baseline's image direction
+    dirs = np.delete((views.C - views.C[ref]) @ views.R[ref], ref, axis=0)[:, :2]
+    dirs /= np.maximum(np.linalg.norm(dirs, axis=1, keepdims=True), 1e-12)
+    across = np.abs(edges.normal @ dirs.T).max(axis=1) >= np.sin(np.radians(min_angle_deg))
+    near = np.zeros(len(edges), bool)
+    false = int((~views_correct(sim, located)).sum())
     if len(located):
         uv, _ = cap.camera.project(located.world, cap.poses[ref])
-        from scipy.spatial import cKDTree
-
         near = cKDTree(uv).query(edges.pixel)[0] <= 1.0
-        bad = np.zeros(len(located), bool)
-        for r in np.unique(located.reference):
-            k = np.nonzero(located.reference == r)[0]
-            d = sim.renderings[int(r)].depth
-            x = np.clip(np.rint(located.pixel[k, 0]).astype(int), 1, w - 2)
-            y = np.clip(np.rint(located.pixel[k, 1]).astype(int), 1, h - 2)
-            z = located.depth_mm[k]
-            tol = z**2 / (f * cap.span_mm)
-            ok = np.zeros(len(k), bool)
-            for dy in (-1, 0, 1):
-                for dx in (-1, 0, 1):
-                    ok |= np.abs(d[y + dy, x + dx] - z) <= tol
-            bad[k] = ~ok
-        false = int(bad.sum())
-    else:
-        near = np.zeros(len(edges), bool)
-    matched = float((near & known).sum() / max(int(known.sum()), 1))
-    return matched, false / max(len(located), 1)
+    counted = known & across
+    matched = float((near & counted).sum() / max(int(counted.sum()), 1))
+    matched_all = float((near & known).sum() / max(int(known.sum()), 1))
+    return matched, false / max(len(located), 1), matched_all
 
 
 def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80.0,
@@ -617,7 +635,9 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
         only, as the two-view demo measures), ``bound_at_max_error_mm``,
         ``all_within_bound``, ``median_bound_mm``, ``block_points``; ``outline_coverage``
         (:func:`views_outline_coverage`, first height); ``pulley_matched``,
-        ``pulley_false`` (:func:`views_pulley_score`), ``pulley_points``;
+        ``pulley_false``, ``pulley_matched_all_edges`` (:func:`views_pulley_score`),
+        ``pulley_matched_confident`` and ``pulley_false_confident`` (the points with a
+        confidence of 0.5 or more: more likely right than wrong), ``pulley_points``;
         ``locate_seconds`` (the three locates) and ``seconds`` (everything).
 
     Notes
@@ -654,7 +674,8 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
     t = time.perf_counter()
     ploc = locate_views(pul.capture, params=params)
     t_loc += time.perf_counter() - t
-    matched, false = views_pulley_score(pul, ploc)
+    matched, false, matched_all = views_pulley_score(pul, ploc)
+    m_conf, f_conf, _ = views_pulley_score(pul, ploc, min_confidence=0.5)
     e, b = np.concatenate(errs), np.concatenate(bounds)
     worst = int(np.argmax(np.abs(e)))
     el = np.concatenate(longs)
@@ -669,6 +690,9 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
         "block_points": [len(x) for x in errs],
         "outline_coverage": round(cover, 4),
         "pulley_matched": round(matched, 4), "pulley_false": round(false, 4),
+        "pulley_matched_all_edges": round(matched_all, 4),
+        "pulley_matched_confident": round(m_conf, 4),
+        "pulley_false_confident": round(f_conf, 4),
         "pulley_points": len(ploc),
         "locate_seconds": round(t_loc, 3),
         "seconds": round(time.perf_counter() - t0, 3),
