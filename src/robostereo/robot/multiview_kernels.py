@@ -51,8 +51,8 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type
         The point at inverse depth ``rho`` projects to ``(a + rho b)[:2] / (a + rho b)[2]``.
     aff : float64 (M, V, 2, 2)
         Reference pixel offsets to the view's pixel offsets (the depth plane's local map).
-    rho : float64 (K,)
-        Inverse depths, 1/mm.
+    rho : float64 (M, K)
+        Each point's inverse depths, 1/mm.
     margin : float
         Least distance of a window sample from the image border, pixels.
 
@@ -64,7 +64,7 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type
     """
     m, p = ref_patch.shape
     nv = views.shape[0]
-    nk = rho.shape[0]
+    nk = rho.shape[1]
     h = images.shape[1]
     w = images.shape[2]
     out = np.empty((m, nv, nk), np.float32)
@@ -77,9 +77,9 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type
             a10 = aff[i, v, 1, 0]
             a11 = aff[i, v, 1, 1]
             for k in range(nk):
-                hx = a[i, v, 0] + rho[k] * b[i, v, 0]
-                hy = a[i, v, 1] + rho[k] * b[i, v, 1]
-                hz = a[i, v, 2] + rho[k] * b[i, v, 2]
+                hx = a[i, v, 0] + rho[i, k] * b[i, v, 0]
+                hy = a[i, v, 1] + rho[i, k] * b[i, v, 1]
+                hz = a[i, v, 2] + rho[i, k] * b[i, v, 2]
                 if hz <= 0.0:
                     out[i, v, k] = OUTSIDE
                     continue

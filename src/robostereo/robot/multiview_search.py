@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Any
 
 import cv2
 import numpy as np
@@ -255,14 +256,15 @@ def epipolar_sines(a: _F, b: _F, aff: _F, normal: _F, rho: float) -> _F:
 
 def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
                 depth_range: tuple[float, float], *, half_window: int,
-                step_px: float, min_sine: float = 0.0,
-                combine: str = "best-half") -> RayMatches:
+                step_px: float, min_sine: float = 0.0, combine: str = "best-half",
+                coarse_px: float = 2.0) -> RayMatches:
     """Search each edge point's ray in inverse depth and combine the views robustly.
 
     Notes
     -----
     1. Inverse depths from ``1 / far`` to ``1 / near`` in steps that move the point at
-       most `step_px` in the view farthest from the reference.
+       most `coarse_px` in the view farthest from the reference; then, about each
+       point's best one, steps of `step_px` over a coarse step either side.
     2. The reference window (``2 half_window + 1`` square) of each edge point, zero
        mean and unit norm; in each other view the window through the depth plane's
        local affine map at each depth, scored ``1 - ZNCC``
@@ -282,7 +284,6 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
     f = float(views.K[0, 0])
     reach = float(np.max(np.linalg.norm(views.C[others] - views.C[ref], axis=1)))
     drho = step_px / (f * reach)
-    rho = np.arange(1.0 / far, 1.0 / near + drho, drho)
     r = np.arange(-half_window, half_window + 1, dtype=float)
     ox, oy = np.meshgrid(r, r)
     offs = np.column_stack([ox.ravel(), oy.ravel()])
@@ -295,29 +296,48 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
     rays = _rays(views, ref, px)
     a, b = _projection_terms(views, ref, others, rays)
     aff = _affine(views, ref, others, px, 2.0 / (near + far))
-    costs = sweep_costs(views.smoothed, patch, offs, others.astype(np.int64), a, b, aff,
-                        rho, float(half_window + 1))
     # -- a view along whose epipolar line the edge runs cannot tell depths apart: no vote
     mute = epipolar_sines(a, b, aff, edges.normal, 2.0 / (near + far)) < min_sine
+    ratio = max(coarse_px / step_px, 1.0)
+    grid = np.arange(1.0 / far, 1.0 / near + drho * ratio, drho * ratio)
+    sweep = (views.smoothed, patch, offs, others.astype(np.int64), a, b, aff)
+    costs, comb, srt, keep = _sweep(sweep, np.broadcast_to(grid, (m, len(grid))).copy(),
+                                    mute, half_window, combine)
+    k = np.argmin(comb, axis=1) if m else np.zeros(0, np.intp)
+    best = comb[np.arange(m), k]
+    far_k = np.abs(np.arange(len(grid))[None, :] - k[:, None]) >= 3
+    second = np.where(far_k, comb, np.inf).min(axis=1)
+    rho = grid[k]
+    if ratio > 1.0 and m:
+        # -- then the fine steps within a coarse step either side of the coarse best
+        half = int(np.ceil(ratio))
+        fine = rho[:, None] + drho * np.arange(-half, half + 1)[None, :]
+        fine = np.clip(fine, 0.5 / far, None)
+        costs, comb, srt, keep = _sweep(sweep, fine, mute, half_window, combine)
+        k = np.argmin(comb, axis=1)
+        best = comb[np.arange(m), k]
+        rho = fine[np.arange(m), k]
+    kept = srt[np.arange(m), keep[np.arange(m), k] - 1, k]  # the worst view that voted
+    with np.errstate(divide="ignore", invalid="ignore"):
+        distinct = np.where(np.isfinite(second) & (second > 0), best / second, 1.0)
+    return RayMatches(others=others, rho=rho, costs=costs[np.arange(m), :, k],
+                      combined=best, kept=kept, distinct=np.clip(distinct, 0.0, 1.0),
+                      affine=aff)
+
+
+def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], half_window: int,
+           combine: str) -> tuple[_F, _F, _F, NDArray[np.intp]]:
+    """Costs (M, V, K) at each point's inverse depths `rho` (M, K), their combination
+    (M, K), the views' sorted costs and how many voted."""
+    costs = sweep_costs(*sweep, rho, float(half_window + 1))
     costs[mute] = np.nan
-    # -- the best half of the views that see the window, at each depth
     c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (M, V, K)
     srt = np.sort(c, axis=1)
     seen = np.isfinite(srt).sum(axis=1)  # (M, K)
     keep = np.maximum((seen + 1) // 2, 1) if combine == "best-half" else np.maximum(seen, 1)
     csum = np.cumsum(np.where(np.isfinite(srt), srt, 0.0), axis=1)
     comb = np.take_along_axis(csum, (keep - 1)[:, None, :], axis=1)[:, 0, :] / keep
-    comb = np.where(seen > 0, comb, np.inf)
-    k = np.argmin(comb, axis=1) if m else np.zeros(0, np.intp)
-    best = comb[np.arange(m), k]
-    kept = srt[np.arange(m), keep[np.arange(m), k] - 1, k]  # the worst view that voted
-    far_k = np.abs(np.arange(len(rho))[None, :] - k[:, None]) >= 3
-    second = np.where(far_k, comb, np.inf).min(axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        distinct = np.where(np.isfinite(second) & (second > 0), best / second, 1.0)
-    return RayMatches(others=others, rho=rho[k], costs=costs[np.arange(m), :, k],
-                      combined=best, kept=kept, distinct=np.clip(distinct, 0.0, 1.0),
-                      affine=aff)
+    return costs, np.where(seen > 0, comb, np.inf), srt, keep
 
 
 @dataclass(frozen=True, eq=False)
