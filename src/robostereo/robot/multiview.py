@@ -234,8 +234,8 @@ def views_bound(depth_mm: ArrayLike, rho_std_unit: ArrayLike, *, focal_px: float
         ``Z``, depth along the reference's optical axis.
     rho_std_unit : array_like, shape (M,)
         ``sqrt([(J^T J)^-1]_rho)`` of the least-squares fit in ``(t, 1/Z)`` per pixel of
-        edge position error in each view (:func:`~robostereo.robot.multiview_search.
-        refine_points`).
+        edge position error in each view
+        (:func:`~robostereo.robot.multiview_search.refine_points`).
     focal_px, pixel_pitch_mm : float
         ``f`` in pixels and the pixel pitch (``s = f pitch`` in mm).
     disparity_uncertainty_px, baseline_uncertainty_mm, focal_length_uncertainty_mm : float

@@ -176,9 +176,9 @@ def simulate_views(
 
     Examples
     --------
-    >>> sim = simulate_views("block", count=3, span_mm=40.0)  # doctest: +SKIP
-    >>> len(sim.capture), round(sim.capture.span_mm)  # doctest: +SKIP
-    (3, 40)
+    >>> sim = simulate_views("pulley", count=2, span_mm=40.0)
+    >>> len(sim.capture), round(sim.capture.span_mm), len(sim.renderings)
+    (2, 40, 2)
     """
     _check(kind, count, pattern, span_mm, robot, lift_mm, seed)
     if robot == "scara":
