@@ -71,8 +71,8 @@ def main() -> int:
                 rows.append(r)
                 print(f"done {robot} {pattern} {count}", flush=True)
     head = ("robot", "pattern", "N", "lift", "max|err|", "long", "bound@max", "within",
-            "med bound", "outline", "pul.match", "pul.false", "t views", "t two", "ratio",
-            "(N-1)")
+            "med bound", "outline", "pul.match", "pul.false", "false (P>=0.5)", "t views",
+            "t two", "ratio", "(N-1)")
     print(" | ".join(head))
     for r in sorted(rows, key=lambda r: -r["max_abs_error_mm"]):
         print(" | ".join(str(v) for v in (
@@ -81,6 +81,7 @@ def main() -> int:
             f"{r['bound_at_max_error_mm']:.2f}", r["all_within_bound"],
             f"{r['median_bound_mm']:.2f}", f"{100 * r['outline_coverage']:.1f}%",
             f"{100 * r['pulley_matched']:.1f}%", f"{100 * r['pulley_false']:.2f}%",
+            f"{100 * r['pulley_false_confident']:.2f}%",
             f"{r['t_views']:.3f}", f"{r['t_two']:.3f}", f"{r['t_views'] / r['t_two']:.1f}",
             r["views"] - 1)))
     return 0
