@@ -1,8 +1,8 @@
 """Locating edge points from N views (multi-baseline stereo with known poses).
 
-The thesis locates an object point from two views (2.2, 3.6) with the eq. 9 bound.  A
-robot can grab more views; :func:`locate_views` uses them all, for precision (a long
-total baseline), completeness (views on both sides of an occluder; edges of every
+The thesis [3]_ locates an object point from two views (2.2, 3.6) with the eq. 9
+bound.  A can grab more views; :func:`locate_views` uses them all, for precision (a long total
+baseline [1]_), completeness (views on both sides of an occluder; edges of every
 orientation with a cross of viewpoints) and easy matching (short steps between
 neighbouring views):
 
@@ -13,7 +13,7 @@ neighbouring views):
    (:func:`~robostereo.robot.multiview_search.reference_edges`);
 3. each edge point's ray searched in inverse depth over the capture's depth range,
    every other view's window scored in that view's own image, the views combined by
-   the best half so that occluded views do not vote
+   the best half so that occluded views do not vote [2]_
    (:func:`~robostereo.robot.multiview_search.search_rays`);
 4. the 3-D point refined by least squares over the sub-pixel edge points of the views
    that agree (:func:`~robostereo.robot.multiview_search.refine_points`), its bound

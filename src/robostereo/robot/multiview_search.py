@@ -7,9 +7,9 @@
   gradient; the poses as rotations and optical centres;
 * :func:`reference_edges`: the reference view's edge points on the pixel grid
   (:func:`~robostereo.robot.multiview_kernels.grid_edges`);
-* :func:`search_rays`: each edge point's ray searched in inverse depth, every other
+* :func:`search_rays`: each edge point's ray searched in inverse depth [1]_, every other
   view's window scored (:func:`~robostereo.robot.multiview_kernels.sweep_costs`) and
-  the views combined robustly (the best half);
+  the views combined robustly (the best half [2]_);
 * :func:`refine_points`: each view's sub-pixel edge point near the best depth, the
   3-D point refined by least squares over the views that agree, its bound.
 
