@@ -188,3 +188,23 @@ def test_demo_figures_are_all_or_nothing(experiments, tmp_path, monkeypatch):
     with pytest.raises(InputError, match=r"points_3d\.png: cannot write output"):
         save_demo_figures(result, tmp_path)
     assert list(tmp_path.iterdir()) == []
+
+
+def test_views_demo_locates_the_block_within_its_bounds_and_the_pulley():
+    from robostereo.experiments import run_views_demo
+
+    two = run_views_demo(count=2, span_mm=80.0)
+    five = run_views_demo(count=5, span_mm=80.0)
+    for r in (two, five):
+        assert {"views", "pattern", "span_mm", "lift_mm", "lift_true_mm", "max_abs_error_mm",
+                "all_within_bound", "outline_coverage", "pulley_matched", "pulley_false",
+                "seconds"} <= set(r)
+        assert r["all_within_bound"]
+        assert abs(r["lift_mm"] - r["lift_true_mm"]) < 0.3
+        assert r["max_abs_error_mm"] < 1.5
+        assert r["pulley_matched"] > 0.95
+    # the bound shrinks with the spread of the baselines, and 5 views fit fewer
+    # wrong pulley points than 2 (whose fits cannot check themselves)
+    assert five["median_bound_mm"] < two["median_bound_mm"]
+    assert five["pulley_false"] < two["pulley_false"]
+    assert five["pulley_false"] < 0.05

@@ -9,7 +9,7 @@ everything that works on a pair works on each pair of an N-view capture, and a t
 capture is an N-view capture with N = 2 (:meth:`ViewsCapture.from_capture`).
 
 Positions of N viewpoints in a pattern around a centre view come from
-:func:`view_offsets`.
+:func:`view_offsets` (multiple-baseline stereo [1]_).
 
 References
 ----------

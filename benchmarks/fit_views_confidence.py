@@ -1,0 +1,95 @@
+"""Fit the N-view confidence model (logistic) on simulated scenes, leave one scene out.
+
+Run:  python benchmarks/fit_views_confidence.py
+
+Scenes (simulated, with ground truth): the hub-pulley from 5 views on a line, in a cross
+and from the six-axis arm; the block from 5 views on a line and in a cross; a post
+before a printed plane (an occluder) from 5 views on a line.  Each located point is right
+or wrong by :func:`robostereo.experiments.views_correct`.  The features are those of
+:func:`robostereo.robot.multiview.views_confidence`; the weights are fitted by
+iteratively reweighted least squares (a logistic regression) on all scenes but one and
+scored on the one left out: the share of wrong points, the mean confidence, and the
+expected calibration error over ten bins.  The last line prints the weights fitted on
+every scene, which :data:`robostereo.robot.multiview.CONFIDENCE_WEIGHTS` holds.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.ndimage import gaussian_filter
+
+from robostereo.experiments import views_correct
+from robostereo.robot.multiview import confidence_features, locate_views, views_confidence
+from robostereo.robot.simulated_views import simulate_views
+from robostereo.simulation import Box, ImagePlane, Scene, TablePlane
+
+
+def _occluder() -> Scene:
+    rng = np.random.default_rng(5)
+    blobs = gaussian_filter(rng.standard_normal((200, 320)), 8.0) > 0
+    plane = ImagePlane(origin=(320.0, 50.0), image=0.15 + 0.65 * blobs, mm_per_px=0.5,
+                       z=0.5, margin_mm=5.0, margin_albedo=0.5)
+    post = Box(center=(400.0, 0.0), z_base=0.0, size=(12.0, 40.0, 150.0), albedo=0.5)
+    return Scene((TablePlane(z=0.0, albedo=0.5), plane, post),
+                 light_direction=(0.2, -0.1, 1.0))
+
+
+def _fit(x: np.ndarray, y: np.ndarray, iterations: int = 50) -> np.ndarray:
+    """Logistic regression by IRLS with a small ridge (the intercept is free)."""
+    X = np.column_stack([np.ones(len(x)), x])
+    w = np.zeros(X.shape[1])
+    ridge = 1e-3 * np.eye(X.shape[1])
+    ridge[0, 0] = 0.0
+    for _ in range(iterations):
+        p = 1.0 / (1.0 + np.exp(-(X @ w)))
+        s = np.maximum(p * (1 - p), 1e-9)
+        H = X.T @ (X * s[:, None]) + ridge
+        g = X.T @ (y - p) - ridge @ w
+        step = np.linalg.solve(H, g)
+        w += step
+        if np.abs(step).max() < 1e-8:
+            break
+    return w
+
+
+def _ece(p: np.ndarray, y: np.ndarray, bins: int = 10) -> float:
+    edges = np.linspace(0, 1, bins + 1)
+    k = np.clip(np.digitize(p, edges) - 1, 0, bins - 1)
+    return float(sum(abs(p[k == b].mean() - y[k == b].mean()) * (k == b).mean()
+                     for b in range(bins) if (k == b).any()))
+
+
+def main() -> int:
+    scenes = {
+        "pulley line": dict(kind="pulley", pattern="line"),
+        "pulley cross": dict(kind="pulley", pattern="cross"),
+        "pulley six-axis": dict(kind="pulley", pattern="line", robot="six-axis"),
+        "block line": dict(kind="block", pattern="line"),
+        "block cross": dict(kind="block", pattern="cross"),
+        "occluder line": dict(kind="block", pattern="line", scene=_occluder()),
+    }
+    data = {}
+    for name, kw in scenes.items():
+        sim = simulate_views(count=5, span_mm=80.0, **kw)
+        loc = locate_views(sim.capture)
+        data[name] = (confidence_features(loc), views_correct(sim, loc).astype(float))
+        print(f"{name}: {len(loc)} points, {100 * (1 - data[name][1].mean()):.2f} % wrong",
+              flush=True)
+    print("held-out scene | points | wrong % | mean confidence | ECE | ECE (current)")
+    for name in scenes:
+        xs = np.concatenate([data[n][0] for n in scenes if n != name])
+        ys = np.concatenate([data[n][1] for n in scenes if n != name])
+        w = _fit(xs, ys)
+        x, y = data[name]
+        p = 1.0 / (1.0 + np.exp(-(w[0] + x @ w[1:])))
+        cur = views_confidence(*x.T)
+        print(f"{name} | {len(y)} | {100 * (1 - y.mean()):.2f} | {p.mean():.4f} | "
+              f"{_ece(p, y):.4f} | {_ece(cur, y):.4f}")
+    w = _fit(np.concatenate([d[0] for d in data.values()]),
+             np.concatenate([d[1] for d in data.values()]))
+    print("weights (all scenes):", tuple(round(float(v), 3) for v in w))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

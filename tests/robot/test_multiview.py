@@ -1,0 +1,163 @@
+"""Tests of robostereo.robot.multiview: locating edge points from N views."""
+
+import numpy as np
+import pytest
+
+from robostereo.errors import InputError
+from robostereo.experiments import views_block_truth
+from robostereo.robot.multiview import (
+    LocatedViews,
+    ViewsParameters,
+    locate_views,
+    views_bound,
+)
+from robostereo.robot.simulated_views import simulate_views
+from robostereo.simulation import Box
+
+
+@pytest.fixture(scope="module")
+def block_line():
+    sim = simulate_views("block", count=5, pattern="line", span_mm=80.0)
+    return sim, locate_views(sim.capture)
+
+
+def test_five_views_on_a_line_locate_the_block_top_within_the_bounds(block_line):
+    sim, loc = block_line
+    assert isinstance(loc, LocatedViews) and len(loc) > 100
+    on, err, _ = views_block_truth(sim, loc)  # the top outline, 2 mm clear of corners
+    assert on.sum() > 100
+    assert np.all(np.abs(err[on]) <= loc.bound_mm[on])
+    # most top points seen by every view; the mean height right to a fraction of a mm
+    assert np.mean(loc.view_count[on] == 5) > 0.9
+    top = next(p for p in sim.scene.primitives if isinstance(p, Box))
+    assert abs(loc.world[on, 2].mean() - (top.z_base + top.size[2])) < 0.3
+
+
+def test_located_views_table_has_one_row_per_point(block_line):
+    _, loc = block_line
+    t = loc.table()
+    assert {"X_w", "Y_w", "Z_w", "bound_mm", "confidence", "view_count"} <= set(t)
+    assert all(len(v) == len(loc) for v in t.values())
+    assert np.all((loc.confidence >= 0) & (loc.confidence <= 1))
+    assert np.all(loc.reference[:, None] >= 0)
+
+
+def test_bound_of_views_on_a_line_shrinks_with_the_spread_of_the_baselines():
+    f = 25.0 / 0.0172
+    kw = dict(focal_px=f, pixel_pitch_mm=0.0172, disparity_uncertainty_px=0.2,
+              baseline_uncertainty_mm=0.0, focal_length_uncertainty_mm=0.0)
+    two = views_bound([1000.0], [np.sqrt(2) / (f * 20.0)], **kw)[0]
+    # eq. 9's disparity term for two views 20 mm apart
+    assert two == pytest.approx(1000.0**2 * 0.2 / (f * 20.0))
+    b = np.array([-40.0, -20.0, 0.0, 20.0, 40.0])
+    five = views_bound([1000.0], [1.0 / (f * np.sqrt(np.sum((b - b.mean())**2)))], **kw)[0]
+    assert five == pytest.approx(1000.0**2 * 0.2 / np.sqrt(2) / (f * np.sqrt(4000.0)))
+
+
+def test_bad_input_raises_one_line_input_errors():
+    with pytest.raises(InputError, match="ViewsCapture"):
+        locate_views("not a capture")  # type: ignore[arg-type]
+    with pytest.raises(InputError, match="half_window"):
+        ViewsParameters(half_window=0)
+    with pytest.raises(InputError, match="step_px"):
+        ViewsParameters(step_px=-1.0)
+
+
+def _post_before_a_printed_plane():
+    """A post (12 x 40 mm, 150 mm tall) before a plane printed with random blobs, under
+    the SCARA's mid viewpoint: plane edge points beside the post are hidden from the
+    views on one side and seen from the others."""
+    from scipy.ndimage import gaussian_filter
+
+    from robostereo.simulation import ImagePlane, Scene, TablePlane
+
+    rng = np.random.default_rng(5)
+    blobs = gaussian_filter(rng.standard_normal((200, 320)), 8.0) > 0
+    plane = ImagePlane(origin=(320.0, 50.0), image=0.15 + 0.65 * blobs, mm_per_px=0.5,
+                       z=0.5, margin_mm=5.0, margin_albedo=0.5)
+    post = Box(center=(400.0, 0.0), z_base=0.0, size=(12.0, 40.0, 150.0), albedo=0.5)
+    return Scene((TablePlane(z=0.0, albedo=0.5), plane, post),
+                 light_direction=(0.2, -0.1, 1.0))
+
+
+@pytest.fixture(scope="module")
+def occluder():
+    sim = simulate_views("block", count=5, pattern="line", span_mm=80.0,
+                         scene=_post_before_a_printed_plane())
+    return sim
+
+
+def _hidden_plane_edges(sim):
+    """The central view's edge points on the plane (5 x 5 pixels all at the plane's
+    depth) hidden in one view or more, by the renderings: (pixels, depths, hidden)."""
+    from robostereo.robot.multiview_search import prepare_views, reference_edges
+
+    views = prepare_views(sim.capture)
+    edges = reference_edges(views, 2, 8.0, 5)
+    d = sim.renderings[2].depth
+    h, w = d.shape
+    g = edges.grid
+    around = np.stack([d[np.clip(g[:, 1] + dy, 0, h - 1), np.clip(g[:, 0] + dx, 0, w - 1)]
+                       for dy in range(-2, 3) for dx in range(-2, 3)], axis=1)
+    plane = np.all(np.abs(around - d.max()) < 10.0, axis=1)
+    depth = d[g[:, 1], g[:, 0]]
+    P = sim.camera.backproject(edges.pixel, depth, sim.true_poses[2])
+    hidden = np.zeros((len(P), len(sim.true_poses)), bool)
+    for j, pose in enumerate(sim.true_poses):
+        uv, z = sim.camera.project(P, pose)
+        u = np.clip(np.rint(uv[:, 0]).astype(int), 0, w - 1)
+        v = np.clip(np.rint(uv[:, 1]).astype(int), 0, h - 1)
+        hidden[:, j] = sim.renderings[j].depth[v, u] < z - 5.0
+    keep = plane & hidden.any(axis=1)
+    return edges.pixel[keep], depth[keep], hidden[keep]
+
+
+def _found(loc, pixel, ref=2):
+    from scipy.spatial import cKDTree
+
+    k = np.nonzero(loc.reference == ref)[0]
+    dist, idx = cKDTree(loc.pixel[k]).query(pixel)
+    return dist < 0.5, k[idx]
+
+
+def test_an_occluder_seen_from_both_sides_hides_no_plane_point_from_the_best_half(occluder):
+    pixel, depth, hidden = _hidden_plane_edges(occluder)
+    assert len(pixel) > 30 and hidden.sum(axis=1).max() < len(occluder.true_poses) - 1
+    best = locate_views(occluder.capture)
+    every = locate_views(occluder.capture, params=ViewsParameters(combine="all"))
+    found_best, i_best = _found(best, pixel)
+    found_all, _ = _found(every, pixel)
+    # the views on the far side find most points a view on the near side cannot see,
+    # more than when the hidden views vote too
+    assert found_best.mean() >= 0.7
+    assert found_best.sum() > found_all.sum()
+    li = i_best[found_best]
+    # the hidden views rarely enter the fit; most points found lie within their bound
+    assert (best.views[li] & hidden[found_best]).sum() <= 0.2 * hidden[found_best].sum()
+    err = np.abs(best.depth_mm[li] - depth[found_best])
+    assert np.median(err / best.bound_mm[li]) < 1.0
+
+
+@pytest.mark.parametrize("change, word", [
+    ("sizes", "image must be"),
+    ("pose", "every view needs a pose"),
+    ("one point", "stand at one point"),
+    ("one view", "at least two views"),
+])
+def test_bad_captures_are_refused_with_one_line(block_line, change, word):
+    from robostereo.robot.views import ViewsCapture
+
+    cap = block_line[0].capture
+    images, poses = list(cap.images), list(cap.poses)
+    if change == "sizes":
+        images[1] = images[1][:-4]
+    elif change == "pose":
+        poses = poses[:-1]
+    elif change == "one point":
+        poses = [poses[0]] * len(poses)
+    else:
+        images, poses = images[:1], poses[:1]
+    with pytest.raises(InputError, match=word) as e:
+        locate_views(ViewsCapture(tuple(images), cap.camera, tuple(poses),
+                                  depth_range_mm=cap.depth_range_mm))
+    assert "\n" not in str(e.value)
