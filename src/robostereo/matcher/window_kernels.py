@@ -130,7 +130,6 @@ class RowPixels(NamedTuple):
     sobel_right: np.ndarray
     hamming: np.ndarray  # (W,) int16, Hamming distances of a row
     padded_rows: np.ndarray  # (5, W + 6) float32, grey rows padded for the census
-    census_bits: np.ndarray  # (2, W) uint32
     loaded_row: np.ndarray  # (1,) int64, the row in the buffers (-1: none)
 
 
@@ -163,19 +162,18 @@ def census_padded(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
     return out
 
 
-@kernel(fastmath=True, nogil=True)
-def _shift_in(acc, nbr, centre):  # type: ignore[no-untyped-def]
-    """``acc = acc << 1 | (nbr < centre)`` along a row (32-bit lanes, as the floats)."""
-    for x in range(acc.shape[0]):
-        acc[x] = (acc[x] << np.uint32(1)) | np.uint32(nbr[x] < centre[x])
+@kernel(fastmath=True, nogil=True, inline="always")
+def _bit(acc, neighbour, centre):  # type: ignore[no-untyped-def]
+    """``acc << 1 | (neighbour < centre)`` in 32 bits."""
+    return (acc << np.uint32(1)) | np.uint32(neighbour < centre)
 
 
 @kernel(fastmath=True, nogil=True)
-def _census_row(g, y, out, buf, acc):  # type: ignore[no-untyped-def]
+def _census_row(g, y, out, buf):  # type: ignore[no-untyped-def]
     """Row ``y`` of the default 7 x 5 census [1]_ of ``g`` into ``out`` (W,), the borders
-    replicated.  ``buf`` (5, W + 6) float32 receives the five rows padded; ``acc``
-    (2, W) uint32 collects the first two bits and the last 32, each comparison done
-    along the row for all pixels at once (vector lanes as wide as the floats)."""
+    replicated.  ``buf`` (5, W + 6) float32 receives the five rows padded.  Bits in
+    raster order of the neighbourhood (the first two in the high word); each pixel's
+    34 comparisons stay in registers, the pixels in vector lanes as wide as the floats."""
     h, w = g.shape
     for dy in range(5):
         src = g[min(max(y + dy - 2, 0), h - 1)]
@@ -184,19 +182,23 @@ def _census_row(g, y, out, buf, acc):  # type: ignore[no-untyped-def]
         for k in range(3):
             b[k] = src[0]
             b[w + 3 + k] = src[w - 1]
-    centre = buf[2, 3:w + 3]
-    hi = acc[0]
-    lo = acc[1]
-    hi[:] = 0
-    lo[:] = 0
-    bit = 0
-    for dy in range(5):
-        for dx in range(7):
-            if dy != 2 or dx != 3:
-                _shift_in(hi if bit < 2 else lo, buf[dy, dx:dx + w], centre)
-                bit += 1
+    r0, r1, r2, r3, r4 = buf[0], buf[1], buf[2], buf[3], buf[4]
     for x in range(w):
-        out[x] = (np.uint64(hi[x]) << np.uint64(32)) | np.uint64(lo[x])
+        c = r2[x + 3]
+        hi = _bit(_bit(np.uint32(0), r0[x], c), r0[x + 1], c)
+        lo = np.uint32(0)
+        for dx in range(2, 7):
+            lo = _bit(lo, r0[x + dx], c)
+        for dx in range(7):
+            lo = _bit(lo, r1[x + dx], c)
+        for dx in range(7):
+            if dx != 3:
+                lo = _bit(lo, r2[x + dx], c)
+        for dx in range(7):
+            lo = _bit(lo, r3[x + dx], c)
+        for dx in range(7):
+            lo = _bit(lo, r4[x + dx], c)
+        out[x] = (np.uint64(hi) << np.uint64(32)) | np.uint64(lo)
 
 
 @kernel(nogil=True)
@@ -204,9 +206,8 @@ def census_7x5(g):  # type: ignore[no-untyped-def]
     h, w = g.shape
     out = np.empty((h, w), np.uint64)
     buf = np.empty((5, w + 6), np.float32)
-    acc = np.empty((2, w), np.uint32)
     for y in range(h):
-        _census_row(g, y, out[y], buf, acc)
+        _census_row(g, y, out[y], buf)
     return out
 
 
@@ -236,11 +237,11 @@ def sobel(g):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
-def _pixel_row(grey, y, valid, check, census_bad, sobel_bad, census, sobel_row, padded_rows,
-               census_bits):  # type: ignore[no-untyped-def]
+def _pixel_row(grey, y, valid, check, census_bad, sobel_bad, census, sobel_row,
+               padded_rows):  # type: ignore[no-untyped-def]
     """Census and Sobel of row ``y``; pixels outside ``valid`` (where ``check``) get
     the values that make every pair with them cost nearly the most."""
-    _census_row(grey, y, census, padded_rows, census_bits)
+    _census_row(grey, y, census, padded_rows)
     _sobel_row(grey, y, sobel_row)
     if check:
         valid_row = valid[y]
@@ -417,10 +418,10 @@ def _load_row(images, y, pixels):  # type: ignore[no-untyped-def]
     if pixels.loaded_row[0] != y:
         _pixel_row(images.grey_left, y, images.valid_left, images.check_left,
                    np.uint64(0xAAAAAAAAAAAAAAAA), np.int16(-32000), pixels.census_left,
-                   pixels.sobel_left, pixels.padded_rows, pixels.census_bits)
+                   pixels.sobel_left, pixels.padded_rows)
         _pixel_row(images.grey_right, y, images.valid_right, images.check_right,
                    np.uint64(0x5555555555555555), np.int16(32000), pixels.census_right,
-                   pixels.sobel_right, pixels.padded_rows, pixels.census_bits)
+                   pixels.sobel_right, pixels.padded_rows)
         pixels.loaded_row[0] = y
 
 
@@ -482,7 +483,6 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
         np.empty(w, np.int16), np.empty(w, np.int16),  # Sobel of it
         np.empty(w, np.int16),  # Hamming distances of a row
         np.empty((5, w + 6), np.float32),  # padded grey rows for the census
-        np.empty((2, w), np.uint32),
         np.full(1, -1, np.int64),
     )
     paths = p1 >= 0  # aggregate along the rows too (p1 < 0: not)
