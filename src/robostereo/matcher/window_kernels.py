@@ -278,13 +278,12 @@ def _constant_update(column_sums, ring_row, value):  # type: ignore[no-untyped-d
 
 
 @kernel(fastmath=True, nogil=True)
-def _row_update(pixels, settings, margin, column_sums, ring_slot,
-                compute):  # type: ignore[no-untyped-def]
+def _row_update(pixels, settings, margin, column_sums,
+                ring_slot):  # type: ignore[no-untyped-def]
     """Pixel costs of one row for every disparity into a ring slot, with the column
     sums: ``[k, x + margin]`` pairs left pixel ``x`` with right pixel ``x - d_min - k``;
-    pairs that leave the image (and every pair when not ``compute``) cost
-    ``settings.pixel_cost_max``.  ``pixels`` (:class:`RowPixels`) holds the row's
-    census and Sobel values."""
+    pairs that leave the image cost ``settings.pixel_cost_max``.  ``pixels``
+    (:class:`RowPixels`) holds the row's census and Sobel values."""
     census_left, census_right = pixels.census_left, pixels.census_right
     sobel_left, sobel_right = pixels.sobel_left, pixels.sobel_right
     pixel_cost_max = settings.pixel_cost_max
@@ -294,8 +293,6 @@ def _row_update(pixels, settings, margin, column_sums, ring_slot,
         d = settings.d_min + k
         x0 = min(max(d, 0), w)  # left pixels x0 .. x1 - 1 have a right pixel x - d
         x1 = max(min(w + d, w), x0)
-        if not compute:
-            x0 = x1 = w
         sums = column_sums[k]
         ring_row = ring_slot[k]
         _constant_update(sums[m:m + x0], ring_row[m:m + x0], pixel_cost_max)
@@ -512,19 +509,18 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     for r in range(first_box_row - hw, first_box_row + hw + 1):
         source_row = min(max(r, 0), h - 1)
         _load_row(images, source_row, pixels)
-        _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring], True)
+        _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring])
 
     for box_row in range(first_box_row, y_last + lag):
-        # -- pixel costs of the new row into the ring, column sums updated (the costs
-        #    are made only where a window of an edge point will read them)
-        if box_row > first_box_row:
-            r = box_row + hw  # the new pixel row; its ring slot holds row box_row - hw - 1
-            source_row = min(max(r, 0), h - 1)
-            needed = edges_in(r - hw - lag, r + hw + lag + 1)
-            if needed:
-                _load_row(images, source_row, pixels)
-            _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring],
-                        needed)
+        # -- pixel costs of the new row into the ring, column sums updated: only where
+        #    a window of an edge point will read them.  A row no window reads is left
+        #    out, its ring slot and the column sums as they were (the sums stay the sums
+        #    of the ring), so the pass costs nothing over rows without edge points: a
+        #    window sum that is read covers rows that were all made
+        r = box_row + hw  # the new pixel row; its ring slot holds row box_row - hw - 1
+        if box_row > first_box_row and edges_in(r - hw - lag, r + hw + lag + 1):
+            _load_row(images, min(max(r, 0), h - 1), pixels)
+            _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring])
 
         # -- window sums of nine columns of box_row, every disparity
         boxes_new = boxes[(box_row + ring_base) % n_ring]
