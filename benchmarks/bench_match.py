@@ -1,7 +1,7 @@
 """Time robostereo's whole matcher against OpenCV's dense matchers, per core and all cores.
 
 Run:  python benchmarks/bench_match.py [--repeat N] [--threads per-core|all|both]
-                                      [--no-memory] [--no-paths] [--no-coarse]
+                                      [--no-memory] [--no-paths] [--no-coarse] [--profile]
 
 For every pair (the six real scenes of ../shared/data/stereo, motorcycle again with
 wider disparity ranges, and synthetic pairs of two sizes) all run in this one process on
@@ -22,6 +22,12 @@ resident set over what it held after a warm-up on a small random pair (Linux: fr
 heap memory is given back with ``malloc_trim`` and the peak is reset through
 ``/proc/self/clear_refs``, so imports and numba's compiled code are not counted, every
 page either method touches is, OpenCV's own buffers too).
+With ``--profile`` it prints instead where robostereo's time goes, per core: the
+medians of the stages of ``match_stereo`` (``timings``: edges, window), and within the
+window stage the half-size narrowing of a wide range, the window-cost pass
+(``window_costs``), the part of it the paths along the rows take (the pass without
+them subtracted), the census and Sobel rows of both images that the pass makes, and
+the rest (evidence, right edge points, confidence), each timed alone in rounds.
 Speed goals live here, never in the tests.
 """
 
@@ -151,6 +157,65 @@ def peak_mib(method: str, name: str, options: dict[str, bool]) -> float:
     return float(json.loads(out.stdout.strip().splitlines()[-1]))
 
 
+def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, float]:
+    """Median ms of each stage of robostereo on pair ``name`` (see :func:`profile`)."""
+    from robostereo.matcher.edges import to_grey
+    from robostereo.matcher.window_costs import (
+        PATH_PENALTIES,
+        census_transform,
+        coarse_range,
+        sobel_x,
+        window_costs,
+    )
+    from robostereo.matcher.window_match import COARSE_MIN_DISPARITIES
+
+    left, right, rng = pair(name)
+    res = match_stereo(left, right, rng, params=params)
+    ga, gb = to_grey(left), to_grey(right)
+    e, wc = res.left_edges, res.window.costs
+    searched = (wc.d_min, wc.d_min + wc.n_disparities - 1)
+    whole = (int(np.floor(rng[0])), int(np.ceil(rng[1])))
+    wide = params.coarse and whole[1] - whole[0] + 1 > COARSE_MIN_DISPARITIES
+    paths = PATH_PENALTIES if params.paths else None
+    calls = {
+        "match": lambda: match_stereo(left, right, rng, params=params),
+        "narrow": (lambda: coarse_range(ga, gb, e.row, e.column, whole)) if wide
+        else (lambda: None),
+        "costs": lambda: window_costs(ga, gb, e.row, e.column, searched, path_penalties=paths),
+        "no paths": lambda: window_costs(ga, gb, e.row, e.column, searched,
+                                         path_penalties=None),
+        "census": lambda: [f(g) for g in (ga, gb) for f in (census_transform, sobel_x)],
+    }
+    times: dict[str, list[float]] = {k: [] for k in (*calls, "edges", "window")}
+    for _ in range(repeat):
+        for key, fn in calls.items():
+            fn()
+            t = time.perf_counter()
+            out = fn()
+            times[key].append(time.perf_counter() - t)
+            if key == "match":
+                times["edges"].append(out.timings["edges"])
+                times["window"].append(out.timings["window"])
+    med = {k: 1000 * statistics.median(v) for k, v in times.items()}
+    med["paths"] = med["costs"] - med["no paths"]
+    med["rest"] = med["window"] - med["narrow"] - med["costs"]
+    return med
+
+
+def profile(pairs: list[str], repeat: int, params: MatchParameters) -> None:
+    """Print where robostereo's time goes on each pair, one thread (module notes)."""
+    os.environ["ROBOSTEREO_THREADS"] = "1"
+    keys = ("match", "edges", "window", "narrow", "costs", "paths", "census", "rest")
+    print(f"\nprofile, one thread: ms (median of {repeat} rounds); costs: the window-cost "
+          "pass, of which paths and census (+ Sobel); rest: evidence and confidence")
+    head = f"{'pair':<20} " + " ".join(f"{'total' if k == 'match' else k:>7}" for k in keys)
+    print(head)
+    print("-" * len(head))
+    for name in pairs:
+        med = _stage_times(name, repeat, params)
+        print(f"{name:<20} " + " ".join(f"{med[k]:>7.2f}" for k in keys), flush=True)
+
+
 def _threads(per_core: bool, opencv_default: int) -> None:
     import cv2
 
@@ -171,9 +236,15 @@ def main() -> None:
     ap.add_argument("--no-coarse", action="store_true",
                     help="robostereo searching wide ranges whole")
     ap.add_argument("--pairs", nargs="*", help="only these pairs (names as printed)")
+    ap.add_argument("--profile", action="store_true",
+                    help="where robostereo's time goes, per core, instead of the tables")
     args = ap.parse_args()
     options = {"paths": not args.no_paths, "coarse": not args.no_coarse}
     params = MatchParameters(**options)
+    if args.profile:
+        profile([n for n in names() if not args.pairs or n in args.pairs], args.repeat,
+                params)
+        return
     import cv2
 
     opencv_default = cv2.getNumThreads()

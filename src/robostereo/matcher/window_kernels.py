@@ -449,7 +449,10 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     -----
     Census and Sobel rows are made as the pass needs them; pixel costs are kept for
     the last ``2 * half_window + 1`` rows only (a ring), with their running column
-    sums, and window sums for as many rows.
+    sums, and window sums for as many rows.  A row that no edge point's window reads
+    (no edge point within ``half_window`` rows of it, ``2 * half_window`` with the
+    windows above and below) is not made at all: the pass costs nothing over rows
+    without edge points.
     """
     grey_left = images.grey_left
     d_min = settings.d_min
