@@ -278,11 +278,12 @@ def _constant_update(column_sums, ring_row, value):  # type: ignore[no-untyped-d
 
 
 @kernel(fastmath=True, nogil=True)
-def _row_update(pixels, settings, margin, column_sums,
-                ring_slot):  # type: ignore[no-untyped-def]
+def _row_update(pixels, settings, margin, column_sums, ring_slot,
+                fill):  # type: ignore[no-untyped-def]
     """Pixel costs of one row for every disparity into a ring slot, with the column
     sums: ``[k, x + margin]`` pairs left pixel ``x`` with right pixel ``x - d_min - k``;
-    pairs that leave the image cost ``settings.pixel_cost_max``.  ``pixels``
+    pairs that leave the image cost ``settings.pixel_cost_max``, written while the ring
+    is first filled (``fill``) only: they stay the same down the image.  ``pixels``
     (:class:`RowPixels`) holds the row's census and Sobel values."""
     census_left, census_right = pixels.census_left, pixels.census_right
     sobel_left, sobel_right = pixels.sobel_left, pixels.sobel_right
@@ -295,8 +296,9 @@ def _row_update(pixels, settings, margin, column_sums,
         x1 = max(min(w + d, w), x0)
         sums = column_sums[k]
         ring_row = ring_slot[k]
-        _constant_update(sums[m:m + x0], ring_row[m:m + x0], pixel_cost_max)
-        _constant_update(sums[m + x1:m + w], ring_row[m + x1:m + w], pixel_cost_max)
+        if fill:
+            _constant_update(sums[m:m + x0], ring_row[m:m + x0], pixel_cost_max)
+            _constant_update(sums[m + x1:m + w], ring_row[m + x1:m + w], pixel_cost_max)
         if x1 > x0:
             _pixel_update(sums[m + x0:m + x1], ring_row[m + x0:m + x1], census_left[x0:x1],
                           census_right[x0 - d:x1 - d], sobel_left[x0:x1],
@@ -512,7 +514,7 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     for r in range(first_box_row - hw, first_box_row + hw + 1):
         source_row = min(max(r, 0), h - 1)
         _load_row(images, source_row, pixels)
-        _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring])
+        _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring], True)
 
     for box_row in range(first_box_row, y_last + lag):
         # -- pixel costs of the new row into the ring, column sums updated: only where
@@ -523,7 +525,8 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
         r = box_row + hw  # the new pixel row; its ring slot holds row box_row - hw - 1
         if box_row > first_box_row and edges_in(r - hw - lag, r + hw + lag + 1):
             _load_row(images, min(max(r, 0), h - 1), pixels)
-            _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring])
+            _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring],
+                        False)
 
         # -- window sums of nine columns of box_row, every disparity
         boxes_new = boxes[(box_row + ring_base) % n_ring]
