@@ -22,12 +22,14 @@ resident set over what it held after a warm-up on a small random pair (Linux: fr
 heap memory is given back with ``malloc_trim`` and the peak is reset through
 ``/proc/self/clear_refs``, so imports and numba's compiled code are not counted, every
 page either method touches is, OpenCV's own buffers too).
-With ``--profile`` it prints instead where robostereo's time goes, per core: the
-medians of the stages of ``match_stereo`` (``timings``: edges, window), and within the
-window stage the half-size narrowing of a wide range, the window-cost pass
-(``window_costs``), the part of it the paths along the rows take (the pass without
-them subtracted), the census and Sobel rows of both images that the pass makes, and
-the rest (evidence, right edge points, confidence), each timed alone in rounds.
+With ``--profile`` it prints instead where robostereo's time goes, on one thread: the
+whole ``match_stereo``, its edge stage (both images), its window stage
+(``window_match``) and within that the half-size narrowing of a wide range, the
+window-cost pass (``window_costs``), the part of it the paths along the rows take (the
+pass without them subtracted), the census and Sobel of both images that the pass
+makes, and the rest (evidence, right edge points, confidence), each timed alone in
+rounds as CPU time of the thread (``time.thread_time``: a loaded machine slows it
+little).
 Speed goals live here, never in the tests.
 """
 
@@ -159,7 +161,7 @@ def peak_mib(method: str, name: str, options: dict[str, bool]) -> float:
 
 def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, float]:
     """Median ms of each stage of robostereo on pair ``name`` (see :func:`profile`)."""
-    from robostereo.matcher.edges import to_grey
+    from robostereo.matcher.edges import detect_edges, to_grey
     from robostereo.matcher.window_costs import (
         PATH_PENALTIES,
         census_transform,
@@ -167,18 +169,28 @@ def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, f
         sobel_x,
         window_costs,
     )
-    from robostereo.matcher.window_match import COARSE_MIN_DISPARITIES
+    from robostereo.matcher.window_match import COARSE_MIN_DISPARITIES, window_match
 
     left, right, rng = pair(name)
-    res = match_stereo(left, right, rng, params=params)
+    p = params
+    res = match_stereo(left, right, rng, params=p)
     ga, gb = to_grey(left), to_grey(right)
-    e, wc = res.left_edges, res.window.costs
+    el, er = res.left_edges, res.right_edges
+    e, wc = el, res.window.costs
     searched = (wc.d_min, wc.d_min + wc.n_disparities - 1)
     whole = (int(np.floor(rng[0])), int(np.ceil(rng[1])))
-    wide = params.coarse and whole[1] - whole[0] + 1 > COARSE_MIN_DISPARITIES
-    paths = PATH_PENALTIES if params.paths else None
+    wide = p.coarse and whole[1] - whole[0] + 1 > COARSE_MIN_DISPARITIES
+    paths = PATH_PENALTIES if p.paths else None
     calls = {
-        "match": lambda: match_stereo(left, right, rng, params=params),
+        "match": lambda: match_stereo(left, right, rng, params=p),
+        "edges": lambda: [detect_edges(im, threshold=t, row_step=p.row_step,
+                                       subpixel=p.subpixel, grey=to_grey(im))
+                          for im, t in ((left, p.threshold),
+                                        (right, p.threshold * p.right_threshold_ratio))],
+        "window": lambda: window_match(el, er, ga, gb, res.disparity_range,
+                                       gradient_truncation=p.gradient_truncation,
+                                       weights=p.weights, profile_scale=p.profile_scale,
+                                       path_penalties=paths, coarse=p.coarse),
         "narrow": (lambda: coarse_range(ga, gb, e.row, e.column, whole)) if wide
         else (lambda: None),
         "costs": lambda: window_costs(ga, gb, e.row, e.column, searched, path_penalties=paths),
@@ -186,16 +198,13 @@ def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, f
                                          path_penalties=None),
         "census": lambda: [f(g) for g in (ga, gb) for f in (census_transform, sobel_x)],
     }
-    times: dict[str, list[float]] = {k: [] for k in (*calls, "edges", "window")}
+    times: dict[str, list[float]] = {k: [] for k in calls}
     for _ in range(repeat):
         for key, fn in calls.items():
             fn()
-            t = time.perf_counter()
-            out = fn()
-            times[key].append(time.perf_counter() - t)
-            if key == "match":
-                times["edges"].append(out.timings["edges"])
-                times["window"].append(out.timings["window"])
+            t = time.thread_time()  # CPU time of this thread: all runs here, one thread
+            fn()
+            times[key].append(time.thread_time() - t)
     med = {k: 1000 * statistics.median(v) for k, v in times.items()}
     med["paths"] = med["costs"] - med["no paths"]
     med["rest"] = med["window"] - med["narrow"] - med["costs"]
@@ -206,8 +215,9 @@ def profile(pairs: list[str], repeat: int, params: MatchParameters) -> None:
     """Print where robostereo's time goes on each pair, one thread (module notes)."""
     os.environ["ROBOSTEREO_THREADS"] = "1"
     keys = ("match", "edges", "window", "narrow", "costs", "paths", "census", "rest")
-    print(f"\nprofile, one thread: ms (median of {repeat} rounds); costs: the window-cost "
-          "pass, of which paths and census (+ Sobel); rest: evidence and confidence")
+    print(f"\nprofile, one thread: CPU ms (median of {repeat} rounds); edges: both images; "
+          "window: narrow + costs (the window-cost pass, of which paths and census + Sobel) "
+          "+ rest (evidence, right edge points, confidence)")
     head = f"{'pair':<20} " + " ".join(f"{'total' if k == 'match' else k:>7}" for k in keys)
     print(head)
     print("-" * len(head))
