@@ -22,7 +22,10 @@ resident set over what it held after a warm-up on a small random pair (Linux: fr
 heap memory is given back with ``malloc_trim`` and the peak is reset through
 ``/proc/self/clear_refs``, so imports and numba's compiled code are not counted, every
 page either method touches is, OpenCV's own buffers too).
-With ``--profile`` it prints instead where robostereo's time goes, on one thread: the
+With ``--cpu-time`` the per-core table counts the CPU time of the calling thread
+(``time.thread_time``; with one thread every method runs there) instead of the time
+that passed: on a machine shared with other work, the time the others take is left
+out.  With ``--profile`` it prints instead where robostereo's time goes, on one thread: the
 whole ``match_stereo``, its edge stage (both images), its window stage
 (``window_match``) and within that the half-size narrowing of a wide range, the
 window-cost pass (``window_costs``), the part of it the paths along the rows take (the
@@ -80,7 +83,8 @@ def pair(name: str) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
     return s.left, s.right, s.disparity_range
 
 
-def _time_rounds(fns: dict[str, object], repeat: int) -> dict[str, tuple[float, float]]:
+def _time_rounds(fns: dict[str, object], repeat: int, clock=time.perf_counter
+                 ) -> dict[str, tuple[float, float]]:
     """Median time of each call and the median of the per-round ratios ``time /
     time of the first call``.  Each round runs every call twice and times the second
     run: the steady state of a matcher run frame after frame (its buffers and code
@@ -89,9 +93,9 @@ def _time_rounds(fns: dict[str, object], repeat: int) -> dict[str, tuple[float, 
     for _ in range(repeat):
         for key, fn in fns.items():
             fn()  # type: ignore[operator]
-            t = time.perf_counter()
+            t = clock()
             fn()  # type: ignore[operator]
-            times[key].append(time.perf_counter() - t)
+            times[key].append(clock() - t)
     first = next(iter(fns))
     return {k: (statistics.median(v), statistics.median(
         [b / a for a, b in zip(times[first], v, strict=True)])) for k, v in times.items()}
@@ -246,6 +250,8 @@ def main() -> None:
     ap.add_argument("--no-coarse", action="store_true",
                     help="robostereo searching wide ranges whole")
     ap.add_argument("--pairs", nargs="*", help="only these pairs (names as printed)")
+    ap.add_argument("--cpu-time", action="store_true",
+                    help="per core: time the calling thread's CPU time (a shared machine)")
     ap.add_argument("--profile", action="store_true",
                     help="where robostereo's time goes, per core, instead of the tables")
     args = ap.parse_args()
@@ -265,8 +271,9 @@ def main() -> None:
     modes = {"per-core": [True], "all": [False], "both": [True, False]}[args.threads]
     for per_core in modes:
         _threads(per_core, opencv_default)
+        clock = "CPU ms" if per_core and args.cpu_time else "ms"
         print(f"\n{'per core (one thread each)' if per_core else 'all cores'}: "
-              "ms, and peer time / robostereo time")
+              f"{clock}, and peer time / robostereo time")
         head = (f"{'pair':<20} {'edges':>6} {'robostereo':>10} "
                 + " ".join(f"{p:>17}" for p in PEERS))
         print(head)
@@ -277,7 +284,8 @@ def main() -> None:
             fns = {"robostereo": lambda left=left, right=right, rng=rng: match_stereo(
                 left, right, rng, params=params)}
             fns.update({p: opencv_peer(p, left, right, rng) for p in PEERS})
-            res = _time_rounds(fns, args.repeat)
+            res = _time_rounds(fns, args.repeat, time.thread_time if per_core and args.cpu_time
+                               else time.perf_counter)
             cells = " ".join(f"{1000 * res[p][0]:>8.2f} {res[p][1]:>6.2f}x "
                              for p in PEERS)
             print(f"{name:<20} {n:>6} {1000 * res['robostereo'][0]:>10.2f} {cells}",
