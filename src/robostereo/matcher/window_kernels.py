@@ -335,11 +335,14 @@ def _least(boxes_up, boxes_mid, boxes_down, k, x, hw, vertical):  # type: ignore
 def _path_step(cost, prev, cur, p1, p2):  # type: ignore[no-untyped-def]
     """One step of a scanline path (semi-global matching, [2]_ eq. 13):
     ``cur[k] = cost[k] + min(prev[k], prev[k -/+ 1] + p1, min(prev) + p2) - min(prev)``
-    (``prev`` and ``cur`` distinct, ``nd >= 2``)."""
+    (``prev`` and ``cur`` distinct, ``nd >= 2``).  The path costs are whole numbers
+    (window sums and penalties) held exactly in float32, so ``min(prev)`` is taken in
+    int32: a reduction that runs in vector lanes, which a float one does not."""
     nd = prev.shape[0]
-    least = prev[0]
+    least_whole = np.int32(prev[0])
     for k in range(1, nd):
-        least = min(least, prev[k])
+        least_whole = min(least_whole, np.int32(prev[k]))
+    least = np.float32(least_whole)
     jump = least + p2
     for k in range(1, nd - 1):
         lo = prev[k - 1]
