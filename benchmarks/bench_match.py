@@ -29,10 +29,9 @@ out.  With ``--profile`` it prints instead where robostereo's time goes, on one 
 whole ``match_stereo``, its edge stage (both images), its window stage
 (``window_match``) and within that the half-size narrowing of a wide range, the
 window-cost pass (``window_costs``), the part of it the paths along the rows take (the
-pass without them subtracted), the census and Sobel of both images that the pass
-makes, and the rest (evidence, right edge points, confidence), each timed alone in
-rounds as CPU time of the thread (``time.thread_time``: a loaded machine slows it
-little).
+pass without them subtracted) and the rest (evidence, right edge points, confidence),
+each timed alone in rounds as CPU time of the thread (``time.thread_time``: a loaded
+machine slows it little).
 Speed goals live here, never in the tests.
 """
 
@@ -166,13 +165,7 @@ def peak_mib(method: str, name: str, options: dict[str, bool]) -> float:
 def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, float]:
     """Median ms of each stage of robostereo on pair ``name`` (see :func:`profile`)."""
     from robostereo.matcher.edges import detect_edges, to_grey
-    from robostereo.matcher.window_costs import (
-        PATH_PENALTIES,
-        census_transform,
-        coarse_range,
-        sobel_x,
-        window_costs,
-    )
+    from robostereo.matcher.window_costs import PATH_PENALTIES, coarse_range, window_costs
     from robostereo.matcher.window_match import COARSE_MIN_DISPARITIES, window_match
 
     left, right, rng = pair(name)
@@ -200,7 +193,6 @@ def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, f
         "costs": lambda: window_costs(ga, gb, e.row, e.column, searched, path_penalties=paths),
         "no paths": lambda: window_costs(ga, gb, e.row, e.column, searched,
                                          path_penalties=None),
-        "census": lambda: [f(g) for g in (ga, gb) for f in (census_transform, sobel_x)],
     }
     times: dict[str, list[float]] = {k: [] for k in calls}
     for _ in range(repeat):
@@ -218,10 +210,10 @@ def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, f
 def profile(pairs: list[str], repeat: int, params: MatchParameters) -> None:
     """Print where robostereo's time goes on each pair, one thread (module notes)."""
     os.environ["ROBOSTEREO_THREADS"] = "1"
-    keys = ("match", "edges", "window", "narrow", "costs", "paths", "census", "rest")
+    keys = ("match", "edges", "window", "narrow", "costs", "paths", "rest")
     print(f"\nprofile, one thread: CPU ms (median of {repeat} rounds); edges: both images; "
-          "window: narrow + costs (the window-cost pass, of which paths and census + Sobel) "
-          "+ rest (evidence, right edge points, confidence)")
+          "window: narrow + costs (the window-cost pass, of which paths) + rest (evidence, "
+          "right edge points, confidence)")
     head = f"{'pair':<20} " + " ".join(f"{'total' if k == 'match' else k:>7}" for k in keys)
     print(head)
     print("-" * len(head))
