@@ -1,7 +1,7 @@
 """Time robostereo's whole matcher against OpenCV's dense matchers, per core and all cores.
 
 Run:  python benchmarks/bench_match.py [--repeat N] [--threads per-core|all|both]
-                                      [--no-memory] [--no-paths] [--no-coarse]
+                                      [--no-memory] [--no-paths] [--no-coarse] [--profile]
 
 For every pair (the six real scenes of ../shared/data/stereo, motorcycle again with
 wider disparity ranges, and synthetic pairs of two sizes) all run in this one process on
@@ -22,6 +22,16 @@ resident set over what it held after a warm-up on a small random pair (Linux: fr
 heap memory is given back with ``malloc_trim`` and the peak is reset through
 ``/proc/self/clear_refs``, so imports and numba's compiled code are not counted, every
 page either method touches is, OpenCV's own buffers too).
+With ``--cpu-time`` the per-core table counts the CPU time of the calling thread
+(``time.thread_time``; with one thread every method runs there) instead of the time
+that passed: on a machine shared with other work, the time the others take is left
+out.  With ``--profile`` it prints instead where robostereo's time goes, on one thread: the
+whole ``match_stereo``, its edge stage (both images), its window stage
+(``window_match``) and within that the half-size narrowing of a wide range, the
+window-cost pass (``window_costs``), the part of it the paths along the rows take (the
+pass without them subtracted) and the rest (evidence, right edge points, confidence),
+each timed alone in rounds as CPU time of the thread (``time.thread_time``: a loaded
+machine slows it little).
 Speed goals live here, never in the tests.
 """
 
@@ -72,7 +82,8 @@ def pair(name: str) -> tuple[np.ndarray, np.ndarray, tuple[float, float]]:
     return s.left, s.right, s.disparity_range
 
 
-def _time_rounds(fns: dict[str, object], repeat: int) -> dict[str, tuple[float, float]]:
+def _time_rounds(fns: dict[str, object], repeat: int, clock=time.perf_counter
+                 ) -> dict[str, tuple[float, float]]:
     """Median time of each call and the median of the per-round ratios ``time /
     time of the first call``.  Each round runs every call twice and times the second
     run: the steady state of a matcher run frame after frame (its buffers and code
@@ -81,9 +92,9 @@ def _time_rounds(fns: dict[str, object], repeat: int) -> dict[str, tuple[float, 
     for _ in range(repeat):
         for key, fn in fns.items():
             fn()  # type: ignore[operator]
-            t = time.perf_counter()
+            t = clock()
             fn()  # type: ignore[operator]
-            times[key].append(time.perf_counter() - t)
+            times[key].append(clock() - t)
     first = next(iter(fns))
     return {k: (statistics.median(v), statistics.median(
         [b / a for a, b in zip(times[first], v, strict=True)])) for k, v in times.items()}
@@ -151,6 +162,66 @@ def peak_mib(method: str, name: str, options: dict[str, bool]) -> float:
     return float(json.loads(out.stdout.strip().splitlines()[-1]))
 
 
+def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, float]:
+    """Median ms of each stage of robostereo on pair ``name`` (see :func:`profile`)."""
+    from robostereo.matcher.edges import detect_edges, to_grey
+    from robostereo.matcher.window_costs import PATH_PENALTIES, coarse_range, window_costs
+    from robostereo.matcher.window_match import COARSE_MIN_DISPARITIES, window_match
+
+    left, right, rng = pair(name)
+    p = params
+    res = match_stereo(left, right, rng, params=p)
+    ga, gb = to_grey(left), to_grey(right)
+    el, er = res.left_edges, res.right_edges
+    e, wc = el, res.window.costs
+    searched = (wc.d_min, wc.d_min + wc.n_disparities - 1)
+    whole = (int(np.floor(rng[0])), int(np.ceil(rng[1])))
+    wide = p.coarse and whole[1] - whole[0] + 1 > COARSE_MIN_DISPARITIES
+    paths = PATH_PENALTIES if p.paths else None
+    calls = {
+        "match": lambda: match_stereo(left, right, rng, params=p),
+        "edges": lambda: [detect_edges(im, threshold=t, row_step=p.row_step,
+                                       subpixel=p.subpixel, grey=to_grey(im))
+                          for im, t in ((left, p.threshold),
+                                        (right, p.threshold * p.right_threshold_ratio))],
+        "window": lambda: window_match(el, er, ga, gb, res.disparity_range,
+                                       gradient_truncation=p.gradient_truncation,
+                                       weights=p.weights, profile_scale=p.profile_scale,
+                                       path_penalties=paths, coarse=p.coarse),
+        "narrow": (lambda: coarse_range(ga, gb, e.row, e.column, whole)) if wide
+        else (lambda: None),
+        "costs": lambda: window_costs(ga, gb, e.row, e.column, searched, path_penalties=paths),
+        "no paths": lambda: window_costs(ga, gb, e.row, e.column, searched,
+                                         path_penalties=None),
+    }
+    times: dict[str, list[float]] = {k: [] for k in calls}
+    for _ in range(repeat):
+        for key, fn in calls.items():
+            fn()
+            t = time.thread_time()  # CPU time of this thread: all runs here, one thread
+            fn()
+            times[key].append(time.thread_time() - t)
+    med = {k: 1000 * statistics.median(v) for k, v in times.items()}
+    med["paths"] = med["costs"] - med["no paths"]
+    med["rest"] = med["window"] - med["narrow"] - med["costs"]
+    return med
+
+
+def profile(pairs: list[str], repeat: int, params: MatchParameters) -> None:
+    """Print where robostereo's time goes on each pair, one thread (module notes)."""
+    os.environ["ROBOSTEREO_THREADS"] = "1"
+    keys = ("match", "edges", "window", "narrow", "costs", "paths", "rest")
+    print(f"\nprofile, one thread: CPU ms (median of {repeat} rounds); edges: both images; "
+          "window: narrow + costs (the window-cost pass, of which paths) + rest (evidence, "
+          "right edge points, confidence)")
+    head = f"{'pair':<20} " + " ".join(f"{'total' if k == 'match' else k:>7}" for k in keys)
+    print(head)
+    print("-" * len(head))
+    for name in pairs:
+        med = _stage_times(name, repeat, params)
+        print(f"{name:<20} " + " ".join(f"{med[k]:>7.2f}" for k in keys), flush=True)
+
+
 def _threads(per_core: bool, opencv_default: int) -> None:
     import cv2
 
@@ -171,9 +242,17 @@ def main() -> None:
     ap.add_argument("--no-coarse", action="store_true",
                     help="robostereo searching wide ranges whole")
     ap.add_argument("--pairs", nargs="*", help="only these pairs (names as printed)")
+    ap.add_argument("--cpu-time", action="store_true",
+                    help="per core: time the calling thread's CPU time (a shared machine)")
+    ap.add_argument("--profile", action="store_true",
+                    help="where robostereo's time goes, per core, instead of the tables")
     args = ap.parse_args()
     options = {"paths": not args.no_paths, "coarse": not args.no_coarse}
     params = MatchParameters(**options)
+    if args.profile:
+        profile([n for n in names() if not args.pairs or n in args.pairs], args.repeat,
+                params)
+        return
     import cv2
 
     opencv_default = cv2.getNumThreads()
@@ -184,8 +263,9 @@ def main() -> None:
     modes = {"per-core": [True], "all": [False], "both": [True, False]}[args.threads]
     for per_core in modes:
         _threads(per_core, opencv_default)
+        clock = "CPU ms" if per_core and args.cpu_time else "ms"
         print(f"\n{'per core (one thread each)' if per_core else 'all cores'}: "
-              "ms, and peer time / robostereo time")
+              f"{clock}, and peer time / robostereo time")
         head = (f"{'pair':<20} {'edges':>6} {'robostereo':>10} "
                 + " ".join(f"{p:>17}" for p in PEERS))
         print(head)
@@ -196,7 +276,8 @@ def main() -> None:
             fns = {"robostereo": lambda left=left, right=right, rng=rng: match_stereo(
                 left, right, rng, params=params)}
             fns.update({p: opencv_peer(p, left, right, rng) for p in PEERS})
-            res = _time_rounds(fns, args.repeat)
+            res = _time_rounds(fns, args.repeat, time.thread_time if per_core and args.cpu_time
+                               else time.perf_counter)
             cells = " ".join(f"{1000 * res[p][0]:>8.2f} {res[p][1]:>6.2f}x "
                              for p in PEERS)
             print(f"{name:<20} {n:>6} {1000 * res['robostereo'][0]:>10.2f} {cells}",

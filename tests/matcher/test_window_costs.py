@@ -66,6 +66,23 @@ def test_window_costs_equal_brute_force(vertical):
     assert np.all(wc.in_view == (ref < OUT_OF_VIEW).sum(axis=1))
 
 
+@pytest.mark.parametrize("vertical", [False, True])
+def test_rows_far_from_edge_points_are_skipped_without_changing_costs(vertical):
+    """Edge points more than two windows apart: the pass leaves out the rows between
+    them (no window reads those), and the costs after such a gap are still exact."""
+    rng = np.random.default_rng(7)
+    left = rng.uniform(0, 127, (90, 60)).astype(np.float32)
+    right = np.roll(left, -4, axis=1) + rng.normal(0, 3, left.shape).astype(np.float32)
+    rows, cols = np.array([3, 30, 31, 58, 86]), np.array([20, 25, 40, 33, 45])
+    wc = window_costs(left, right, rows, cols, (0, 9), vertical=vertical)
+    ref = _brute(left, right, rows, cols, 0, 9, vertical)
+    k1 = np.argmin(ref, axis=1)
+    assert np.array_equal(wc.best, k1)
+    assert np.array_equal(wc.cost, ref[np.arange(len(rows)), k1])
+    far = np.abs(np.arange(10)[None] - k1[:, None]) > 1
+    assert np.array_equal(wc.second, np.where(far, ref, OUT_OF_VIEW).min(axis=1))
+
+
 @pytest.mark.parametrize("threads", ["2", "3"])
 def test_bands_on_threads_give_the_same_costs(monkeypatch, threads):
     """One band or several: the kernel's output is the same (bands repeat a few rows),

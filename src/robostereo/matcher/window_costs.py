@@ -52,16 +52,18 @@ from numpy.typing import NDArray
 from robostereo.errors import InputError
 from robostereo.matcher.parallel import n_threads, run_all
 from robostereo.matcher.window_kernels import (
-    CENSUS_SIZE,
     HALF_WINDOW,
     PATH_ROW_STEP,
     STREAM_COLUMNS,
     StreamImages,
     StreamSettings,
+    stream_rows,
+)
+from robostereo.matcher.window_pixel_kernels import (
+    CENSUS_SIZE,
     census_7x5,
     census_padded,
     sobel,
-    stream_rows,
 )
 
 __all__ = [

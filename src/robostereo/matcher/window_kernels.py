@@ -1,7 +1,8 @@
-"""Numba kernels of the window matcher: census [1]_, Sobel, window sums, paths [2]_, evidence.
+"""Numba kernels of the window matcher: pixel costs [1]_, window sums, paths [2]_, evidence.
 
 The compiled part of :mod:`robostereo.matcher.window_costs` (one pass down the image
-that leaves a summary of the window costs per left edge point, :func:`stream_rows`) and
+that leaves a summary of the window costs per left edge point, :func:`stream_rows`,
+from the census and Sobel rows of :mod:`robostereo.matcher.window_pixel_kernels`) and
 of :mod:`robostereo.matcher.window_match` (the evidence read from that summary,
 :func:`evidence`, and the right edge point next to a disparity,
 :func:`nearest_on_lines`).  Only numba functions and the constants they compile in;
@@ -26,9 +27,9 @@ from numba import types
 from numba.extending import intrinsic
 
 from robostereo.matcher.jit import kernel
+from robostereo.matcher.window_pixel_kernels import pixel_row
 
 __all__ = [
-    "CENSUS_SIZE",
     "HALF_WINDOW",
     "OUT_OF_VIEW",
     "PATH_COLUMN_STEP",
@@ -39,16 +40,11 @@ __all__ = [
     "StreamImages",
     "StreamSettings",
     "StreamSummary",
-    "census_7x5",
-    "census_padded",
     "evidence",
     "nearest_on_lines",
-    "sobel",
     "stream_rows",
 ]
 
-#: census neighbourhood (width, height): 7 x 5 minus the centre = 34 bits
-CENSUS_SIZE = (7, 5)
 #: half size of the aggregation window (9 x 9) and the shift of the side windows
 HALF_WINDOW = 4
 
@@ -130,7 +126,6 @@ class RowPixels(NamedTuple):
     sobel_right: np.ndarray
     hamming: np.ndarray  # (W,) int16, Hamming distances of a row
     padded_rows: np.ndarray  # (5, W + 6) float32, grey rows padded for the census
-    census_bits: np.ndarray  # (2, W) uint32
     loaded_row: np.ndarray  # (1,) int64, the row in the buffers (-1: none)
 
 
@@ -143,111 +138,6 @@ def _popcount(typingctx, x):  # type: ignore[no-untyped-def]
         return builder.call(fn, args)
 
     return sig, codegen
-
-
-@kernel(fastmath=True, nogil=True)
-def _census_bits(acc, nbr, centre):  # type: ignore[no-untyped-def]
-    for x in range(acc.shape[0]):
-        acc[x] = (acc[x] << np.uint64(1)) | np.uint64(nbr[x] < centre[x])
-
-
-@kernel(nogil=True)
-def census_padded(padded, h, w, hw, hh):  # type: ignore[no-untyped-def]
-    out = np.zeros((h, w), np.uint64)
-    for y in range(h):
-        centre = padded[y + hh, hw:hw + w]
-        for dy in range(-hh, hh + 1):
-            for dx in range(-hw, hw + 1):
-                if dy != 0 or dx != 0:
-                    _census_bits(out[y], padded[y + hh + dy, hw + dx:hw + dx + w], centre)
-    return out
-
-
-@kernel(fastmath=True, nogil=True)
-def _shift_in(acc, nbr, centre):  # type: ignore[no-untyped-def]
-    """``acc = acc << 1 | (nbr < centre)`` along a row (32-bit lanes, as the floats)."""
-    for x in range(acc.shape[0]):
-        acc[x] = (acc[x] << np.uint32(1)) | np.uint32(nbr[x] < centre[x])
-
-
-@kernel(fastmath=True, nogil=True)
-def _census_row(g, y, out, buf, acc):  # type: ignore[no-untyped-def]
-    """Row ``y`` of the default 7 x 5 census [1]_ of ``g`` into ``out`` (W,), the borders
-    replicated.  ``buf`` (5, W + 6) float32 receives the five rows padded; ``acc``
-    (2, W) uint32 collects the first two bits and the last 32, each comparison done
-    along the row for all pixels at once (vector lanes as wide as the floats)."""
-    h, w = g.shape
-    for dy in range(5):
-        src = g[min(max(y + dy - 2, 0), h - 1)]
-        b = buf[dy]
-        b[3:w + 3] = src
-        for k in range(3):
-            b[k] = src[0]
-            b[w + 3 + k] = src[w - 1]
-    centre = buf[2, 3:w + 3]
-    hi = acc[0]
-    lo = acc[1]
-    hi[:] = 0
-    lo[:] = 0
-    bit = 0
-    for dy in range(5):
-        for dx in range(7):
-            if dy != 2 or dx != 3:
-                _shift_in(hi if bit < 2 else lo, buf[dy, dx:dx + w], centre)
-                bit += 1
-    for x in range(w):
-        out[x] = (np.uint64(hi[x]) << np.uint64(32)) | np.uint64(lo[x])
-
-
-@kernel(nogil=True)
-def census_7x5(g):  # type: ignore[no-untyped-def]
-    h, w = g.shape
-    out = np.empty((h, w), np.uint64)
-    buf = np.empty((5, w + 6), np.float32)
-    acc = np.empty((2, w), np.uint32)
-    for y in range(h):
-        _census_row(g, y, out[y], buf, acc)
-    return out
-
-
-@kernel(fastmath=True, nogil=True)
-def _sobel_row(g, y, out):  # type: ignore[no-untyped-def]
-    """Row ``y`` of the horizontal 3 x 3 Sobel derivative of ``g``, rounded to int16,
-    the border reflected without repeating the edge pixel (``BORDER_REFLECT_101``)."""
-    h, w = g.shape
-    ya = (1 if h > 1 else 0) if y == 0 else y - 1
-    yb = (h - 2 if h > 1 else 0) if y == h - 1 else y + 1
-    a, b, c = g[ya], g[y], g[yb]
-    two = np.float32(2.0)
-    for x in range(w):
-        xl = (1 if w > 1 else 0) if x == 0 else x - 1
-        xr = (w - 2 if w > 1 else 0) if x == w - 1 else x + 1
-        v = (a[xr] - a[xl]) + two * (b[xr] - b[xl]) + (c[xr] - c[xl])
-        out[x] = np.int16(min(max(np.rint(v), -32767.0), 32767.0))
-
-
-@kernel(nogil=True)
-def sobel(g):  # type: ignore[no-untyped-def]
-    h, w = g.shape
-    out = np.empty((h, w), np.int16)
-    for y in range(h):
-        _sobel_row(g, y, out[y])
-    return out
-
-
-@kernel(nogil=True)
-def _pixel_row(grey, y, valid, check, census_bad, sobel_bad, census, sobel_row, padded_rows,
-               census_bits):  # type: ignore[no-untyped-def]
-    """Census and Sobel of row ``y``; pixels outside ``valid`` (where ``check``) get
-    the values that make every pair with them cost nearly the most."""
-    _census_row(grey, y, census, padded_rows, census_bits)
-    _sobel_row(grey, y, sobel_row)
-    if check:
-        valid_row = valid[y]
-        for x in range(census.shape[0]):
-            if not valid_row[x]:
-                census[x] = census_bad
-                sobel_row[x] = sobel_bad
 
 
 @kernel(fastmath=True, nogil=True)
@@ -278,12 +168,12 @@ def _constant_update(column_sums, ring_row, value):  # type: ignore[no-untyped-d
 
 @kernel(fastmath=True, nogil=True)
 def _row_update(pixels, settings, margin, column_sums, ring_slot,
-                compute):  # type: ignore[no-untyped-def]
+                fill):  # type: ignore[no-untyped-def]
     """Pixel costs of one row for every disparity into a ring slot, with the column
     sums: ``[k, x + margin]`` pairs left pixel ``x`` with right pixel ``x - d_min - k``;
-    pairs that leave the image (and every pair when not ``compute``) cost
-    ``settings.pixel_cost_max``.  ``pixels`` (:class:`RowPixels`) holds the row's
-    census and Sobel values."""
+    pairs that leave the image cost ``settings.pixel_cost_max``, written while the ring
+    is first filled (``fill``) only: they stay the same down the image.  ``pixels``
+    (:class:`RowPixels`) holds the row's census and Sobel values."""
     census_left, census_right = pixels.census_left, pixels.census_right
     sobel_left, sobel_right = pixels.sobel_left, pixels.sobel_right
     pixel_cost_max = settings.pixel_cost_max
@@ -293,12 +183,11 @@ def _row_update(pixels, settings, margin, column_sums, ring_slot,
         d = settings.d_min + k
         x0 = min(max(d, 0), w)  # left pixels x0 .. x1 - 1 have a right pixel x - d
         x1 = max(min(w + d, w), x0)
-        if not compute:
-            x0 = x1 = w
         sums = column_sums[k]
         ring_row = ring_slot[k]
-        _constant_update(sums[m:m + x0], ring_row[m:m + x0], pixel_cost_max)
-        _constant_update(sums[m + x1:m + w], ring_row[m + x1:m + w], pixel_cost_max)
+        if fill:
+            _constant_update(sums[m:m + x0], ring_row[m:m + x0], pixel_cost_max)
+            _constant_update(sums[m + x1:m + w], ring_row[m + x1:m + w], pixel_cost_max)
         if x1 > x0:
             _pixel_update(sums[m + x0:m + x1], ring_row[m + x0:m + x1], census_left[x0:x1],
                           census_right[x0 - d:x1 - d], sobel_left[x0:x1],
@@ -335,11 +224,14 @@ def _least(boxes_up, boxes_mid, boxes_down, k, x, hw, vertical):  # type: ignore
 def _path_step(cost, prev, cur, p1, p2):  # type: ignore[no-untyped-def]
     """One step of a scanline path (semi-global matching, [2]_ eq. 13):
     ``cur[k] = cost[k] + min(prev[k], prev[k -/+ 1] + p1, min(prev) + p2) - min(prev)``
-    (``prev`` and ``cur`` distinct, ``nd >= 2``)."""
+    (``prev`` and ``cur`` distinct, ``nd >= 2``).  The path costs are whole numbers
+    (window sums and penalties) held exactly in float32, so ``min(prev)`` is taken in
+    int32: a reduction that runs in vector lanes, which a float one does not."""
     nd = prev.shape[0]
-    least = prev[0]
+    least_whole = np.int32(prev[0])
     for k in range(1, nd):
-        least = min(least, prev[k])
+        least_whole = min(least_whole, np.int32(prev[k]))
+    least = np.float32(least_whole)
     jump = least + p2
     for k in range(1, nd - 1):
         lo = prev[k - 1]
@@ -415,12 +307,12 @@ def _load_row(images, y, pixels):  # type: ignore[no-untyped-def]
     """Census and Sobel rows ``y`` of both images (:class:`StreamImages`) into
     ``pixels`` (:class:`RowPixels`), once per row."""
     if pixels.loaded_row[0] != y:
-        _pixel_row(images.grey_left, y, images.valid_left, images.check_left,
+        pixel_row(images.grey_left, y, images.valid_left, images.check_left,
                    np.uint64(0xAAAAAAAAAAAAAAAA), np.int16(-32000), pixels.census_left,
-                   pixels.sobel_left, pixels.padded_rows, pixels.census_bits)
-        _pixel_row(images.grey_right, y, images.valid_right, images.check_right,
+                   pixels.sobel_left, pixels.padded_rows)
+        pixel_row(images.grey_right, y, images.valid_right, images.check_right,
                    np.uint64(0x5555555555555555), np.int16(32000), pixels.census_right,
-                   pixels.sobel_right, pixels.padded_rows, pixels.census_bits)
+                   pixels.sobel_right, pixels.padded_rows)
         pixels.loaded_row[0] = y
 
 
@@ -451,7 +343,10 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     -----
     Census and Sobel rows are made as the pass needs them; pixel costs are kept for
     the last ``2 * half_window + 1`` rows only (a ring), with their running column
-    sums, and window sums for as many rows.
+    sums, and window sums for as many rows.  A row that no edge point's window reads
+    (no edge point within ``half_window`` rows of it, ``2 * half_window`` with the
+    windows above and below) is not made at all: the pass costs nothing over rows
+    without edge points.
     """
     grey_left = images.grey_left
     d_min = settings.d_min
@@ -482,7 +377,6 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
         np.empty(w, np.int16), np.empty(w, np.int16),  # Sobel of it
         np.empty(w, np.int16),  # Hamming distances of a row
         np.empty((5, w + 6), np.float32),  # padded grey rows for the census
-        np.empty((2, w), np.uint32),
         np.full(1, -1, np.int64),
     )
     paths = p1 >= 0  # aggregate along the rows too (p1 < 0: not)
@@ -515,16 +409,16 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
         _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring], True)
 
     for box_row in range(first_box_row, y_last + lag):
-        # -- pixel costs of the new row into the ring, column sums updated (the costs
-        #    are made only where a window of an edge point will read them)
-        if box_row > first_box_row:
-            r = box_row + hw  # the new pixel row; its ring slot holds row box_row - hw - 1
-            source_row = min(max(r, 0), h - 1)
-            needed = edges_in(r - hw - lag, r + hw + lag + 1)
-            if needed:
-                _load_row(images, source_row, pixels)
+        # -- pixel costs of the new row into the ring, column sums updated: only where
+        #    a window of an edge point will read them.  A row no window reads is left
+        #    out, its ring slot and the column sums as they were (the sums stay the sums
+        #    of the ring), so the pass costs nothing over rows without edge points: a
+        #    window sum that is read covers rows that were all made
+        r = box_row + hw  # the new pixel row; its ring slot holds row box_row - hw - 1
+        if box_row > first_box_row and edges_in(r - hw - lag, r + hw + lag + 1):
+            _load_row(images, min(max(r, 0), h - 1), pixels)
             _row_update(pixels, settings, m, column_sums, ring[(r + ring_base) % n_ring],
-                        needed)
+                        False)
 
         # -- window sums of nine columns of box_row, every disparity
         boxes_new = boxes[(box_row + ring_base) % n_ring]
