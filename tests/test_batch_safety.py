@@ -169,6 +169,9 @@ def test_killing_the_main_process_leaves_no_worker(slow_inputs: Path, tmp_path: 
          str(tmp_path / "out"), "--min-disparity", "4", "--max-disparity", "16",
          "--workers", "2"],
         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        # a shell's background job ignores SIGINT and its children inherit that: give the
+        # batch the default, as a user's terminal does
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     try:
         deadline = time.monotonic() + 60
