@@ -72,11 +72,13 @@ _UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
 
 
 class _Dumper(yaml.SafeDumper):
-    """Block mappings, flow-style short lists (as capture folders are written)."""
+    """Block mappings, flow-style lists of numbers (as capture folders are written), one
+    view to an entry."""
 
 
 _Dumper.add_representer(
-    list, lambda d, v: d.represent_sequence("tag:yaml.org,2002:seq", v, flow_style=True)
+    list, lambda d, v: d.represent_sequence(
+        "tag:yaml.org,2002:seq", v, flow_style=not any(isinstance(x, dict) for x in v))
 )
 
 
@@ -208,14 +210,15 @@ def is_views_folder(directory: str | os.PathLike[str]) -> bool:
     """Whether `directory` holds an N-view capture (a ``views:`` list in its
     ``capture.yaml``) rather than a two-view one.
 
-    Raises
-    ------
-    InputError
-        The folder or its ``capture.yaml`` is missing or not readable YAML.
+    A folder without a readable ``capture.yaml`` is not one (False): its reader says
+    what is wrong with it.
     """
     from robostereo.io import read_folder_yaml
 
-    data, _ = read_folder_yaml(directory, CAPTURE_YAML, folder="capture")
+    try:
+        data, _ = read_folder_yaml(directory, CAPTURE_YAML, folder="capture")
+    except InputError:
+        return False
     return isinstance(data, Mapping) and "views" in data
 
 
