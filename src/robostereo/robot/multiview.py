@@ -1,0 +1,357 @@
+"""Locating edge points from N views (multi-baseline stereo with known poses).
+
+The thesis locates an object point from two views (2.2, 3.6) with the eq. 9 bound.  A
+robot can grab more views; :func:`locate_views` uses them all, for precision (a long
+total baseline), completeness (views on both sides of an occluder; edges of every
+orientation with a cross of viewpoints) and easy matching (short steps between
+neighbouring views):
+
+1. every view undistorted, smoothed and differentiated
+   (:func:`~robostereo.robot.multiview_search.prepare_views`);
+2. each view in turn is the *reference* (the one nearest the centre of the pattern
+   first); its edge points not already located from an earlier reference
+   (:func:`~robostereo.robot.multiview_search.reference_edges`);
+3. each edge point's ray searched in inverse depth over the capture's depth range,
+   every other view's window scored in that view's own image, the views combined by
+   the best half so that occluded views do not vote
+   (:func:`~robostereo.robot.multiview_search.search_rays`);
+4. the 3-D point refined by least squares over the sub-pixel edge points of the views
+   that agree (:func:`~robostereo.robot.multiview_search.refine_points`), its bound
+   (:func:`views_bound`, eq. 9 generalised), a confidence;
+5. the edge points those views used are marked as located, so the same 3-D point is
+   reported once, from the first reference that found it.
+
+References
+----------
+.. [1] M. Okutomi and T. Kanade, "A multiple-baseline stereo", IEEE PAMI 15(4), 1993.
+.. [2] S. B. Kang, R. Szeliski and J. Chai, "Handling occlusions in dense multi-view
+   stereo", CVPR 2001.
+.. [3] Kim (1989), the thesis, 2.2, 3.1-3.2, 3.6-3.7 (eq. 6-9).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robostereo.errors import InputError, require_positive
+from robostereo.robot.multiview_search import (
+    prepare_views,
+    reference_edges,
+    refine_points,
+    search_rays,
+)
+from robostereo.robot.views import ViewsCapture
+
+__all__ = [
+    "LocatedViews",
+    "ViewsParameters",
+    "locate_views",
+    "reference_order",
+    "views_bound",
+    "views_confidence",
+]
+
+_F = NDArray[np.float64]
+
+#: logistic weights of :func:`views_confidence`: intercept, combined window cost,
+#: distinctness, residual RMS (px), share of the other views used
+CONFIDENCE_WEIGHTS = (4.0, -6.0, -3.0, -4.0, 2.0)
+
+
+@dataclass(frozen=True)
+class ViewsParameters:
+    """Tuning of :func:`locate_views`.
+
+    Attributes
+    ----------
+    threshold : float
+        Least gradient magnitude of an edge point on the thesis's 0..127 grey scale
+        (the matcher's, thesis 3.1: 8.0).
+    half_window : int
+        The window is ``2 half_window + 1`` pixels square (default 3: 7 x 7).
+    step_px : float
+        Inverse-depth step of the search, as the largest image motion it causes in any
+        view, pixels.
+    max_window_cost : float
+        A view enters the fit only if its window's ``1 - ZNCC`` at the best depth is at
+        most this (0.5: a correlation of 0.5).
+    reject_px : float
+        A view whose edge point lies farther than this (pixels, normal distance) from
+        the fitted point is dropped and the point fitted again.
+    min_epipolar_angle_deg : float
+        An edge must cross the epipolar line of at least one used view at this angle or
+        more (an edge along every epipolar line has no measurable depth: thesis 3.1
+        matches along rows only).
+    """
+
+    threshold: float = 8.0
+    half_window: int = 3
+    step_px: float = 0.75
+    max_window_cost: float = 0.5
+    reject_px: float = 0.5
+    min_epipolar_angle_deg: float = 15.0
+
+    def __post_init__(self) -> None:
+        require_positive("threshold", self.threshold)
+        hw = self.half_window
+        if isinstance(hw, bool) or not isinstance(hw, int | np.integer) or not 1 <= hw <= 10:
+            raise InputError(f"half_window must be an integer in 1..10, got {hw!r}")
+        require_positive("step_px", self.step_px)
+        if not 0 < self.max_window_cost <= 2:
+            raise InputError(f"max_window_cost must be in (0, 2], got {self.max_window_cost!r}")
+        require_positive("reject_px", self.reject_px)
+        if not 0 <= self.min_epipolar_angle_deg < 90:
+            raise InputError(f"min_epipolar_angle_deg must be in [0, 90), got "
+                             f"{self.min_epipolar_angle_deg!r}")
+
+
+@dataclass(frozen=True, eq=False)
+class LocatedViews:
+    """Edge points located from N views.
+
+    Attributes
+    ----------
+    world : ndarray, shape (M, 3)
+        World points, mm.
+    bound_mm : ndarray, shape (M,)
+        Depth bound along the reference's optical axis (:func:`views_bound`), mm.
+    confidence : ndarray, shape (M,)
+        Probability that the point is right (:func:`views_confidence`).
+    view_count : ndarray of int, shape (M,)
+        Views that saw the point (the reference included).
+    reference : ndarray of int, shape (M,)
+        The reference view each point was found from.
+    pixel : ndarray, shape (M, 2)
+        ``(x, y)`` in the reference view's grabbed image.
+    depth_mm : ndarray, shape (M,)
+        Depth along the reference's optical axis, mm.
+    views : ndarray of bool, shape (M, N)
+        Which views saw each point.
+    residual_px : ndarray, shape (M,)
+        RMS of the fit's normal residuals, pixels.
+    """
+
+    world: _F
+    bound_mm: _F
+    confidence: _F
+    view_count: NDArray[np.intp]
+    reference: NDArray[np.intp]
+    pixel: _F
+    depth_mm: _F
+    views: NDArray[np.bool_]
+    residual_px: _F
+
+    def __len__(self) -> int:
+        return int(self.world.shape[0])
+
+    def table(self) -> dict[str, NDArray[Any]]:
+        """Columns for a CSV: ``X_w, Y_w, Z_w`` (world mm), ``bound_mm``, ``confidence``,
+        ``view_count``, ``reference``, ``u, v`` (reference's grabbed image), ``depth_mm``,
+        ``residual_px``."""
+        return {
+            "X_w": self.world[:, 0], "Y_w": self.world[:, 1], "Z_w": self.world[:, 2],
+            "bound_mm": self.bound_mm, "confidence": self.confidence,
+            "view_count": self.view_count, "reference": self.reference,
+            "u": self.pixel[:, 0], "v": self.pixel[:, 1], "depth_mm": self.depth_mm,
+            "residual_px": self.residual_px,
+        }
+
+
+def views_bound(depth_mm: ArrayLike, rho_std_unit: ArrayLike, *, focal_px: float,
+                pixel_pitch_mm: float, disparity_uncertainty_px: float,
+                baseline_uncertainty_mm: float, focal_length_uncertainty_mm: float
+                ) -> _F:
+    """Eq. 9 generalised to N views: ``Z dD / D_eff + Z ds / s + Z^2 dd / (f D_eff)``.
+
+    Parameters
+    ----------
+    depth_mm : array_like, shape (M,)
+        ``Z``, depth along the reference's optical axis.
+    rho_std_unit : array_like, shape (M,)
+        ``sqrt([(J^T J)^-1]_rho)`` of the least-squares fit in ``(t, 1/Z)`` per pixel of
+        edge position error in each view (:func:`~robostereo.robot.multiview_search.
+        refine_points`).
+    focal_px, pixel_pitch_mm : float
+        ``f`` in pixels and the pixel pitch (``s = f pitch`` in mm).
+    disparity_uncertainty_px, baseline_uncertainty_mm, focal_length_uncertainty_mm : float
+        ``d(disp)``, ``dD`` and ``ds`` of eq. 9.
+
+    Returns
+    -------
+    ndarray, shape (M,)
+
+    Notes
+    -----
+    A disparity is the difference of two edge positions, so each view's position is
+    given ``d(disp) / sqrt 2``; the fit's inverse depth then has the spread
+    ``rho_std_unit d(disp) / sqrt 2`` and the depth ``Z^2`` times that.  The effective
+    baseline ``D_eff`` is the one for which eq. 9's disparity term equals this.  For two
+    views and an edge across the baseline, ``rho_std_unit = sqrt 2 / (f D)``: eq. 9
+    exactly.  For views on a line at ``b_i`` it is ``1 / (f sqrt(sum (b_i - mean b)^2))``:
+    the least-squares slope of the edge positions against the baseline.
+
+    Examples
+    --------
+    Two views 20 mm apart at 1000 mm with the thesis's camera equal eq. 9 (35.3 mm for
+    one pixel of disparity, 0.5 + 0.4 + 34.4 mm):
+
+    >>> f = 25.0 / 0.0172
+    >>> float(views_bound([1000.0], [np.sqrt(2) / (f * 20.0)], focal_px=f,
+    ...     pixel_pitch_mm=0.0172, disparity_uncertainty_px=1.0,
+    ...     baseline_uncertainty_mm=0.01, focal_length_uncertainty_mm=0.01)[0]).__round__(1)
+    35.3
+    """
+    z = np.asarray(depth_mm, dtype=float)
+    u = np.asarray(rho_std_unit, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        disp_term = z**2 * u * disparity_uncertainty_px / np.sqrt(2.0)
+        d_eff = np.sqrt(2.0) / (focal_px * u)
+        return (z * baseline_uncertainty_mm / d_eff
+                + z * focal_length_uncertainty_mm / (focal_px * pixel_pitch_mm) + disp_term)
+
+
+def views_confidence(combined: ArrayLike, distinct: ArrayLike, residual_px: ArrayLike,
+                     used_share: ArrayLike) -> _F:
+    """Probability that a located point is right, from its match's quality.
+
+    A logistic function of the combined window cost, the distinctness of the best depth
+    (its cost over the next best's), the fit's residual RMS and the share of the other
+    views whose edge point agreed (:data:`CONFIDENCE_WEIGHTS`).
+    """
+    w = CONFIDENCE_WEIGHTS
+    s = (w[0] + w[1] * np.asarray(combined, float) + w[2] * np.asarray(distinct, float)
+         + w[3] * np.asarray(residual_px, float) + w[4] * np.asarray(used_share, float))
+    return 1.0 / (1.0 + np.exp(-s))
+
+
+def reference_order(capture: ViewsCapture) -> NDArray[np.intp]:
+    """Views in the order they serve as reference: nearest the pattern's centre first
+    (a central view sees most of the scene's points from both sides)."""
+    c = capture.centres
+    d = np.linalg.norm(c - c.mean(axis=0), axis=1)
+    return np.argsort(d, kind="stable").astype(np.intp)
+
+
+def _empty(n: int) -> LocatedViews:
+    z = np.zeros(0)
+    return LocatedViews(world=np.zeros((0, 3)), bound_mm=z, confidence=z,
+                        view_count=np.zeros(0, np.intp), reference=np.zeros(0, np.intp),
+                        pixel=np.zeros((0, 2)), depth_mm=z, views=np.zeros((0, n), bool),
+                        residual_px=z)
+
+
+def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None,
+                 progress: Callable[[int, int], None] | None = None) -> LocatedViews:
+    """Locate the edge points of N views in the world, each with a bound and a confidence.
+
+    Parameters
+    ----------
+    capture : ViewsCapture
+        N >= 2 views with their poses and the expected depth range.
+    params : ViewsParameters, optional
+    progress : callable, optional
+        ``progress(done, total)`` after each reference view.
+
+    Returns
+    -------
+    LocatedViews
+
+    Raises
+    ------
+    InputError
+        `capture` not a :class:`ViewsCapture`, `params` not :class:`ViewsParameters`.
+
+    Notes
+    -----
+    See the module's steps 1-5.  Two-view captures are located the same way (their
+    results differ from :func:`robostereo.robot.capture.locate`'s, which rectifies and
+    runs the matcher of chapter 3 and stays as it is).
+
+    References
+    ----------
+    Kim (1989), the thesis, 2.2, 3.6-3.7; Okutomi & Kanade 1993; Kang, Szeliski &
+    Chai 2001.
+    """
+    if not isinstance(capture, ViewsCapture):
+        raise InputError(f"capture must be a ViewsCapture, got {type(capture).__name__}")
+    p = params if params is not None else ViewsParameters()
+    if not isinstance(p, ViewsParameters):
+        raise InputError(f"params must be a ViewsParameters, got {type(p).__name__}")
+    n = len(capture)
+    views = prepare_views(capture)
+    h, w = views.smoothed.shape[1:]
+    border = p.half_window + 2
+    claimed = np.zeros((n, h, w), bool)
+    cam = capture.camera
+    sine_min = np.sin(np.radians(p.min_epipolar_angle_deg))
+    parts: list[dict[str, Any]] = []
+    order = reference_order(capture)
+    for done, ref in enumerate(order):
+        ref = int(ref)
+        edges = reference_edges(views, ref, p.threshold, border)
+        edges = edges.subset(~claimed[ref, edges.grid[:, 1], edges.grid[:, 0]])
+        if len(edges):
+            rays = search_rays(views, ref, edges, capture.depth_range_mm,
+                               half_window=p.half_window, step_px=p.step_px)
+            fit = refine_points(views, ref, edges, rays, max_window_cost=p.max_window_cost,
+                                threshold=p.threshold, reject_px=p.reject_px, border=border)
+            ok = fit.ok & (fit.epipolar_sine >= sine_min)
+            if ok.any():
+                parts.append(_collect(capture, views, ref, edges, rays, fit, ok, n))
+                _claim(claimed, ref, rays.others, edges, fit, ok)
+        if progress is not None:
+            progress(done + 1, n)
+    if not parts:
+        return _empty(n)
+    cat = {k: np.concatenate([q[k] for q in parts]) for k in parts[0]}
+    bound = views_bound(cat["depth"], cat["rho_std"], focal_px=float(views.K[0, 0]),
+                        pixel_pitch_mm=cam.pixel_pitch_mm[0],
+                        disparity_uncertainty_px=capture.disparity_uncertainty_px,
+                        baseline_uncertainty_mm=capture.baseline_uncertainty_mm,
+                        focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm)
+    count = cat["views"].sum(axis=1)
+    conf = views_confidence(cat["combined"], cat["distinct"], cat["rms"],
+                            (count - 1) / np.maximum(cat["seen"], 1))
+    return LocatedViews(world=cat["world"], bound_mm=bound, confidence=conf,
+                        view_count=count.astype(np.intp), reference=cat["ref"],
+                        pixel=cat["pixel"], depth_mm=cat["depth"], views=cat["views"],
+                        residual_px=cat["rms"])
+
+
+def _collect(capture: ViewsCapture, views: Any, ref: int, edges: Any, rays: Any, fit: Any,
+             ok: NDArray[np.bool_], n: int) -> dict[str, Any]:
+    """One reference's located points as arrays."""
+    m = int(ok.sum())
+    seen = np.zeros((m, n), bool)
+    seen[:, ref] = True
+    seen[:, rays.others] = fit.used[ok]
+    world = fit.world[ok]
+    pix, _ = capture.camera.project(world, capture.poses[ref])
+    return {"world": world, "depth": fit.depth[ok], "rho_std": fit.rho_std_unit[ok],
+            "views": seen, "ref": np.full(m, ref, np.intp), "pixel": pix,
+            "combined": rays.combined[ok], "distinct": rays.distinct[ok],
+            "rms": fit.residual_rms[ok],
+            "seen": np.isfinite(rays.costs[ok]).sum(axis=1)}
+
+
+def _claim(claimed: NDArray[np.bool_], ref: int, others: NDArray[np.intp], edges: Any,
+           fit: Any, ok: NDArray[np.bool_]) -> None:
+    """Mark the edge pixels (and their grid neighbours) the located points used."""
+    h, w = claimed.shape[1:]
+    g = edges.grid[ok]
+    claimed[ref, g[:, 1], g[:, 0]] = True
+    for v, j in enumerate(others):
+        use = fit.used[ok, v]
+        e = fit.edge[ok][use, v]
+        if not len(e):
+            continue
+        x = np.rint(e[:, 0]).astype(np.intp)
+        y = np.rint(e[:, 1]).astype(np.intp)
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                claimed[j, np.clip(y + dy, 0, h - 1), np.clip(x + dx, 0, w - 1)] = True

@@ -1,0 +1,232 @@
+"""numba kernels of the N-view search (:mod:`robostereo.robot.multiview_search`).
+
+* :func:`sweep_costs`: each reference edge point's window scored in every other view at
+  every inverse depth of its ray (zero-mean normalised cross-correlation, bilinear
+  sampling through the local affine map of the depth plane);
+* :func:`row_peaks` / :func:`edge_near`: sub-pixel edge points on the pixel grid, as
+  the matcher's (thesis 3.1-3.2: the peak of the gradient magnitude along a row, a
+  parabola through it and its neighbours), along rows for edges whose normal is nearer
+  x and along columns for the others.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robostereo.matcher.jit import kernel
+
+__all__ = ["edge_near", "grid_edges", "sweep_costs"]
+
+#: cost of a view where the window falls outside the image (not a vote)
+OUTSIDE = np.float32(np.nan)
+
+
+@kernel(nogil=True)
+def _bilinear(img, x, y):  # type: ignore[no-untyped-def]
+    """Bilinear sample of ``img`` (H, W) at (x, y); the caller keeps it inside."""
+    x0 = int(np.floor(x))
+    y0 = int(np.floor(y))
+    fx = x - x0
+    fy = y - y0
+    a = img[y0, x0] * (1.0 - fx) + img[y0, x0 + 1] * fx
+    b = img[y0 + 1, x0] * (1.0 - fx) + img[y0 + 1, x0 + 1] * fx
+    return a * (1.0 - fy) + b * fy
+
+
+@kernel(nogil=True)
+def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type: ignore[no-untyped-def]
+    """``1 - ZNCC`` of each point's reference window in each other view at each depth.
+
+    Parameters
+    ----------
+    images : float32 (N, H, W)
+        Smoothed, undistorted images of all views.
+    ref_patch : float32 (M, P)
+        Each point's reference window, zero mean and unit norm (norm 0: flat).
+    offs : float64 (P, 2)
+        Window sample offsets ``(dx, dy)`` in reference pixels.
+    views : int64 (V,)
+        The other views, indices into `images`.
+    a, b : float64 (M, V, 3)
+        The point at inverse depth ``rho`` projects to ``(a + rho b)[:2] / (a + rho b)[2]``.
+    aff : float64 (M, V, 2, 2)
+        Reference pixel offsets to the view's pixel offsets (the depth plane's local map).
+    rho : float64 (K,)
+        Inverse depths, 1/mm.
+    margin : float
+        Least distance of a window sample from the image border, pixels.
+
+    Returns
+    -------
+    float32 (M, V, K)
+        ``1 - ZNCC`` (0 best, 2 worst); NaN where the window leaves the image or the
+        point is behind the view.
+    """
+    m, p = ref_patch.shape
+    nv = views.shape[0]
+    nk = rho.shape[0]
+    h = images.shape[1]
+    w = images.shape[2]
+    out = np.empty((m, nv, nk), np.float32)
+    buf = np.empty(p, np.float64)
+    for i in range(m):
+        for v in range(nv):
+            img = images[views[v]]
+            a00 = aff[i, v, 0, 0]
+            a01 = aff[i, v, 0, 1]
+            a10 = aff[i, v, 1, 0]
+            a11 = aff[i, v, 1, 1]
+            for k in range(nk):
+                hx = a[i, v, 0] + rho[k] * b[i, v, 0]
+                hy = a[i, v, 1] + rho[k] * b[i, v, 1]
+                hz = a[i, v, 2] + rho[k] * b[i, v, 2]
+                if hz <= 0.0:
+                    out[i, v, k] = OUTSIDE
+                    continue
+                cx = hx / hz
+                cy = hy / hz
+                inside = True
+                s = 0.0
+                for q in range(p):
+                    x = cx + a00 * offs[q, 0] + a01 * offs[q, 1]
+                    y = cy + a10 * offs[q, 0] + a11 * offs[q, 1]
+                    if x < margin or y < margin or x > w - 1 - margin or y > h - 1 - margin:
+                        inside = False
+                        break
+                    buf[q] = _bilinear(img, x, y)
+                    s += buf[q]
+                if not inside:
+                    out[i, v, k] = OUTSIDE
+                    continue
+                mean = s / p
+                num = 0.0
+                den = 0.0
+                for q in range(p):
+                    d = buf[q] - mean
+                    num += d * ref_patch[i, q]
+                    den += d * d
+                if den <= 1e-12:
+                    out[i, v, k] = np.float32(1.0)
+                else:
+                    out[i, v, k] = np.float32(1.0 - num / np.sqrt(den))
+    return out
+
+
+@kernel(nogil=True)
+def _grid_peak(gx, gy, y, x, threshold):  # type: ignore[no-untyped-def]
+    """(axis, sub-pixel offset) of a grid edge point at (y, x), axis -1 for none."""
+    mag = np.sqrt(gx[y, x] ** 2 + gy[y, x] ** 2)
+    if mag < threshold:
+        return -1, 0.0
+    if abs(gx[y, x]) >= abs(gy[y, x]):
+        m0 = np.sqrt(gx[y, x - 1] ** 2 + gy[y, x - 1] ** 2)
+        m1 = np.sqrt(gx[y, x + 1] ** 2 + gy[y, x + 1] ** 2)
+        axis = 0
+    else:
+        m0 = np.sqrt(gx[y - 1, x] ** 2 + gy[y - 1, x] ** 2)
+        m1 = np.sqrt(gx[y + 1, x] ** 2 + gy[y + 1, x] ** 2)
+        axis = 1
+    if not (mag > m0 and mag >= m1):
+        return -1, 0.0
+    den = m0 - 2.0 * mag + m1
+    off = 0.5 * (m0 - m1) / den if den < 0 else 0.0
+    return axis, off
+
+
+@kernel(nogil=True)
+def grid_edges(gx, gy, threshold, border):  # type: ignore[no-untyped-def]
+    """Edge points on the pixel grid: peaks of ``|grad|`` along rows (normal nearer x) or
+    along columns (normal nearer y), ``|grad| >= threshold``, `border` px inside.
+
+    Returns rows, columns, the sub-pixel position along the scan axis (x for row peaks,
+    y for column peaks), the axis (0 rows, 1 columns), and the gradient at the pixel."""
+    h, w = gx.shape
+    n = 0
+    for y in range(border, h - border):
+        for x in range(border, w - border):
+            axis, off = _grid_peak(gx, gy, y, x, threshold)
+            if axis >= 0:
+                n += 1
+    rows = np.empty(n, np.int64)
+    cols = np.empty(n, np.int64)
+    sub = np.empty(n, np.float64)
+    axes = np.empty(n, np.int64)
+    gxs = np.empty(n, np.float64)
+    gys = np.empty(n, np.float64)
+    n = 0
+    for y in range(border, h - border):
+        for x in range(border, w - border):
+            axis, off = _grid_peak(gx, gy, y, x, threshold)
+            if axis < 0:
+                continue
+            rows[n] = y
+            cols[n] = x
+            sub[n] = (x if axis == 0 else y) + off
+            axes[n] = axis
+            gxs[n] = gx[y, x]
+            gys[n] = gy[y, x]
+            n += 1
+    return rows, cols, sub, axes, gxs, gys
+
+
+@kernel(nogil=True)
+def edge_near(gx, gy, ux, uy, nx, ny, reach, threshold, border):  # type: ignore[no-untyped-def]
+    """The sub-pixel edge point nearest each predicted position, on the pixel grid.
+
+    For each point: the scan axis is the one nearer the predicted normal ``(nx, ny)``;
+    on the grid line through the rounded prediction, the pixels within `reach` whose
+    gradient agrees with the normal (``grad . n >= threshold``) and is a peak of
+    ``grad . n`` along the axis; the nearest such peak, refined by a parabola.
+
+    Returns ``(ex, ey, gxe, gye, found)``: the edge point (x, y), the gradient at its
+    pixel, and whether one was found."""
+    h, w = gx.shape
+    m = ux.shape[0]
+    ex = np.full(m, np.nan)
+    ey = np.full(m, np.nan)
+    gxe = np.zeros(m)
+    gye = np.zeros(m)
+    found = np.zeros(m, np.bool_)
+    for i in range(m):
+        if not (np.isfinite(ux[i]) and np.isfinite(uy[i])):
+            continue
+        xr = int(np.rint(ux[i]))
+        yr = int(np.rint(uy[i]))
+        if xr < border or yr < border or xr > w - 1 - border or yr > h - 1 - border:
+            continue
+        along_x = abs(nx[i]) >= abs(ny[i])
+        best = 1e9
+        for s in range(-reach, reach + 1):
+            x = xr + s if along_x else xr
+            y = yr if along_x else yr + s
+            if x < border or y < border or x > w - 1 - border or y > h - 1 - border:
+                continue
+            d0 = gx[y, x] * nx[i] + gy[y, x] * ny[i]
+            if d0 < threshold:
+                continue
+            if along_x:
+                dm = gx[y, x - 1] * nx[i] + gy[y, x - 1] * ny[i]
+                dp = gx[y, x + 1] * nx[i] + gy[y, x + 1] * ny[i]
+            else:
+                dm = gx[y - 1, x] * nx[i] + gy[y - 1, x] * ny[i]
+                dp = gx[y + 1, x] * nx[i] + gy[y + 1, x] * ny[i]
+            if not (d0 > dm and d0 >= dp):
+                continue
+            den = dm - 2.0 * d0 + dp
+            off = 0.5 * (dm - dp) / den if den < 0 else 0.0
+            if along_x:
+                px = x + off
+                py = float(y)
+                dist = abs(px - ux[i])
+            else:
+                px = float(x)
+                py = y + off
+                dist = abs(py - uy[i])
+            if dist < best:
+                best = dist
+                ex[i] = px
+                ey[i] = py
+                gxe[i] = gx[y, x]
+                gye[i] = gy[y, x]
+                found[i] = True
+    return ex, ey, gxe, gye, found

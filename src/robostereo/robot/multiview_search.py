@@ -1,0 +1,427 @@
+"""The stages of the N-view locate: views prepared, rays searched, points refined.
+
+:func:`robostereo.robot.multiview.locate_views` runs these for each reference view:
+
+* :func:`prepare_views`: every view undistorted to the pinhole camera of its own
+  intrinsics, on the thesis's 0..127 grey scale, smoothed (figure 3-1), with its
+  gradient; the poses as rotations and optical centres;
+* :func:`reference_edges`: the reference view's edge points on the pixel grid
+  (:func:`~robostereo.robot.multiview_kernels.grid_edges`);
+* :func:`search_rays`: each edge point's ray searched in inverse depth, every other
+  view's window scored (:func:`~robostereo.robot.multiview_kernels.sweep_costs`) and
+  the views combined robustly (the best half);
+* :func:`refine_points`: each view's sub-pixel edge point near the best depth, the
+  3-D point refined by least squares over the views that agree, its bound.
+
+References
+----------
+.. [1] M. Okutomi and T. Kanade, "A multiple-baseline stereo", IEEE PAMI 15(4), 1993.
+.. [2] S. B. Kang, R. Szeliski and J. Chai, "Handling occlusions in dense multi-view
+   stereo", CVPR 2001.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+from numpy.typing import NDArray
+
+from robostereo.geometry.poses import as_se3
+from robostereo.matcher.edges import smooth, to_grey
+from robostereo.robot.multiview_kernels import edge_near, grid_edges, sweep_costs
+from robostereo.robot.views import ViewsCapture
+
+__all__ = [
+    "PreparedViews",
+    "RayMatches",
+    "ReferenceEdges",
+    "RefinedPoints",
+    "prepare_views",
+    "reference_edges",
+    "refine_points",
+    "search_rays",
+]
+
+_F = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False)
+class PreparedViews:
+    """Every view undistorted, smoothed and differentiated.
+
+    Attributes
+    ----------
+    smoothed : float32 (N, H, W)
+        Undistorted grey levels on the thesis's 0..127 scale, smoothed (figure 3-1).
+    gx, gy : float32 (N, H, W)
+        ``(S(x + 1) - S(x - 1)) / 2`` and the same along y.
+    K, K_inv : (3, 3)
+        The pinhole intrinsics the undistorted images share.
+    R : (N, 3, 3)
+        Camera-to-world rotations.
+    C : (N, 3)
+        Optical centres, world mm.
+    """
+
+    smoothed: NDArray[np.float32]
+    gx: NDArray[np.float32]
+    gy: NDArray[np.float32]
+    K: _F
+    K_inv: _F
+    R: _F
+    C: _F
+
+    def project(self, world: _F, view: int) -> tuple[_F, _F]:
+        """Pinhole pixels ``(M, 2)`` and depths ``(M,)`` of world points in `view`."""
+        pc = (world - self.C[view]) @ self.R[view]
+        z = pc[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            uv = pc[:, :2] / z[:, None]
+        return uv * np.diag(self.K)[:2] + self.K[:2, 2], z
+
+
+def prepare_views(capture: ViewsCapture) -> PreparedViews:
+    """Undistort, convert, smooth and differentiate every view (see :class:`PreparedViews`)."""
+    cam = capture.camera
+    w, h = cam.image_size
+    K = cam.K
+    undistort = bool(np.any(np.asarray(cam.dist_coeffs) != 0))
+    if undistort:
+        u, v = np.meshgrid(np.arange(w, dtype=float), np.arange(h, dtype=float))
+        cx, cy = cam.principal_point
+        n = np.column_stack([((u - cx) / cam.fx).ravel(), ((v - cy) / cam.fy).ravel()])
+        d = cam.distort(n)
+        map_x = (d[:, 0] * cam.fx + cx).reshape(h, w).astype(np.float32)
+        map_y = (d[:, 1] * cam.fy + cy).reshape(h, w).astype(np.float32)
+    sm, gxs, gys = [], [], []
+    for img in capture.images:
+        g = to_grey(img, bit_depth=int(capture.bit_depth))
+        if undistort:
+            g = cv2.remap(g, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+        s = smooth(g)
+        gx = np.zeros_like(s)
+        gy = np.zeros_like(s)
+        gx[:, 1:-1] = 0.5 * (s[:, 2:] - s[:, :-2])
+        gy[1:-1, :] = 0.5 * (s[2:, :] - s[:-2, :])
+        sm.append(s)
+        gxs.append(gx)
+        gys.append(gy)
+    poses = [as_se3(p) for p in capture.poses]
+    return PreparedViews(
+        smoothed=np.stack(sm), gx=np.stack(gxs), gy=np.stack(gys), K=K,
+        K_inv=np.linalg.inv(K), R=np.stack([p.rotation for p in poses]),
+        C=np.stack([p.translation for p in poses]))
+
+
+@dataclass(frozen=True, eq=False)
+class ReferenceEdges:
+    """A reference view's edge points.
+
+    Attributes
+    ----------
+    pixel : (M, 2)
+        Sub-pixel ``(x, y)`` in the undistorted reference image.
+    grid : int (M, 2)
+        The pixel ``(x, y)`` each was found at.
+    normal : (M, 2)
+        Unit gradient direction (dark to bright).
+    """
+
+    pixel: _F
+    grid: NDArray[np.intp]
+    normal: _F
+
+    def __len__(self) -> int:
+        return int(self.pixel.shape[0])
+
+    def subset(self, keep: NDArray[np.bool_]) -> ReferenceEdges:
+        return ReferenceEdges(self.pixel[keep], self.grid[keep], self.normal[keep])
+
+
+def reference_edges(views: PreparedViews, ref: int, threshold: float,
+                    border: int) -> ReferenceEdges:
+    """Edge points of view `ref` on the pixel grid (``|grad| >= threshold``)."""
+    rows, cols, sub, axes, gx, gy = grid_edges(views.gx[ref], views.gy[ref],
+                                              float(threshold), int(border))
+    x = np.where(axes == 0, sub, cols)
+    y = np.where(axes == 0, rows, sub)
+    mag = np.hypot(gx, gy)
+    return ReferenceEdges(np.column_stack([x, y]).astype(float),
+                          np.column_stack([cols, rows]).astype(np.intp),
+                          np.column_stack([gx / mag, gy / mag]))
+
+
+def _rays(views: PreparedViews, ref: int, pixel: _F) -> _F:
+    """World directions ``d`` with ``C + d / rho`` at depth ``1 / rho`` along the
+    reference's optical axis, shape (M, 3)."""
+    hom = np.column_stack([pixel, np.ones(len(pixel))]) @ views.K_inv.T
+    return hom @ views.R[ref].T
+
+
+def _projection_terms(views: PreparedViews, ref: int, others: NDArray[np.intp],
+                      rays: _F) -> tuple[_F, _F]:
+    """``a, b`` (M, V, 3): the ray's point at ``rho`` projects to ``(a + rho b)`` (homog.)."""
+    KR = views.K @ np.transpose(views.R[others], (0, 2, 1))  # (V, 3, 3)
+    a = np.einsum("vij,mj->mvi", KR, rays)
+    b = np.einsum("vij,vj->vi", KR, views.C[ref] - views.C[others])
+    return a, np.broadcast_to(b[None], a.shape).copy()
+
+
+def _affine(views: PreparedViews, ref: int, others: NDArray[np.intp], pixel: _F,
+            rho: float) -> _F:
+    """The depth plane's local map of reference pixel offsets to each view's, (M, V, 2, 2)."""
+    out = np.empty((len(pixel), len(others), 2, 2))
+    base = None
+    for c, step in enumerate(((1.0, 0.0), (0.0, 1.0), (0.0, 0.0))):
+        p = pixel + np.array(step)
+        world = views.C[ref] + _rays(views, ref, p) / rho
+        uv = np.stack([views.project(world, int(j))[0] for j in others], axis=1)  # (M, V, 2)
+        if c < 2:
+            out[:, :, :, c] = uv
+        else:
+            base = uv
+    assert base is not None
+    return out - base[:, :, :, None]
+
+
+def _bilinear(img: NDArray[np.float32], x: _F, y: _F) -> _F:
+    h, w = img.shape
+    x = np.clip(x, 0, w - 1.001)
+    y = np.clip(y, 0, h - 1.001)
+    x0 = np.floor(x).astype(np.intp)
+    y0 = np.floor(y).astype(np.intp)
+    fx, fy = x - x0, y - y0
+    a = img[y0, x0] * (1 - fx) + img[y0, x0 + 1] * fx
+    b = img[y0 + 1, x0] * (1 - fx) + img[y0 + 1, x0 + 1] * fx
+    return a * (1 - fy) + b * fy
+
+
+@dataclass(frozen=True, eq=False)
+class RayMatches:
+    """The search along each reference ray.
+
+    Attributes
+    ----------
+    others : int (V,)
+        The other views.
+    rho : (M,)
+        Best inverse depth, 1/mm.
+    costs : (M, V)
+        Each other view's ``1 - ZNCC`` at `rho` (NaN: not visible).
+    combined : (M,)
+        The robust combined cost at `rho` (mean of the best half).
+    distinct : (M,)
+        Combined cost at the best depth over that of the best depth at least three
+        steps away (1: ambiguous, small: distinct).
+    affine : (M, V, 2, 2)
+        The depth plane's local map of reference pixel offsets to each view's.
+    """
+
+    others: NDArray[np.intp]
+    rho: _F
+    costs: _F
+    combined: _F
+    distinct: _F
+    affine: _F
+
+
+def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
+                depth_range: tuple[float, float], *, half_window: int,
+                step_px: float) -> RayMatches:
+    """Search each edge point's ray in inverse depth and combine the views robustly.
+
+    Notes
+    -----
+    1. Inverse depths from ``1 / far`` to ``1 / near`` in steps that move the point at
+       most `step_px` in the view farthest from the reference.
+    2. The reference window (``2 half_window + 1`` square) of each edge point, zero
+       mean and unit norm; in each other view the window through the depth plane's
+       local affine map at each depth, scored ``1 - ZNCC``
+       (:func:`~robostereo.robot.multiview_kernels.sweep_costs`).
+    3. At each depth the views' costs are combined by the mean of the best half of the
+       views that see the window (Kang, Szeliski & Chai 2001): a view in which the
+       point is occluded scores badly and is among the worse half, so it does not
+       vote; the best depth minimises the combination.
+    """
+    n = views.smoothed.shape[0]
+    others = np.array([j for j in range(n) if j != ref], dtype=np.intp)
+    m = len(edges)
+    near, far = depth_range
+    f = float(views.K[0, 0])
+    reach = float(np.max(np.linalg.norm(views.C[others] - views.C[ref], axis=1)))
+    drho = step_px / (f * reach)
+    rho = np.arange(1.0 / far, 1.0 / near + drho, drho)
+    r = np.arange(-half_window, half_window + 1, dtype=float)
+    ox, oy = np.meshgrid(r, r)
+    offs = np.column_stack([ox.ravel(), oy.ravel()])
+    px = edges.pixel
+    patch = _bilinear(views.smoothed[ref], px[:, 0:1] + offs[None, :, 0],
+                      px[:, 1:2] + offs[None, :, 1])
+    patch = patch - patch.mean(axis=1, keepdims=True)
+    norm = np.linalg.norm(patch, axis=1, keepdims=True)
+    patch = np.where(norm > 1e-9, patch / np.maximum(norm, 1e-9), 0.0).astype(np.float32)
+    rays = _rays(views, ref, px)
+    a, b = _projection_terms(views, ref, others, rays)
+    aff = _affine(views, ref, others, px, 2.0 / (near + far))
+    costs = sweep_costs(views.smoothed, patch, offs, others.astype(np.int64), a, b, aff,
+                        rho, float(half_window + 1))
+    # -- the best half of the views that see the window, at each depth
+    c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (M, V, K)
+    srt = np.sort(c, axis=1)
+    seen = np.isfinite(srt).sum(axis=1)  # (M, K)
+    keep = np.maximum((seen + 1) // 2, 1)
+    csum = np.cumsum(np.where(np.isfinite(srt), srt, 0.0), axis=1)
+    comb = np.take_along_axis(csum, (keep - 1)[:, None, :], axis=1)[:, 0, :] / keep
+    comb = np.where(seen > 0, comb, np.inf)
+    k = np.argmin(comb, axis=1) if m else np.zeros(0, np.intp)
+    best = comb[np.arange(m), k]
+    far_k = np.abs(np.arange(len(rho))[None, :] - k[:, None]) >= 3
+    second = np.where(far_k, comb, np.inf).min(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        distinct = np.where(np.isfinite(second) & (second > 0), best / second, 1.0)
+    return RayMatches(others=others, rho=rho[k], costs=costs[np.arange(m), :, k],
+                      combined=best, distinct=np.clip(distinct, 0.0, 1.0), affine=aff)
+
+
+@dataclass(frozen=True, eq=False)
+class RefinedPoints:
+    """Points refined by least squares over the views that agree.
+
+    Attributes
+    ----------
+    world : (M, 3)
+    depth : (M,)
+        Depth along the reference's optical axis, mm.
+    used : bool (M, V)
+        The other views whose edge point agreed and entered the fit.
+    edge : (M, V, 2)
+        Each other view's sub-pixel edge point (undistorted pixels; NaN if none).
+    residual_rms : (M,)
+        RMS of the normal residuals over the reference and the used views, px.
+    rho_std_unit : (M,)
+        ``sqrt((J^T J)^-1)`` for the inverse depth, per pixel of residual (1/mm/px).
+    epipolar_sine : (M,)
+        Largest ``|sin|`` of the angle between the edge and the epipolar direction over
+        the used views (0: the edge runs along every epipolar line).
+    ok : bool (M,)
+        At least one other view used and the fit determined.
+    """
+
+    world: _F
+    depth: _F
+    used: NDArray[np.bool_]
+    edge: _F
+    residual_rms: _F
+    rho_std_unit: _F
+    epipolar_sine: _F
+    ok: NDArray[np.bool_]
+
+
+def _residuals(views: PreparedViews, ref: int, others: NDArray[np.intp], e_ref: _F,
+               n_ref: _F, edge: _F, normal: _F, t: _F, rho: _F) -> _F:
+    """Normal residuals (M, V) of the other views for the point ``(t, rho)``."""
+    p = e_ref + t[:, None] * n_ref
+    world = views.C[ref] + _rays(views, ref, p) / rho[:, None]
+    out = np.empty(edge.shape[:2])
+    for v, j in enumerate(others):
+        uv, _ = views.project(world, int(j))
+        out[:, v] = np.einsum("mi,mi->m", normal[:, v], uv - edge[:, v])
+    return out
+
+
+def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: RayMatches,
+                  *, max_window_cost: float, threshold: float, reject_px: float,
+                  border: int, iterations: int = 4) -> RefinedPoints:
+    """Each view's edge point near the best depth, and the least-squares 3-D point.
+
+    Notes
+    -----
+    1. Candidate views: those that see the window with ``1 - ZNCC <= max_window_cost``
+       at the best depth.
+    2. In each, the sub-pixel edge point nearest the predicted position, on the pixel
+       grid, whose gradient points along the reference normal carried over by the depth
+       plane's map (:func:`~robostereo.robot.multiview_kernels.edge_near`).
+    3. Unknowns ``(t, rho)``: the point on the ray through ``e_ref + t n_ref`` at inverse
+       depth ``rho``.  Residuals: ``t`` in the reference and ``n_j . (pi_j(P) - e_j)``
+       in each view (its edge's normal distance, the only direction an edge point
+       measures).  Gauss-Newton; then views with ``|residual| > reject_px`` are dropped
+       and the fit repeated.
+    """
+    others = rays.others
+    m, nv = len(edges), len(others)
+    e_ref, n_ref = edges.pixel, edges.normal
+    rho = rays.rho.copy()
+    world = views.C[ref] + _rays(views, ref, e_ref) / rho[:, None]
+    edge = np.full((m, nv, 2), np.nan)
+    normal = np.zeros((m, nv, 2))
+    cand = np.isfinite(rays.costs) & (rays.costs <= max_window_cost)
+    for v, j in enumerate(others):
+        uv, z = views.project(world, int(j))
+        A = rays.affine[:, v]  # gradients map with the inverse transpose
+        with np.errstate(all="ignore"):
+            inv_t = np.linalg.inv(A + 1e-12 * np.eye(2)).transpose(0, 2, 1)
+        npred = np.einsum("mij,mj->mi", inv_t, n_ref)
+        npred /= np.maximum(np.linalg.norm(npred, axis=1, keepdims=True), 1e-12)
+        sel = cand[:, v] & (z > 0) & np.isfinite(npred).all(axis=1)
+        idx = np.nonzero(sel)[0]
+        ex, ey, gx, gy, found = edge_near(views.gx[j], views.gy[j], uv[idx, 0], uv[idx, 1],
+                                          npred[idx, 0], npred[idx, 1], 2, threshold / 2.0,
+                                          border)
+        g = np.column_stack([gx, gy])
+        gn = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-12)
+        agree = found & (np.einsum("mi,mi->m", gn, npred[idx]) >= math.cos(math.radians(30)))
+        ii = idx[agree]
+        edge[ii, v] = np.column_stack([ex, ey])[agree]
+        normal[ii, v] = gn[agree]
+    used = np.isfinite(edge[:, :, 0])
+    t = np.zeros(m)
+    e = np.nan_to_num(edge)
+    eps_t, eps_r = 1e-3, 1e-9
+    J = np.zeros((m, nv, 2))
+    for it in range(iterations + 2):
+        if it == iterations:  # drop views that disagree, fit again
+            r = _residuals(views, ref, others, e_ref, n_ref, e, normal, t, rho)
+            used &= np.abs(r) <= reject_px
+        r = _residuals(views, ref, others, e_ref, n_ref, e, normal, t, rho)
+        J[:, :, 0] = (_residuals(views, ref, others, e_ref, n_ref, e, normal, t + eps_t, rho)
+                      - r) / eps_t
+        J[:, :, 1] = (_residuals(views, ref, others, e_ref, n_ref, e, normal, t, rho + eps_r)
+                      - r) / eps_r
+        w = used.astype(float)
+        JtJ = np.einsum("mv,mvi,mvj->mij", w, J, J)
+        JtJ[:, 0, 0] += 1.0  # the reference's residual t
+        Jtr = np.einsum("mv,mvi,mv->mi", w, J, r)
+        Jtr[:, 0] += t
+        det = JtJ[:, 0, 0] * JtJ[:, 1, 1] - JtJ[:, 0, 1] ** 2
+        good = det > 1e-30
+        safe = np.where(good, det, 1.0)
+        dt = -(JtJ[:, 1, 1] * Jtr[:, 0] - JtJ[:, 0, 1] * Jtr[:, 1]) / safe
+        dr = -(-JtJ[:, 0, 1] * Jtr[:, 0] + JtJ[:, 0, 0] * Jtr[:, 1]) / safe
+        t = np.where(good, t + dt, t)
+        rho = np.where(good & (rho + dr > 0), rho + dr, rho)
+    r = _residuals(views, ref, others, e_ref, n_ref, e, normal, t, rho)
+    w = used.astype(float)
+    JtJ = np.einsum("mv,mvi,mvj->mij", w, J, J)
+    JtJ[:, 0, 0] += 1.0
+    det = JtJ[:, 0, 0] * JtJ[:, 1, 1] - JtJ[:, 0, 1] ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho_std = np.sqrt(np.where(det > 0, JtJ[:, 0, 0] / det, np.inf))
+        k = used.sum(axis=1)
+        rms = np.sqrt((np.sum(w * r**2, axis=1) + t**2) / (k + 1))
+    p = e_ref + t[:, None] * n_ref
+    world = views.C[ref] + _rays(views, ref, p) / rho[:, None]
+    world2 = views.C[ref] + _rays(views, ref, p) / (rho + eps_r)[:, None]
+    sine = np.zeros(m)
+    for v, j in enumerate(others):
+        # the edge against the epipolar direction: d(residual)/d(rho) over the image speed
+        speed = np.linalg.norm(views.project(world2, int(j))[0]
+                               - views.project(world, int(j))[0], axis=1) / eps_r
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sv = np.abs(J[:, v, 1]) / speed
+        sine = np.maximum(sine, np.where(used[:, v] & np.isfinite(sv), sv, 0.0))
+    ok = (k >= 1) & np.isfinite(rho_std) & (rho > 0)
+    return RefinedPoints(world=world, depth=1.0 / rho, used=used, edge=edge,
+                         residual_rms=rms, rho_std_unit=rho_std, epipolar_sine=sine, ok=ok)
