@@ -95,6 +95,58 @@ def test_capture_views_into_a_full_folder_is_refused(tmp_path, capsys):
              "exists and is not an empty folder")
 
 
+# -- locate ----------------------------------------------------------------------------
+
+
+def _block_top_mm() -> float:
+    """The simulated block's top above the table (the scene's own default height)."""
+    import inspect
+
+    from robostereo.simulation.scenes import seed_block_scene
+
+    return float(inspect.signature(seed_block_scene).parameters["height_mm"].default)
+
+
+def test_locate_on_a_views_folder_writes_each_point_with_bound_confidence_and_view_count(
+        views_dir, tmp_path, capsys):
+    from robostereo.robot.multiview import locate_views
+
+    csv, ply = tmp_path / "p.csv", tmp_path / "p.ply"
+    assert main(["locate", str(views_dir), "-o", str(csv), "--ply", str(ply)]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"{views_dir}: 3 views, ") and str(csv) in out
+    t = np.genfromtxt(csv, delimiter=",", names=True)
+    for col in ("X_w", "Y_w", "Z_w", "bound_mm", "confidence", "view_count"):
+        assert col in t.dtype.names
+    assert len(t) > 100
+    assert f"element vertex {len(t)}\n".encode() in ply.read_bytes()
+    # the same points as the library's, to the CSV's six significant digits
+    lib = locate_views(read_views_capture(views_dir)).table()
+    for col in ("Z_w", "bound_mm", "confidence", "view_count"):
+        assert np.allclose(t[col], lib[col], rtol=1e-5, atol=1e-4), col
+    assert ((t["view_count"] >= 2) & (t["view_count"] <= 3)).all()
+    assert ((t["confidence"] >= 0) & (t["confidence"] <= 1)).all()
+    # the block's top edges: nearly all within their bound of the true height
+    within = np.abs(t["Z_w"] - _block_top_mm()) <= t["bound_mm"]
+    assert within.mean() > 0.9, within.mean()
+
+
+def test_a_two_view_folder_read_as_two_views_locates_as_today(tmp_path):
+    from scipy.spatial import cKDTree
+
+    from robostereo.robot.capture import locate_capture, write_capture
+    from robostereo.robot.multiview import locate_views
+    from robostereo.robot.simulated_scara import simulate_capture
+
+    d = write_capture(tmp_path / "two", simulate_capture("block", seed=0).capture)
+    today = locate_capture(d)
+    two = locate_views(read_views_capture(d))
+    assert abs(len(two) - len(today)) <= 0.1 * len(today)
+    assert np.median(two.bound_mm) == pytest.approx(np.median(today.z_bound), rel=0.05)
+    dist, _ = cKDTree(today.world).query(two.world)
+    assert (dist <= two.bound_mm).mean() > 0.9
+
+
 # -- locate: bad N-view folders --------------------------------------------------------
 
 

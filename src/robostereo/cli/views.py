@@ -170,7 +170,8 @@ def run_locate_views(args: argparse.Namespace) -> int:
     status, say = stage_reporter(sys.stderr.isatty())
     with status:
         say(f"locating the edge points of {len(capture)} views")
-        located = locate_views(capture, progress=say)
+        located = locate_views(capture, progress=lambda done, total: say(
+            f"locating: {done} of {total} reference views done"))
     table = located.table()
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], table)
