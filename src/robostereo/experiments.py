@@ -12,6 +12,9 @@ The application layer over the simulated rig of :mod:`robostereo.robot.simulated
   relaxation iteration.
 * :func:`run_demo`: both, as ``robostereo demo`` runs them; :func:`save_demo_figures`
   and :func:`print_demo_report` show them.
+* :func:`run_views_demo`: the block (two heights) and the hub-pulley from N views in a
+  pattern (:func:`~robostereo.robot.simulated_views.simulate_views`,
+  :func:`~robostereo.robot.multiview.locate_views`), SCARA or six-axis, as a summary.
 """
 
 from __future__ import annotations
@@ -30,6 +33,8 @@ from robostereo.evaluation import MatchScore, score_matches
 from robostereo.geometry.scara_rectification import EpipolarGeometry
 from robostereo.matcher.pipeline import MatchParameters
 from robostereo.robot.capture import Located, LocateParameters, locate
+from robostereo.robot.multiview import LocatedViews, locate_views
+from robostereo.robot.multiview_search import prepare_views, reference_edges
 from robostereo.robot.simulated_scara import (
     SEED_LIFT_MM,
     RigSetup,
@@ -38,6 +43,7 @@ from robostereo.robot.simulated_scara import (
     pulley_scene,
     simulate_capture,
 )
+from robostereo.robot.simulated_views import SimulatedViews, simulate_views
 from robostereo.simulation import Box
 
 __all__ = [
@@ -54,8 +60,12 @@ __all__ = [
     "run_block_experiment",
     "run_demo",
     "run_pulley_experiment",
+    "run_views_demo",
     "save_demo_figures",
     "simulate_capture",
+    "views_block_truth",
+    "views_outline_coverage",
+    "views_pulley_score",
 ]
 
 #: the experiments' matcher: the thesis's, relaxation on connectivity (with robostereo's
@@ -463,3 +473,197 @@ def save_demo_figures(result: DemoResult, out_dir: str | Path) -> list[Path]:
         for name, f in figures.items():
             f.savefig(tmp[name], format="png", dpi=110, bbox_inches="tight")
     return list(paths.values())
+
+
+# --------------------------------------------------------------------------- N views
+
+
+def _top_box(sim: SimulatedViews) -> Box:
+    return next(p for p in sim.scene.primitives if isinstance(p, Box))
+
+
+def views_block_truth(sim: SimulatedViews, located: LocatedViews
+                      ) -> tuple[NDArray[np.bool_], NDArray[np.float64], NDArray[np.int8]]:
+    """The located points on the block's top outline and their depth errors, by the truth.
+
+    Returns
+    -------
+    on_top : ndarray of bool, shape (M,)
+        The point's reference pixel, cast with the true camera and pose onto the true top
+        plane, lies within 1 mm of the top face's outline, and the point within 10 mm
+        of that plane.
+    z_error : ndarray, shape (M,)
+        Located minus true depth along the reference's optical axis, mm.
+    edge : ndarray of int8, shape (M,)
+        1 on the top face's long edges (80 mm, across the thesis's baseline), 2 on its
+        short edges, 0 elsewhere.
+    """
+    box = _top_box(sim)
+    top = box.z_base + box.size[2]
+    m = len(located)
+    on, err, edge = np.zeros(m, bool), np.full(m, np.nan), np.zeros(m, np.int8)
+    cam = sim.camera
+    assert cam is not None
+    c, s = np.cos(box.yaw), np.sin(box.yaw)
+    hx, hy = box.size[0] / 2, box.size[1] / 2
+    for r in np.unique(located.reference):
+        k = np.nonzero(located.reference == r)[0]
+        pose = sim.true_poses[int(r)]
+        ray = cam.backproject(located.pixel[k], np.ones(len(k)), pose) - pose.translation
+        P = pose.translation + ((top - pose.translation[2]) / ray[:, 2])[:, None] * ray
+        dx, dy = P[:, 0] - box.center[0], P[:, 1] - box.center[1]
+        lx, ly = np.abs(c * dx + s * dy), np.abs(-s * dx + c * dy)
+        inside = (lx <= hx + 1.0) & (ly <= hy + 1.0)
+        long_, short = np.abs(lx - hx) <= 1.0, np.abs(ly - hy) <= 1.0
+        ok = inside & (long_ | short) & (np.abs(located.world[k, 2] - top) < 10.0)
+        on[k] = ok
+        edge[k] = np.where(ok & long_, 1, np.where(ok & short, 2, 0))
+        err[k] = located.depth_mm[k] - (P - pose.translation) @ pose.rotation[:, 2]
+    return on, err, edge
+
+
+def views_outline_coverage(sim: SimulatedViews, located: LocatedViews, *,
+                           within_mm: float = 1.0) -> float:
+    """Share of the block's true top outline, sampled every mm, within `within_mm` (3-D)
+    of a located point."""
+    from scipy.spatial import cKDTree
+
+    box = _top_box(sim)
+    co = box.corners()
+    top = co[co[:, 2] == co[:, 2].max()]
+    ang = np.arctan2(top[:, 1] - top[:, 1].mean(), top[:, 0] - top[:, 0].mean())
+    tc = top[np.argsort(ang)]
+    pts = []
+    for i in range(4):
+        a, b = tc[i], tc[(i + 1) % 4]
+        k = max(int(np.ceil(np.linalg.norm(b - a))), 1)
+        pts.append(a + (b - a) * (np.arange(k) / k)[:, None])
+    outline = np.vstack(pts)
+    if not len(located):
+        return 0.0
+    return float((cKDTree(located.world).query(outline)[0] <= within_mm).mean())
+
+
+def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
+                       threshold: float = 8.0) -> tuple[float, float]:
+    """``(matched, false)`` fractions of a hub-pulley capture located from N views.
+
+    Matched: the central reference view's edge points with a known depth that have a
+    located point (from any reference) within 1 pixel in that view.  False: located
+    points whose depth along their reference's axis differs from the true depth of every
+    pixel of the 3 x 3 around their reference pixel by more than one pixel of disparity
+    over the pattern's longest baseline (``Z^2 / (f span)``), the two-view rule's
+    tolerance.
+    """
+    cap = sim.capture
+    views = prepare_views(cap)
+    order = np.argsort(np.linalg.norm(cap.centres - cap.centres.mean(axis=0), axis=1),
+                       kind="stable")
+    ref = int(order[0])
+    edges = reference_edges(views, ref, threshold, 5)
+    h, w = views.smoothed.shape[1:]
+    depth = sim.renderings[ref].depth
+    g = edges.grid
+    known = np.isfinite(depth[g[:, 1], g[:, 0]])
+    f = float(cap.camera.fx)
+    false = 0
+    if len(located):
+        uv, _ = cap.camera.project(located.world, cap.poses[ref])
+        from scipy.spatial import cKDTree
+
+        near = cKDTree(uv).query(edges.pixel)[0] <= 1.0
+        bad = np.zeros(len(located), bool)
+        for r in np.unique(located.reference):
+            k = np.nonzero(located.reference == r)[0]
+            d = sim.renderings[int(r)].depth
+            x = np.clip(np.rint(located.pixel[k, 0]).astype(int), 1, w - 2)
+            y = np.clip(np.rint(located.pixel[k, 1]).astype(int), 1, h - 2)
+            z = located.depth_mm[k]
+            tol = z**2 / (f * cap.span_mm)
+            ok = np.zeros(len(k), bool)
+            for dy in (-1, 0, 1):
+                for dx in (-1, 0, 1):
+                    ok |= np.abs(d[y + dy, x + dx] - z) <= tol
+            bad[k] = ~ok
+        false = int(bad.sum())
+    else:
+        near = np.zeros(len(edges), bool)
+    matched = float((near & known).sum() / max(int(known.sum()), 1))
+    return matched, false / max(len(located), 1)
+
+
+def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80.0,
+                   robot: str = "scara", seed: int = 0) -> dict[str, Any]:
+    """The block (two heights) and the hub-pulley located from N views, as a summary.
+
+    Parameters
+    ----------
+    count, pattern, span_mm, robot, seed
+        :func:`~robostereo.robot.simulated_views.simulate_views`'s.
+
+    Returns
+    -------
+    dict
+        ``views``, ``pattern``, ``span_mm``, ``robot``; ``lift_mm`` (mean located height of
+        the block's top outline points, second height minus first), ``lift_true_mm``;
+        ``max_abs_error_mm`` (largest depth error of the top outline points over both
+        heights, against the truth), ``max_abs_error_long_edges_mm`` (the long edges
+        only, as the two-view demo measures), ``bound_at_max_error_mm``,
+        ``all_within_bound``, ``median_bound_mm``, ``block_points``; ``outline_coverage``
+        (:func:`views_outline_coverage`, first height); ``pulley_matched``,
+        ``pulley_false`` (:func:`views_pulley_score`), ``pulley_points``;
+        ``locate_seconds`` (the three locates) and ``seconds`` (everything).
+
+    Notes
+    -----
+    1. For lifts 0 and 79.65 mm: :func:`simulate_views` of the block,
+       :func:`~robostereo.robot.multiview.locate_views`, :func:`views_block_truth`.
+    2. The hub-pulley the same way, :func:`views_pulley_score`.
+
+    References
+    ----------
+    Kim (1989), the thesis, 5.1, 5.2 (table 5-1), 3.7 (eq. 9).
+    """
+    t0 = time.perf_counter()
+    t_loc = 0.0
+    tops, errs, bounds, longs, cover = [], [], [], [], 0.0
+    for lift in (0.0, SEED_LIFT_MM):
+        sim = simulate_views("block", count=count, pattern=pattern,  # type: ignore[arg-type]
+                             span_mm=span_mm, robot=robot, lift_mm=lift,  # type: ignore[arg-type]
+                             seed=seed)
+        t = time.perf_counter()
+        loc = locate_views(sim.capture)
+        t_loc += time.perf_counter() - t
+        on, err, edge = views_block_truth(sim, loc)
+        if not on.any():
+            raise InputError(f"views demo: no located point on the block's top at lift {lift}")
+        tops.append(float(loc.world[on, 2].mean()))
+        errs.append(err[on])
+        bounds.append(loc.bound_mm[on])
+        longs.append(err[on & (edge == 1)])
+        if lift == 0.0:
+            cover = views_outline_coverage(sim, loc)
+    pul = simulate_views("pulley", count=count, pattern=pattern,  # type: ignore[arg-type]
+                         span_mm=span_mm, robot=robot, seed=seed)  # type: ignore[arg-type]
+    t = time.perf_counter()
+    ploc = locate_views(pul.capture)
+    t_loc += time.perf_counter() - t
+    matched, false = views_pulley_score(pul, ploc)
+    e, b = np.concatenate(errs), np.concatenate(bounds)
+    worst = int(np.argmax(np.abs(e)))
+    el = np.concatenate(longs)
+    return {
+        "views": int(count), "pattern": pattern, "span_mm": float(span_mm), "robot": robot,
+        "lift_mm": round(tops[1] - tops[0], 4), "lift_true_mm": SEED_LIFT_MM,
+        "max_abs_error_mm": round(float(np.abs(e).max()), 4),
+        "max_abs_error_long_edges_mm": round(float(np.abs(el).max()), 4) if len(el) else None,
+        "bound_at_max_error_mm": round(float(b[worst]), 4),
+        "all_within_bound": bool(np.all(np.abs(e) <= b)),
+        "median_bound_mm": round(float(np.median(b)), 4),
+        "block_points": [len(x) for x in errs],
+        "outline_coverage": round(cover, 4),
+        "pulley_matched": round(matched, 4), "pulley_false": round(false, 4),
+        "pulley_points": len(ploc),
+        "locate_seconds": round(t_loc, 3),
+        "seconds": round(time.perf_counter() - t0, 3),
+    }
