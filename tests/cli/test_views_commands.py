@@ -63,6 +63,19 @@ def test_capture_with_views_writes_a_folder_of_that_many_views_on_the_pattern(vi
     assert np.abs(cap.images[0].astype(int) - cap.images[2]).mean() > 0.5
 
 
+def test_capture_with_views_on_the_six_axis_arm_records_flanges_and_hand_eye(tmp_path):
+    d = tmp_path / "six"
+    assert main(["capture", "--views", "2", "--span", "30", "--robot", "six-axis",
+                 "--out", str(d)]) == 0
+    cap = read_views_capture(d)
+    assert len(cap) == 2 and cap.flanges is not None and cap.hand_eye is not None
+    for pose, flange in zip(cap.poses, cap.flanges, strict=True):
+        assert np.allclose(pose.matrix, (flange @ cap.hand_eye).matrix)
+    assert cap.span_mm == pytest.approx(30.0, abs=0.5)  # estimated hand-eye: not exact
+    data = yaml.safe_load((d / "capture.yaml").read_text())
+    assert "hand_eye" in data and all("flange" in v for v in data["views"])
+
+
 def test_capture_without_views_is_the_two_view_capture(tmp_path):
     assert main(["capture", "--out", str(tmp_path / "two")]) == 0
     assert sorted(p.name for p in (tmp_path / "two").iterdir()) == [
@@ -219,7 +232,30 @@ def test_plan_refuses_bad_view_options(extra, word, tmp_path, capsys):
     _refused(["plan", "--depth", "1000", "--accuracy", "1", *extra], tmp_path, capsys, word)
 
 
-# -- demo: bad options (the run itself is the library's, tested there) -----------------
+# -- demo ------------------------------------------------------------------------------
+
+
+def test_demo_with_views_prints_the_issue_keys_as_json_and_as_lines(capsys):
+    """Two views (the quickest run): the keys, the lift near the truth, fractions."""
+    from robostereo.cli.views import print_views_demo
+
+    s = _json(["demo", "--views", "2", "--span", "40", "--json"], capsys)
+    for key in ("views", "lift_mm", "lift_true_mm", "max_abs_error_mm", "all_within_bound",
+                "outline_coverage", "pulley_matched", "pulley_false", "seconds"):
+        assert key in s, key
+    assert s["views"] == 2 and isinstance(s["all_within_bound"], bool)
+    assert abs(s["lift_mm"] - s["lift_true_mm"]) < 2.0
+    for key in ("outline_coverage", "pulley_matched", "pulley_false"):
+        assert 0.0 <= s[key] <= 1.0, key
+    print_views_demo(s)
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[0] == "2 views on a line spanning 40 mm, AdeptOne"
+    assert any(ln.split()[:2] == ["lift", "measured,"] for ln in lines)
+    assert any(ln.strip().startswith("every point within its bound") and
+               ln.split()[-1] in ("yes", "NO") for ln in lines)
+
+
+# -- demo: bad options ------------------------------------------------------------------
 
 
 @pytest.mark.parametrize(("extra", "word"), [

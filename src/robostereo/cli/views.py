@@ -25,6 +25,7 @@ __all__ = [
     "MAX_VIEWS",
     "add_views_options",
     "check_views_options",
+    "print_views_demo",
     "run_demo_views",
     "run_locate_views",
     "run_plan_views",
@@ -195,6 +196,8 @@ _DEMO_LINES = (
     ("lift_mm", "lift measured, mm", "{:.3f}"),
     ("lift_true_mm", "lift true, mm", "{:.3f}"),
     ("max_abs_error_mm", "block's largest |z error|, mm", "{:.3f}"),
+    ("bound_at_max_error_mm", "its bound, mm", "{:.3f}"),
+    ("median_bound_mm", "block's median bound, mm", "{:.3f}"),
     ("all_within_bound", "every point within its bound", "{}"),
     ("outline_coverage", "block's top outline covered", "{:.1%}"),
     ("pulley_matched", "pulley matched", "{:.2%}"),
@@ -221,15 +224,21 @@ def run_demo_views(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(_plain(result)))
         return 0
-    print(f"{count} views on a {pattern} spanning {span:g} mm, "
-          f"{'six-axis arm (estimated hand-eye)' if args.robot == 'six-axis' else 'AdeptOne'}")
+    print_views_demo(result, robot=args.robot)
+    return 0
+
+
+def print_views_demo(result: dict[str, Any], *, robot: str = "adeptone") -> None:
+    """Print :func:`~robostereo.experiments.run_views_demo`'s figures, one to a line."""
+    arm = "six-axis arm (estimated hand-eye)" if robot == "six-axis" else "AdeptOne"
+    print(f"{result['views']} views on a {result.get('pattern', 'line')} spanning "
+          f"{result.get('span_mm', DEFAULT_SPAN_MM):g} mm, {arm}")
     width = max(len(label) for _, label, _ in _DEMO_LINES)
     for key, label, fmt in _DEMO_LINES:
         if key in result:
             v = result[key]
             text = ("yes" if v else "NO") if isinstance(v, bool | np.bool_) else fmt.format(v)
             print(f"  {label:<{width}}  {text}")
-    return 0
 
 
 def _plain(v: Any) -> Any:
