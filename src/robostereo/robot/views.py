@@ -1,12 +1,13 @@
 """Captures of N views: one camera moved by the robot to N viewpoints.
 
-The thesis grabs two views (4.2); a robot can grab more at almost no cost.  A
-:class:`ViewsCapture` holds N >= 2 grabbed images with the one camera and each view's
-camera pose ``T_world_camera`` (world mm), as the robot reported them or as flange poses
-and a hand-eye transform.  Any two of its views make a two-view
-:class:`~robostereo.robot.capture_folder.Capture` (:meth:`ViewsCapture.pair`), so
-everything that works on a pair works on each pair of an N-view capture, and a two-view
-capture is an N-view capture with N = 2 (:meth:`ViewsCapture.from_capture`).
+The thesis grabs two views (4.2); a robot can grab more at almost no cost
+(multiple-baseline stereo [1]_). A :class:`ViewsCapture` holds N >= 2 grabbed images
+with the one camera and each view's camera pose ``T_world_camera`` (world mm), as the
+robot reported them or as flange poses and a hand-eye transform. Any two of its views
+make a two-view :class:`~robostereo.robot.capture_folder.Capture`
+(:meth:`ViewsCapture.pair`), so everything that works on a pair works on each pair of an
+N-view capture, and a two-view capture is an N-view capture with N = 2
+(:meth:`ViewsCapture.from_capture`).
 
 Positions of N viewpoints in a pattern around a centre view come from
 :func:`view_offsets`.
