@@ -33,7 +33,7 @@ from robostereo.evaluation import MatchScore, score_matches
 from robostereo.geometry.scara_rectification import EpipolarGeometry
 from robostereo.matcher.pipeline import MatchParameters
 from robostereo.robot.capture import Located, LocateParameters, locate
-from robostereo.robot.multiview import LocatedViews, locate_views
+from robostereo.robot.multiview import LocatedViews, ViewsParameters, locate_views
 from robostereo.robot.multiview_search import prepare_views, reference_edges
 from robostereo.robot.simulated_scara import (
     SEED_LIFT_MM,
@@ -490,8 +490,9 @@ def views_block_truth(sim: SimulatedViews, located: LocatedViews
     -------
     on_top : ndarray of bool, shape (M,)
         The point's reference pixel, cast with the true camera and pose onto the true top
-        plane, lies within 1 mm of the top face's outline, and the point within 10 mm
-        of that plane.
+        plane, lies within 1 mm of the top face's outline and at least 2 mm from its
+        corners (the two-view demo keeps 3 rows inside the ends), and the point within
+        10 mm of that plane.
     z_error : ndarray, shape (M,)
         Located minus true depth along the reference's optical axis, mm.
     edge : ndarray of int8, shape (M,)
@@ -514,7 +515,9 @@ def views_block_truth(sim: SimulatedViews, located: LocatedViews
         dx, dy = P[:, 0] - box.center[0], P[:, 1] - box.center[1]
         lx, ly = np.abs(c * dx + s * dy), np.abs(-s * dx + c * dy)
         inside = (lx <= hx + 1.0) & (ly <= hy + 1.0)
-        long_, short = np.abs(lx - hx) <= 1.0, np.abs(ly - hy) <= 1.0
+        # 2 mm clear of the corners (the two-view demo: 3 rows inside the ends)
+        long_ = (np.abs(lx - hx) <= 1.0) & (ly <= hy - 2.0)
+        short = (np.abs(ly - hy) <= 1.0) & (lx <= hx - 2.0)
         ok = inside & (long_ | short) & (np.abs(located.world[k, 2] - top) < 10.0)
         on[k] = ok
         edge[k] = np.where(ok & long_, 1, np.where(ok & short, 2, 0))
@@ -593,13 +596,16 @@ def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
 
 
 def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80.0,
-                   robot: str = "scara", seed: int = 0) -> dict[str, Any]:
+                   robot: str = "scara", seed: int = 0,
+                   params: ViewsParameters | None = None) -> dict[str, Any]:
     """The block (two heights) and the hub-pulley located from N views, as a summary.
 
     Parameters
     ----------
     count, pattern, span_mm, robot, seed
         :func:`~robostereo.robot.simulated_views.simulate_views`'s.
+    params : ViewsParameters, optional
+        :func:`~robostereo.robot.multiview.locate_views`'s.
 
     Returns
     -------
@@ -632,7 +638,7 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
                              span_mm=span_mm, robot=robot, lift_mm=lift,  # type: ignore[arg-type]
                              seed=seed)
         t = time.perf_counter()
-        loc = locate_views(sim.capture)
+        loc = locate_views(sim.capture, params=params)
         t_loc += time.perf_counter() - t
         on, err, edge = views_block_truth(sim, loc)
         if not on.any():
@@ -646,7 +652,7 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
     pul = simulate_views("pulley", count=count, pattern=pattern,  # type: ignore[arg-type]
                          span_mm=span_mm, robot=robot, seed=seed)  # type: ignore[arg-type]
     t = time.perf_counter()
-    ploc = locate_views(pul.capture)
+    ploc = locate_views(pul.capture, params=params)
     t_loc += time.perf_counter() - t
     matched, false = views_pulley_score(pul, ploc)
     e, b = np.concatenate(errs), np.concatenate(bounds)

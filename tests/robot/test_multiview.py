@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from robostereo.errors import InputError
+from robostereo.experiments import views_block_truth
 from robostereo.robot.multiview import (
     LocatedViews,
     ViewsParameters,
@@ -12,29 +13,6 @@ from robostereo.robot.multiview import (
 )
 from robostereo.robot.simulated_views import simulate_views
 from robostereo.simulation import Box
-
-
-def _top_edge_truth(sim, loc):
-    """For each located point: on the block's top outline (by the truth), and its depth
-    error along the reference's optical axis."""
-    box = next(p for p in sim.scene.primitives if isinstance(p, Box))
-    top = box.z_base + box.size[2]
-    on = np.zeros(len(loc), bool)
-    err = np.full(len(loc), np.nan)
-    for r in np.unique(loc.reference):
-        s = np.nonzero(loc.reference == r)[0]
-        pose = sim.true_poses[r]
-        ray = sim.camera.backproject(loc.pixel[s], np.ones(len(s)), pose) - pose.translation
-        P = pose.translation + ((top - pose.translation[2]) / ray[:, 2])[:, None] * ray
-        c, sn = np.cos(box.yaw), np.sin(box.yaw)
-        dx, dy = P[:, 0] - box.center[0], P[:, 1] - box.center[1]
-        lx, ly = np.abs(c * dx + sn * dy), np.abs(-sn * dx + c * dy)
-        hx, hy = box.size[0] / 2, box.size[1] / 2
-        inside = (lx <= hx + 1) & (ly <= hy + 1)
-        on[s] = inside & ((np.abs(lx - hx) <= 1) | (np.abs(ly - hy) <= 1)) & (
-            np.abs(loc.world[s, 2] - top) < 10)
-        err[s] = loc.depth_mm[s] - (P - pose.translation) @ pose.rotation[:, 2]
-    return on, err
 
 
 @pytest.fixture(scope="module")
@@ -46,7 +24,7 @@ def block_line():
 def test_five_views_on_a_line_locate_the_block_top_within_the_bounds(block_line):
     sim, loc = block_line
     assert isinstance(loc, LocatedViews) and len(loc) > 100
-    on, err = _top_edge_truth(sim, loc)
+    on, err, _ = views_block_truth(sim, loc)  # the top outline, 2 mm clear of corners
     assert on.sum() > 100
     assert np.all(np.abs(err[on]) <= loc.bound_mm[on])
     # most top points seen by every view; the mean height right to a fraction of a mm

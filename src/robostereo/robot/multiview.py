@@ -31,6 +31,7 @@ References
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
@@ -87,6 +88,19 @@ class ViewsParameters:
         An edge must cross the epipolar line of at least one used view at this angle or
         more (an edge along every epipolar line has no measurable depth: thesis 3.1
         matches along rows only).
+    edge_lines : int
+        Each sub-pixel edge point is averaged along its edge over this many grid lines
+        either side (0: none).  On the simulated block, 2 brought the spread of one
+        view's edge positions from 0.013 to 0.009 px.
+    drop_sigmas : float or None
+        If given, one at a time the view (the reference included) whose residual is
+        largest is dropped while it exceeds this many times the residuals' robust spread
+        (1.4826 times their median over every point fitted to three or more views) and
+        three or more views remain: an edge point moved by a neighbouring edge (a side
+        face seen nearly edge-on) disagrees with the views that see it cleanly.  Off by
+        default: on the simulated block (5 views on a line over 80 mm) 4 took the lift's
+        error from 0.095 to 0.056 mm but the largest error from 0.53-0.60 to 0.88 mm
+        (a point 3.5 mm from a corner that dropped the one unbiased view).
     """
 
     threshold: float = 8.0
@@ -95,6 +109,8 @@ class ViewsParameters:
     max_window_cost: float = 0.5
     reject_px: float = 0.5
     min_epipolar_angle_deg: float = 15.0
+    edge_lines: int = 2
+    drop_sigmas: float | None = None
 
     def __post_init__(self) -> None:
         require_positive("threshold", self.threshold)
@@ -105,6 +121,11 @@ class ViewsParameters:
         if not 0 < self.max_window_cost <= 2:
             raise InputError(f"max_window_cost must be in (0, 2], got {self.max_window_cost!r}")
         require_positive("reject_px", self.reject_px)
+        el = self.edge_lines
+        if isinstance(el, bool) or not isinstance(el, int | np.integer) or not 0 <= el <= 5:
+            raise InputError(f"edge_lines must be an integer in 0..5, got {el!r}")
+        if self.drop_sigmas is not None:
+            require_positive("drop_sigmas", self.drop_sigmas)
         if not 0 <= self.min_epipolar_angle_deg < 90:
             raise InputError(f"min_epipolar_angle_deg must be in [0, 90), got "
                              f"{self.min_epipolar_angle_deg!r}")
@@ -293,13 +314,16 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     order = reference_order(capture)
     for done, ref in enumerate(order):
         ref = int(ref)
-        edges = reference_edges(views, ref, p.threshold, border)
+        edges = reference_edges(views, ref, p.threshold, border, p.edge_lines)
         edges = edges.subset(~claimed[ref, edges.grid[:, 1], edges.grid[:, 0]])
         if len(edges):
             rays = search_rays(views, ref, edges, capture.depth_range_mm,
-                               half_window=p.half_window, step_px=p.step_px)
+                               half_window=p.half_window, step_px=p.step_px,
+                               min_sine=float(sine_min))
             fit = refine_points(views, ref, edges, rays, max_window_cost=p.max_window_cost,
-                                threshold=p.threshold, reject_px=p.reject_px, border=border)
+                                threshold=p.threshold, reject_px=p.reject_px, border=border,
+                                lines=p.edge_lines,
+                                drop_sigmas=p.drop_sigmas or math.inf)
             ok = fit.ok & (fit.epipolar_sine >= sine_min)
             if ok.any():
                 parts.append(_collect(capture, views, ref, edges, rays, fit, ok, n))
@@ -328,7 +352,7 @@ def _collect(capture: ViewsCapture, views: Any, ref: int, edges: Any, rays: Any,
     """One reference's located points as arrays."""
     m = int(ok.sum())
     seen = np.zeros((m, n), bool)
-    seen[:, ref] = True
+    seen[:, ref] = fit.used_reference[ok]
     seen[:, rays.others] = fit.used[ok]
     world = fit.world[ok]
     pix, _ = capture.camera.project(world, capture.poses[ref])
@@ -346,7 +370,7 @@ def _claim(claimed: NDArray[np.bool_], ref: int, others: NDArray[np.intp], edges
     g = edges.grid[ok]
     claimed[ref, g[:, 1], g[:, 0]] = True
     for v, j in enumerate(others):
-        use = fit.used[ok, v]
+        use = fit.seen[ok, v]
         e = fit.edge[ok][use, v]
         if not len(e):
             continue

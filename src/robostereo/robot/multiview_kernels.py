@@ -113,6 +113,68 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type
 
 
 @kernel(nogil=True)
+def _vertex(m0, m, m1):  # type: ignore[no-untyped-def]
+    """Sub-pixel offset of a peak ``m`` between ``m0`` (at -1) and ``m1`` (at +1): the
+    vertex of the parabola through the three (the matcher's, thesis 3.2)."""
+    den = m0 - 2.0 * m + m1
+    return 0.5 * (m0 - m1) / den if den < 0 else 0.0
+
+
+@kernel(nogil=True)
+def _along(gx, gy, px, py, nx, ny, along_x, lines, border):  # type: ignore[no-untyped-def]
+    """The edge point ``(px, py)`` moved along the unit normal ``(nx, ny)`` by the mean
+    normal offset of the edge's sub-pixel points on the `lines` grid lines either side
+    (rows when `along_x`, else columns): the edge's position averaged along itself."""
+    h, w = gx.shape
+    total = 0.0
+    count = 1
+    for dl in range(-lines, lines + 1):
+        if dl == 0:
+            continue
+        if along_x:
+            y = int(np.rint(py)) + dl
+            xc = px - ny / nx * dl
+            x0 = int(np.rint(xc))
+            if y < border or y > h - 1 - border:
+                continue
+        else:
+            x = int(np.rint(px)) + dl
+            yc = py - nx / ny * dl
+            y0 = int(np.rint(yc))
+            if x < border or x > w - 1 - border:
+                continue
+        best = -1.0
+        pos = 0.0
+        for s in range(-1, 2):
+            if along_x:
+                xx = x0 + s
+                if xx < border or xx > w - 1 - border:
+                    continue
+                dm = gx[y, xx - 1] * nx + gy[y, xx - 1] * ny
+                d0 = gx[y, xx] * nx + gy[y, xx] * ny
+                dp = gx[y, xx + 1] * nx + gy[y, xx + 1] * ny
+            else:
+                yy = y0 + s
+                if yy < border or yy > h - 1 - border:
+                    continue
+                dm = gx[yy - 1, x] * nx + gy[yy - 1, x] * ny
+                d0 = gx[yy, x] * nx + gy[yy, x] * ny
+                dp = gx[yy + 1, x] * nx + gy[yy + 1, x] * ny
+            if d0 > dm and d0 >= dp and d0 > best:
+                best = d0
+                pos = (xx if along_x else yy) + _vertex(dm, d0, dp)
+        if best <= 0.0:
+            continue
+        if along_x:
+            total += nx * (pos - px) + ny * dl
+        else:
+            total += nx * dl + ny * (pos - py)
+        count += 1
+    off = total / count
+    return px + off * nx, py + off * ny
+
+
+@kernel(nogil=True)
 def _grid_peak(gx, gy, y, x, threshold):  # type: ignore[no-untyped-def]
     """(axis, sub-pixel offset) of a grid edge point at (y, x), axis -1 for none."""
     mag = np.sqrt(gx[y, x] ** 2 + gy[y, x] ** 2)
@@ -128,13 +190,11 @@ def _grid_peak(gx, gy, y, x, threshold):  # type: ignore[no-untyped-def]
         axis = 1
     if not (mag > m0 and mag >= m1):
         return -1, 0.0
-    den = m0 - 2.0 * mag + m1
-    off = 0.5 * (m0 - m1) / den if den < 0 else 0.0
-    return axis, off
+    return axis, _vertex(m0, mag, m1)
 
 
 @kernel(nogil=True)
-def grid_edges(gx, gy, threshold, border):  # type: ignore[no-untyped-def]
+def grid_edges(gx, gy, threshold, border, lines):  # type: ignore[no-untyped-def]
     """Edge points on the pixel grid: peaks of ``|grad|`` along rows (normal nearer x) or
     along columns (normal nearer y), ``|grad| >= threshold``, `border` px inside.
 
@@ -162,6 +222,19 @@ def grid_edges(gx, gy, threshold, border):  # type: ignore[no-untyped-def]
             rows[n] = y
             cols[n] = x
             sub[n] = (x if axis == 0 else y) + off
+            if lines > 0:
+                g = np.sqrt(gx[y, x] ** 2 + gy[y, x] ** 2)
+                nx = gx[y, x] / g
+                ny = gy[y, x] / g
+                qx, qy = _along(gx, gy, x + off if axis == 0 else float(x),
+                                float(y) if axis == 0 else y + off, nx, ny, axis == 0, lines,
+                                border)
+                sub[n] = qx if axis == 0 else qy
+                # the point moved along its normal: keep it on its grid line
+                if axis == 0:
+                    sub[n] = qx + (qy - y) * ny / nx
+                else:
+                    sub[n] = qy + (qx - x) * nx / ny
             axes[n] = axis
             gxs[n] = gx[y, x]
             gys[n] = gy[y, x]
@@ -170,7 +243,7 @@ def grid_edges(gx, gy, threshold, border):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
-def edge_near(gx, gy, ux, uy, nx, ny, reach, threshold, border):  # type: ignore[no-untyped-def]
+def edge_near(gx, gy, ux, uy, nx, ny, reach, threshold, border, lines):  # type: ignore[no-untyped-def]
     """The sub-pixel edge point nearest each predicted position, on the pixel grid.
 
     For each point: the scan axis is the one nearer the predicted normal ``(nx, ny)``;
@@ -212,8 +285,7 @@ def edge_near(gx, gy, ux, uy, nx, ny, reach, threshold, border):  # type: ignore
                 dp = gx[y + 1, x] * nx[i] + gy[y + 1, x] * ny[i]
             if not (d0 > dm and d0 >= dp):
                 continue
-            den = dm - 2.0 * d0 + dp
-            off = 0.5 * (dm - dp) / den if den < 0 else 0.0
+            off = _vertex(dm, d0, dp)
             if along_x:
                 px = x + off
                 py = float(y)
@@ -229,4 +301,13 @@ def edge_near(gx, gy, ux, uy, nx, ny, reach, threshold, border):  # type: ignore
                 gxe[i] = gx[y, x]
                 gye[i] = gy[y, x]
                 found[i] = True
+    if lines > 0:
+        for i in range(m):
+            if not found[i]:
+                continue
+            g = np.sqrt(gxe[i] ** 2 + gye[i] ** 2)
+            nxi = gxe[i] / g
+            nyi = gye[i] / g
+            ex[i], ey[i] = _along(gx, gy, ex[i], ey[i], nxi, nyi, abs(nxi) >= abs(nyi), lines,
+                                  border)
     return ex, ey, gxe, gye, found

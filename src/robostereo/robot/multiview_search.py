@@ -39,6 +39,7 @@ __all__ = [
     "RayMatches",
     "ReferenceEdges",
     "RefinedPoints",
+    "epipolar_sines",
     "prepare_views",
     "reference_edges",
     "refine_points",
@@ -142,10 +143,12 @@ class ReferenceEdges:
 
 
 def reference_edges(views: PreparedViews, ref: int, threshold: float,
-                    border: int) -> ReferenceEdges:
-    """Edge points of view `ref` on the pixel grid (``|grad| >= threshold``)."""
+                    border: int, lines: int = 2) -> ReferenceEdges:
+    """Edge points of view `ref` on the pixel grid (``|grad| >= threshold``), each
+    averaged along the edge over `lines` grid lines either side."""
     rows, cols, sub, axes, gx, gy = grid_edges(views.gx[ref], views.gy[ref],
-                                              float(threshold), int(border))
+                                              float(threshold), int(border),
+                                              int(lines))
     x = np.where(axes == 0, sub, cols)
     y = np.where(axes == 0, rows, sub)
     mag = np.hypot(gx, gy)
@@ -228,9 +231,24 @@ class RayMatches:
     affine: _F
 
 
+def epipolar_sines(a: _F, b: _F, aff: _F, normal: _F, rho: float) -> _F:
+    """``|sin|`` of the angle between each point's edge and its epipolar line in each
+    view, shape (M, V): the edge normal carried over by the depth plane's map against
+    the direction in which the point moves with its depth."""
+    h = a + rho * b
+    with np.errstate(all="ignore"):
+        move = (b[:, :, :2] * h[:, :, 2:3] - h[:, :, :2] * b[:, :, 2:3]) / h[:, :, 2:3] ** 2
+        move /= np.linalg.norm(move, axis=2, keepdims=True)
+        inv_t = np.linalg.inv(aff + 1e-12 * np.eye(2)).transpose(0, 1, 3, 2)
+        n = np.einsum("mvij,mj->mvi", inv_t, normal)
+        n /= np.linalg.norm(n, axis=2, keepdims=True)
+        out = np.abs(np.einsum("mvi,mvi->mv", n, move))
+    return np.where(np.isfinite(out), out, 0.0)
+
+
 def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
                 depth_range: tuple[float, float], *, half_window: int,
-                step_px: float) -> RayMatches:
+                step_px: float, min_sine: float = 0.0) -> RayMatches:
     """Search each edge point's ray in inverse depth and combine the views robustly.
 
     Notes
@@ -241,7 +259,10 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
        mean and unit norm; in each other view the window through the depth plane's
        local affine map at each depth, scored ``1 - ZNCC``
        (:func:`~robostereo.robot.multiview_kernels.sweep_costs`).
-    3. At each depth the views' costs are combined by the mean of the best half of the
+    3. Views in which the edge runs within ``asin(min_sine)`` of the epipolar line
+       (:func:`epipolar_sines`) do not vote: their window slides along the edge and
+       fits at every depth.
+    4. At each depth the views' costs are combined by the mean of the best half of the
        views that see the window (Kang, Szeliski & Chai 2001): a view in which the
        point is occluded scores badly and is among the worse half, so it does not
        vote; the best depth minimises the combination.
@@ -268,6 +289,9 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
     aff = _affine(views, ref, others, px, 2.0 / (near + far))
     costs = sweep_costs(views.smoothed, patch, offs, others.astype(np.int64), a, b, aff,
                         rho, float(half_window + 1))
+    # -- a view along whose epipolar line the edge runs cannot tell depths apart: no vote
+    mute = epipolar_sines(a, b, aff, edges.normal, 2.0 / (near + far)) < min_sine
+    costs[mute] = np.nan
     # -- the best half of the views that see the window, at each depth
     c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (M, V, K)
     srt = np.sort(c, axis=1)
@@ -297,6 +321,11 @@ class RefinedPoints:
         Depth along the reference's optical axis, mm.
     used : bool (M, V)
         The other views whose edge point agreed and entered the fit.
+    seen : bool (M, V)
+        The other views whose edge point lies within ``reject_px`` of the fitted point
+        (the used ones and those dropped for a bias the others do not share).
+    used_reference : bool (M,)
+        Whether the reference's own edge point stayed in the fit.
     edge : (M, V, 2)
         Each other view's sub-pixel edge point (undistorted pixels; NaN if none).
     residual_rms : (M,)
@@ -313,6 +342,8 @@ class RefinedPoints:
     world: _F
     depth: _F
     used: NDArray[np.bool_]
+    seen: NDArray[np.bool_]
+    used_reference: NDArray[np.bool_]
     edge: _F
     residual_rms: _F
     rho_std_unit: _F
@@ -332,9 +363,47 @@ def _residuals(views: PreparedViews, ref: int, others: NDArray[np.intp], e_ref: 
     return out
 
 
+class _Fit:
+    """Gauss-Newton in ``(t, rho)`` over the reference's residual ``t`` and the views'."""
+
+    eps_t, eps_r = 1e-3, 1e-9
+
+    def __init__(self, views: PreparedViews, ref: int, others: NDArray[np.intp], e_ref: _F,
+                 n_ref: _F, edge: _F, normal: _F, t: _F, rho: _F) -> None:
+        self.args = (views, ref, others, e_ref, n_ref, edge, normal)
+        self.t, self.rho = t, rho
+        self.J = np.zeros((*edge.shape[:2], 2))
+        self.r = np.zeros(edge.shape[:2])
+
+    def solve(self, used: NDArray[np.bool_], use_ref: NDArray[np.bool_],
+              iterations: int) -> None:
+        a, t, rho = self.args, self.t, self.rho
+        w = used.astype(float)
+        for _ in range(iterations):
+            r = _residuals(*a, t, rho)
+            self.J[:, :, 0] = (_residuals(*a, t + self.eps_t, rho) - r) / self.eps_t
+            self.J[:, :, 1] = (_residuals(*a, t, rho + self.eps_r) - r) / self.eps_r
+            J = self.J
+            JtJ = np.einsum("mv,mvi,mvj->mij", w, J, J)
+            JtJ[:, 0, 0] += use_ref  # the reference's residual t
+            Jtr = np.einsum("mv,mvi,mv->mi", w, J, r)
+            Jtr[:, 0] += use_ref * t
+            det = JtJ[:, 0, 0] * JtJ[:, 1, 1] - JtJ[:, 0, 1] ** 2
+            good = det > 1e-30
+            safe = np.where(good, det, 1.0)
+            dt = -(JtJ[:, 1, 1] * Jtr[:, 0] - JtJ[:, 0, 1] * Jtr[:, 1]) / safe
+            dr = -(-JtJ[:, 0, 1] * Jtr[:, 0] + JtJ[:, 0, 0] * Jtr[:, 1]) / safe
+            t = np.where(good, t + dt, t)
+            rho = np.where(good & (rho + dr > 0), rho + dr, rho)
+        self.t, self.rho = t, rho
+        self.r = _residuals(*a, t, rho)
+
+
 def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: RayMatches,
                   *, max_window_cost: float, threshold: float, reject_px: float,
-                  border: int, iterations: int = 4) -> RefinedPoints:
+                  border: int, lines: int = 2, drop_sigmas: float = 4.0,
+                  iterations: int = 4
+                  ) -> RefinedPoints:
     """Each view's edge point near the best depth, and the least-squares 3-D point.
 
     Notes
@@ -369,7 +438,7 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
         idx = np.nonzero(sel)[0]
         ex, ey, gx, gy, found = edge_near(views.gx[j], views.gy[j], uv[idx, 0], uv[idx, 1],
                                           npred[idx, 0], npred[idx, 1], 2, threshold / 2.0,
-                                          border)
+                                          border, lines)
         g = np.column_stack([gx, gy])
         gn = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-12)
         agree = found & (np.einsum("mi,mi->m", gn, npred[idx]) >= math.cos(math.radians(30)))
@@ -377,40 +446,44 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
         edge[ii, v] = np.column_stack([ex, ey])[agree]
         normal[ii, v] = gn[agree]
     used = np.isfinite(edge[:, :, 0])
-    t = np.zeros(m)
+    use_ref = np.ones(m, bool)
     e = np.nan_to_num(edge)
-    eps_t, eps_r = 1e-3, 1e-9
-    J = np.zeros((m, nv, 2))
-    for it in range(iterations + 2):
-        if it == iterations:  # drop views that disagree, fit again
-            r = _residuals(views, ref, others, e_ref, n_ref, e, normal, t, rho)
-            used &= np.abs(r) <= reject_px
-        r = _residuals(views, ref, others, e_ref, n_ref, e, normal, t, rho)
-        J[:, :, 0] = (_residuals(views, ref, others, e_ref, n_ref, e, normal, t + eps_t, rho)
-                      - r) / eps_t
-        J[:, :, 1] = (_residuals(views, ref, others, e_ref, n_ref, e, normal, t, rho + eps_r)
-                      - r) / eps_r
-        w = used.astype(float)
-        JtJ = np.einsum("mv,mvi,mvj->mij", w, J, J)
-        JtJ[:, 0, 0] += 1.0  # the reference's residual t
-        Jtr = np.einsum("mv,mvi,mv->mi", w, J, r)
-        Jtr[:, 0] += t
-        det = JtJ[:, 0, 0] * JtJ[:, 1, 1] - JtJ[:, 0, 1] ** 2
-        good = det > 1e-30
-        safe = np.where(good, det, 1.0)
-        dt = -(JtJ[:, 1, 1] * Jtr[:, 0] - JtJ[:, 0, 1] * Jtr[:, 1]) / safe
-        dr = -(-JtJ[:, 0, 1] * Jtr[:, 0] + JtJ[:, 0, 0] * Jtr[:, 1]) / safe
-        t = np.where(good, t + dt, t)
-        rho = np.where(good & (rho + dr > 0), rho + dr, rho)
-    r = _residuals(views, ref, others, e_ref, n_ref, e, normal, t, rho)
+    fit = _Fit(views, ref, others, e_ref, n_ref, e, normal, np.zeros(m), rho)
+    fit.solve(used, use_ref, iterations)
+    # gross outliers: an edge point of another surface
+    used &= np.abs(fit.r) <= reject_px
+    fit.solve(used, use_ref, 2)
+    # then, one at a time, the view that disagrees most with the others, while its
+    # residual stands out of the residuals' spread (an edge point moved by a
+    # neighbouring edge, e.g. a side face seen edge-on) and three or more remain
+    for _ in range(nv - 1):
+        res = np.concatenate([fit.t[:, None], fit.r], axis=1)
+        mask = np.concatenate([use_ref[:, None], used], axis=1)
+        n_used = mask.sum(axis=1)
+        pool = np.abs(res[mask & (n_used >= 3)[:, None]])
+        if pool.size < 10:
+            break
+        sigma = 1.4826 * float(np.median(pool))
+        worst = np.argmax(np.where(mask, np.abs(res), -1.0), axis=1)
+        big = np.abs(res[np.arange(m), worst]) > drop_sigmas * sigma
+        drop = big & (n_used >= 3)
+        if not drop.any():
+            break
+        rows = np.nonzero(drop)[0]
+        col = worst[rows]
+        use_ref[rows[col == 0]] = False
+        used[rows[col > 0], col[col > 0] - 1] = False
+        fit.solve(used, use_ref, 2)
+    t, rho, r, J = fit.t, fit.rho, fit.r, fit.J
     w = used.astype(float)
     JtJ = np.einsum("mv,mvi,mvj->mij", w, J, J)
-    JtJ[:, 0, 0] += 1.0
+    JtJ[:, 0, 0] += use_ref
     det = JtJ[:, 0, 0] * JtJ[:, 1, 1] - JtJ[:, 0, 1] ** 2
     with np.errstate(divide="ignore", invalid="ignore"):
-        rho_std = np.sqrt(np.where(det > 0, JtJ[:, 0, 0] / det, np.inf))
+        rho_std = np.sqrt(np.where(det > 1e-30, JtJ[:, 0, 0] / det, np.inf))
         k = used.sum(axis=1)
-        rms = np.sqrt((np.sum(w * r**2, axis=1) + t**2) / (k + 1))
+        rms = np.sqrt((np.sum(w * r**2, axis=1) + use_ref * t**2) / (k + use_ref))
+    eps_r = fit.eps_r
     p = e_ref + t[:, None] * n_ref
     world = views.C[ref] + _rays(views, ref, p) / rho[:, None]
     world2 = views.C[ref] + _rays(views, ref, p) / (rho + eps_r)[:, None]
@@ -422,6 +495,9 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
         with np.errstate(divide="ignore", invalid="ignore"):
             sv = np.abs(J[:, v, 1]) / speed
         sine = np.maximum(sine, np.where(used[:, v] & np.isfinite(sv), sv, 0.0))
-    ok = (k >= 1) & np.isfinite(rho_std) & (rho > 0)
-    return RefinedPoints(world=world, depth=1.0 / rho, used=used, edge=edge,
+    ok = (k + use_ref >= 2) & np.isfinite(rho_std) & (rho > 0)
+    seen = np.isfinite(edge[:, :, 0]) & (np.abs(r) <= reject_px)
+    return RefinedPoints(world=world, depth=1.0 / rho, used=used, seen=seen,
+                         used_reference=use_ref,
+                         edge=edge,
                          residual_rms=rms, rho_std_unit=rho_std, epipolar_sine=sine, ok=ok)
