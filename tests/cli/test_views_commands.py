@@ -133,6 +133,11 @@ def test_locate_on_a_views_folder_writes_each_point_with_bound_confidence_and_vi
         assert col in t.dtype.names
     assert len(t) > 100
     assert f"element vertex {len(t)}\n".encode() in ply.read_bytes()
+    import trimesh
+
+    verts = trimesh.load(ply, file_type="ply").metadata["_ply_raw"]["vertex"]["data"]
+    for col in ("bound_mm", "confidence", "view_count"):
+        assert np.allclose(verts[col], t[col], rtol=1e-5, atol=1e-5), col
     # the same points as the library's, to the CSV's six significant digits
     lib = locate_views(read_views_capture(views_dir)).table()
     for col in ("Z_w", "bound_mm", "confidence", "view_count"):

@@ -177,7 +177,8 @@ def run_locate_views(args: argparse.Namespace) -> int:
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], table)
         if "--ply" in tmp:
-            write_ply(tmp["--ply"], located.world)
+            write_ply(tmp["--ply"], located.world,
+                      fields={k: table[k] for k in ("bound_mm", "confidence", "view_count")})
     n = len(located)
     extra = ""
     if n:
