@@ -101,6 +101,11 @@ def check_views_options(args: argparse.Namespace) -> tuple[int, str, float]:
     return count, pattern, float(span)
 
 
+def _on(pattern: str) -> str:
+    """'on a line', 'on a cross', 'on an arc'."""
+    return f"on {'an' if pattern[:1] in 'aeiou' else 'a'} {pattern}"
+
+
 # -- capture ---------------------------------------------------------------------------
 
 
@@ -142,7 +147,7 @@ def views_capture(args: argparse.Namespace) -> int:
         write_views_capture(args.out, sim.capture)
     cap = sim.capture
     near, far = cap.depth_range_mm
-    print(f"{args.out}: {args.scene}, {len(cap)} views on a {pattern} spanning {span:g} mm "
+    print(f"{args.out}: {args.scene}, {len(cap)} views {_on(pattern)} spanning {span:g} mm "
           f"(optical centres at most {cap.span_mm:.3f} mm apart), depths {near:g} .. "
           f"{far:g} mm"
           + (", hand-eye estimated from simulated board views"
@@ -232,7 +237,7 @@ def run_demo_views(args: argparse.Namespace) -> int:
 def print_views_demo(result: dict[str, Any], *, robot: str = "adeptone") -> None:
     """Print :func:`~robostereo.experiments.run_views_demo`'s figures, one to a line."""
     arm = "six-axis arm (estimated hand-eye)" if robot == "six-axis" else "AdeptOne"
-    print(f"{result['views']} views on a {result.get('pattern', 'line')} spanning "
+    print(f"{result['views']} views {_on(result.get('pattern', 'line'))} spanning "
           f"{result.get('span_mm', DEFAULT_SPAN_MM):g} mm, {arm}")
     width = max(len(label) for _, label, _ in _DEMO_LINES)
     for key, label, fmt in _DEMO_LINES:
@@ -301,7 +306,7 @@ def run_plan_views(args: argparse.Namespace, camera: Any, extra: dict[str, float
         print(json.dumps(out))
         return 0
     t = plan.bound_terms_mm
-    print(f"{plan.views} views on a {plan.pattern} spanning {plan.span_mm:.4g} mm (neighbours "
+    print(f"{plan.views} views {_on(plan.pattern)} spanning {plan.span_mm:.4g} mm (neighbours "
           f"{plan.step_mm:.4g} mm apart) for a {args.accuracy:g} mm bound at {args.depth:g} mm:"
           f" as precise as two views {plan.effective_baseline_mm:.4g} mm apart (eq. 9 terms: "
           f"baseline {t[0]:.3f}, focal length {t[1]:.3f}, disparity {t[2]:.3f} mm)")
