@@ -20,6 +20,7 @@ References
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
@@ -33,6 +34,7 @@ from robostereo.geometry.poses import SE3, Pose, as_se3
 from robostereo.robot.capture_folder import DISPARITY_UNCERTAINTY_PX, Capture
 
 __all__ = [
+    "MAX_SPAN_MM",
     "PATTERNS",
     "ViewsCapture",
     "view_offsets",
@@ -42,6 +44,10 @@ Pattern = Literal["line", "cross", "arc"]
 
 #: the viewpoint patterns of :func:`view_offsets`
 PATTERNS: tuple[str, ...] = ("line", "cross", "arc")
+
+MAX_SPAN_MM = 1e6
+"""Longest span :func:`view_offsets` lays out, mm (a kilometre: beyond any robot's reach;
+the command line's ``--span`` limit)."""
 
 
 def view_offsets(pattern: Pattern, count: int, span_mm: float, *,
@@ -60,15 +66,24 @@ def view_offsets(pattern: Pattern, count: int, span_mm: float, *,
     count : int
         Number of views, 2..100.
     span_mm : float
-        Distance between the outermost viewpoints, > 0.
+        Distance between the outermost viewpoints, mm, > 0 and at most
+        :data:`MAX_SPAN_MM`.
     depth_mm : float, optional
-        ``'arc'`` only: distance of the centre of the circle from the centre view.
+        ``'arc'`` only: distance of the centre of the circle from the centre view, mm.
 
     Returns
     -------
     ndarray, shape (count, 3)
         ``(x, y, z)`` offsets in mm in the centre camera's frame (x to the image's right,
         y down the image, z along the optical axis); rows ordered along the pattern.
+
+    Raises
+    ------
+    InputError
+        An unknown pattern; a count that is not a whole number in 2..100 (or under 3
+        for a cross); a span that is not a finite number in (0, :data:`MAX_SPAN_MM`], or
+        so short that two views fall on one point; an arc without `depth_mm` or whose
+        span reaches its diameter.
 
     Notes
     -----
@@ -86,11 +101,15 @@ def view_offsets(pattern: Pattern, count: int, span_mm: float, *,
     """
     if pattern not in PATTERNS:
         raise InputError(f"pattern must be one of {', '.join(PATTERNS)}, got {pattern!r}")
-    if isinstance(count, bool) or int(count) != count or not 2 <= count <= 100:
+    whole = isinstance(count, numbers.Integral) or (
+        isinstance(count, float) and count.is_integer())
+    if isinstance(count, bool) or not whole or not 2 <= count <= 100:
         raise InputError(f"count (the number of views) must be a whole number in 2..100, "
                          f"got {count!r}")
     count = int(count)
     require_positive("span_mm", span_mm)
+    if span_mm > MAX_SPAN_MM:
+        raise InputError(f"span_mm must be at most {MAX_SPAN_MM:g} mm, got {span_mm:g}")
     half = 0.5 * float(span_mm)
     out = np.zeros((count, 3))
     if pattern == "line":
@@ -117,6 +136,9 @@ def view_offsets(pattern: Pattern, count: int, span_mm: float, *,
         ang = np.linspace(-a, a, count)
         out[:, 0] = depth_mm * np.sin(ang)
         out[:, 2] = depth_mm * (1.0 - np.cos(ang))
+    gaps = np.abs(np.diff(out, axis=0)).max(axis=1)  # no squares: they underflow
+    if not (gaps > 0).all():  # spans under floating point's reach: steps of zero
+        raise InputError(f"span_mm {span_mm:g} is too short to put {count} views apart")
     return out
 
 
