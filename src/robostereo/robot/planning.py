@@ -243,15 +243,17 @@ def _offsets(pattern: str, count: int, span_mm: float, depth_mm: float) -> NDArr
 def _factor_and_step(pattern: str, count: int, span_mm: float,
                      depth_mm: float) -> tuple[float, float]:
     """:func:`views_baseline_factor` and the largest nearest-neighbour distance."""
-    o = _offsets(pattern, count, span_mm, depth_mm)
+    # in units of the span (every pattern scales with it, the arc with its depth): the
+    # squares stay within floating point at any span
+    o = _offsets(pattern, count, 1.0, depth_mm / span_mm)
     xy = o[:, :2] - o[:, :2].mean(axis=0)
     scatter = np.linalg.eigvalsh(xy.T @ xy)  # ascending
     # the least-measured direction among those the views measure at all
     measured = scatter[scatter > 1e-12 * scatter[-1]]
-    factor = math.sqrt(2.0 * float(measured[0])) / span_mm
+    factor = math.sqrt(2.0 * float(measured[0]))
     d = np.linalg.norm(o[:, None, :] - o[None, :, :], axis=2)
     np.fill_diagonal(d, np.inf)
-    return factor, float(d.min(axis=1).max())
+    return factor, float(d.min(axis=1).max()) * span_mm
 
 
 def views_baseline_factor(pattern: str, count: int, *, span_mm: float = 1.0,
@@ -303,6 +305,8 @@ def views_baseline_factor(pattern: str, count: int, *, span_mm: float = 1.0,
     1.0
     """
     require_positive("span_mm", span_mm)
+    if depth_mm is not None:
+        require_positive("depth_mm", depth_mm)
     depth = 100.0 * span_mm if depth_mm is None else depth_mm
     return _factor_and_step(pattern, count, float(span_mm), float(depth))[0]
 
