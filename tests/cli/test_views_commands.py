@@ -180,7 +180,14 @@ def _other_size(data, d):
      "stand at one point"),
     (lambda data, d: data.update(views=data["views"][:1]), "at least two views, got 1"),
     (lambda data, d: data["views"][1].update(image="view_00.png"), "the same image file"),
+    (lambda data, d: data["views"][1].update(image="./view_00.png"),
+     "views[1] (./view_00.png): the same image file as views[0]"),
+    (lambda data, d: ((d / "link.png").symlink_to("view_00.png"),
+                      data["views"][2].update(image="link.png")),
+     "views[2] (link.png): the same image file as views[0]"),
     (lambda data, d: (d / "view_02.png").unlink(), "views[2] (view_02.png)"),
+    (lambda data, d: (d / "view_01.png").write_bytes(b"\x89PNG\r\n not an image"),
+     "views[1] (view_01.png): "),
 ])
 def test_locate_refuses_a_bad_views_folder_in_one_line_writing_nothing(views_dir, tmp_path,
                                                                        capsys, edit, word):

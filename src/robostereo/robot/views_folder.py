@@ -268,9 +268,10 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
         One line naming the file and, where one is at fault, the view: a missing folder,
         ``capture.yaml`` or image, invalid YAML, unknown or bad keys, fewer than two
         views, a view without a pose (or without a flange pose, or flange poses without
-        ``hand_eye``), two views of one image file, an image whose size is not the
-        camera's, all views at one point; a two-view folder whose disparity range
-        reaches zero (it has no depth range).
+        ``hand_eye``), two views of one image file (under any name: ``./a.png``, a link),
+        an image that cannot be decoded or whose size is not the camera's, all views at
+        one point; a two-view folder whose disparity range reaches zero (it has no depth
+        range).
 
     Notes
     -----
@@ -318,6 +319,7 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
     if data.get("hand_eye") is not None:
         hand_eye = as_se3(pose_from_dict(data["hand_eye"], source=f"{src}: hand_eye"))
     names: list[str] = []
+    files: list[Path] = []
     poses: list[SE3] = []
     flanges: list[SE3] = []
     kinds: set[str] = set()
@@ -337,10 +339,13 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
         p = PurePosixPath(name)
         if p.is_absolute() or ".." in p.parts or "\\" in name or Path(name).is_absolute():
             raise InputError(f"{where}: the image must be a file inside the capture folder")
-        if name in names:
-            raise InputError(f"{where}: the same image file as views[{names.index(name)}]: "
+        # one file under two names ('./a.png', a link to a.png) is one image too
+        file = (d / name).resolve()
+        if file in files:
+            raise InputError(f"{where}: the same image file as views[{files.index(file)}]: "
                              "every view needs its own image")
         names.append(name)
+        files.append(file)
         has = [key for key in ("pose", "flange") if key in view]
         if not has:
             raise InputError(f"{where}: missing key 'pose' (the camera pose; or 'flange' "
