@@ -17,16 +17,22 @@ from robostereo.geometry.camera import SEED_CAMERA
 from robostereo.robot.views_folder import read_views_capture
 
 
+def _contents(folder: Path) -> dict[Path, bytes | None]:
+    """Every path under `folder`, with the bytes of each file (None for a folder)."""
+    return {p: p.read_bytes() if p.is_file() else None for p in sorted(folder.rglob("*"))}
+
+
 def _refused(args: list[str], tmp_path: Path, capsys: pytest.CaptureFixture[str],
              word: str) -> str:
-    """Exit code 2, one ``robostereo: error:`` line naming `word`, nothing written."""
-    before = sorted(tmp_path.rglob("*"))
+    """Exit code 2, one ``robostereo: error:`` line naming `word`, nothing written (no
+    output, no ``.part``) and every input under `tmp_path` untouched."""
+    before = _contents(tmp_path)
     rc = main([str(a) for a in args])
     out, err = capsys.readouterr()
     assert rc == 2 and out == "", (rc, out, err)
     assert len(err.splitlines()) == 1 and err.startswith("robostereo: error: "), err
     assert word in err, err
-    assert sorted(tmp_path.rglob("*")) == before
+    assert _contents(tmp_path) == before
     return err.strip()
 
 
@@ -196,11 +202,21 @@ def test_locate_refuses_a_bad_views_folder_in_one_line_writing_nothing(views_dir
     assert str(d / "capture.yaml") in err
 
 
-def test_locate_refuses_a_views_folder_image_as_its_output(views_dir, tmp_path, capsys):
+@pytest.mark.parametrize(("outputs", "word"), [
+    (["-o", "{d}/view_01.png"], "-o {d}/view_01.png is an input"),
+    (["-o", "{d}/capture.yaml"], "-o {d}/capture.yaml is an input"),
+    (["-o", "{d}/../c/./capture.yaml"], "is an input"),
+    (["--ply", "{d}/view_02.png"], "--ply {d}/view_02.png is an input"),
+    (["-o", "{d}/p.csv", "--ply", "{d}/p.csv"], "--ply {d}/p.csv is the same file as -o"),
+    (["--ply", "{d}/located.csv"], "the same file as -o"),  # -o's default
+    (["--fuse", "{d}"], "--fuse"),
+])
+def test_locate_refuses_an_input_or_one_file_twice_as_its_outputs(views_dir, tmp_path,
+                                                                   capsys, outputs, word):
     d = tmp_path / "c"
     shutil.copytree(views_dir, d)
-    _refused(["locate", d, "-o", d / "view_01.png"], tmp_path, capsys, "view_01.png")
-    _refused(["locate", d, "--fuse", d], tmp_path, capsys, "--fuse")
+    _refused(["locate", d, *(o.format(d=d) for o in outputs)], tmp_path, capsys,
+             word.format(d=d))
 
 
 # -- plan ------------------------------------------------------------------------------
