@@ -228,7 +228,9 @@ def run_demo_views(args: argparse.Namespace) -> int:
         result = run_views_demo(count=count, pattern=pattern, span_mm=span,
                                 robot=_ROBOTS[args.robot], seed=args.seed)
     if args.json:
-        print(json.dumps(_plain(result)))
+        from robostereo.io import plain_values
+
+        print(json.dumps(plain_values(result)))
         return 0
     print_views_demo(result, robot=args.robot)
     return 0
@@ -245,21 +247,6 @@ def print_views_demo(result: dict[str, Any], *, robot: str = "adeptone") -> None
             v = result[key]
             text = ("yes" if v else "NO") if isinstance(v, bool | np.bool_) else fmt.format(v)
             print(f"  {label:<{width}}  {text}")
-
-
-def _plain(v: Any) -> Any:
-    """JSON values of numpy scalars, arrays, tuples and mappings."""
-    if isinstance(v, dict):
-        return {str(k): _plain(x) for k, x in v.items()}
-    if isinstance(v, list | tuple | np.ndarray):
-        return [_plain(x) for x in v]
-    if isinstance(v, np.bool_):
-        return bool(v)
-    if isinstance(v, np.integer):
-        return int(v)
-    if isinstance(v, np.floating):
-        return float(v)
-    return v
 
 
 # -- plan ------------------------------------------------------------------------------

@@ -1,4 +1,4 @@
-"""Writing results: CSV tables, PLY point clouds, image folders; reading folder YAML.
+"""Writing results: CSV tables, PLY point clouds, image folders; folder YAML.
 
 Every writer is atomic: it writes a temporary file beside the target and renames it
 into place only when the whole file is written, so a failure never leaves a partial
@@ -38,6 +38,8 @@ __all__ = [
     "atomic_outputs",
     "atomic_path",
     "check_outputs",
+    "folder_yaml_text",
+    "plain_values",
     "read_folder_yaml",
     "remove_live_parts",
     "remove_stale_parts",
@@ -217,6 +219,52 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
             shutil.rmtree(tmp, ignore_errors=True)
         _live.discard(tmp)
     return target
+
+
+def plain_values(value: Any) -> Any:
+    """`value` with numpy scalars and arrays, tuples and mappings as plain Python values
+    (int, float, bool, list, dict with str keys), for YAML and JSON.
+
+    >>> plain_values({"n": np.int64(3), "xy": np.array([0.5, 1.0]), "ok": np.bool_(True)})
+    {'n': 3, 'xy': [0.5, 1.0], 'ok': True}
+    """
+    if isinstance(value, Mapping):
+        return {str(k): plain_values(x) for k, x in value.items()}
+    if isinstance(value, list | tuple | np.ndarray):
+        return [plain_values(x) for x in value]
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.floating):
+        return float(value)
+    return value
+
+
+class _FolderDumper(yaml.SafeDumper):
+    """Block mappings; lists of numbers flow-style, ``[a, b]``; lists of mappings one
+    entry to a block."""
+
+
+_FolderDumper.add_representer(
+    list, lambda d, v: d.represent_sequence(
+        "tag:yaml.org,2002:seq", v, flow_style=not any(isinstance(x, dict) for x in v))
+)
+
+
+def folder_yaml_text(data: Mapping[str, Any]) -> str:
+    """The text of a folder's YAML file (``capture.yaml``): the keys in their order,
+    block mappings, flow-style lists of numbers (``[0.0172, 0.0137]``), one block per
+    entry of a list of mappings (the views of a capture); numpy values as plain ones
+    (:func:`plain_values`).
+
+    >>> print(folder_yaml_text({"size": (509, 481), "views": [{"image": "a.png"}]}), end="")
+    size: [509, 481]
+    views:
+    - image: a.png
+    """
+    return yaml.dump(plain_values(dict(data)), Dumper=_FolderDumper, sort_keys=False,
+                     default_flow_style=False)
 
 
 def read_folder_yaml(directory: PathLike, filename: str, *, folder: str) -> tuple[Any, Path]:

@@ -39,7 +39,6 @@ from pathlib import Path, PurePosixPath
 from typing import Any
 
 import numpy as np
-import yaml
 
 from robostereo.errors import InputError, warn_input
 from robostereo.geometry.camera import camera_from_dict, camera_to_dict
@@ -69,30 +68,6 @@ _VIEW_KEYS = ("image", "pose", "flange")
 _UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
                 ("focal_length_mm", "focal_length_uncertainty_mm"),
                 ("disparity_px", "disparity_uncertainty_px"))
-
-
-class _Dumper(yaml.SafeDumper):
-    """Block mappings, flow-style lists of numbers (as capture folders are written), one
-    view to an entry."""
-
-
-_Dumper.add_representer(
-    list, lambda d, v: d.represent_sequence(
-        "tag:yaml.org,2002:seq", v, flow_style=not any(isinstance(x, dict) for x in v))
-)
-
-
-def _plain(v: Any) -> Any:
-    """Numpy scalars and arrays, tuples and mappings as plain YAML values."""
-    if isinstance(v, Mapping):
-        return {str(k): _plain(x) for k, x in v.items()}
-    if isinstance(v, list | tuple | np.ndarray):
-        return [_plain(x) for x in v]
-    if isinstance(v, np.integer):
-        return int(v)
-    if isinstance(v, np.floating):
-        return float(v)
-    return v
 
 
 def _image_names(capture: ViewsCapture) -> tuple[str, ...]:
@@ -128,6 +103,8 @@ def views_capture_to_dict(capture: ViewsCapture,
         Plain YAML values; flange poses and ``hand_eye`` when the capture has them,
         otherwise the camera poses.
     """
+    from robostereo.io import plain_values
+
     names = _image_names(capture) if names is None else names
     flanges = capture.flanges if capture.hand_eye is not None else None
     views = []
@@ -145,7 +122,7 @@ def views_capture_to_dict(capture: ViewsCapture,
     out["uncertainty"] = {key: float(getattr(capture, attr)) for key, attr in _UNCERTAINTY}
     for k in ("robot", "scene"):
         if k in capture.notes:
-            out[k] = _plain(capture.notes[k])
+            out[k] = plain_values(capture.notes[k])
     return out
 
 
@@ -199,10 +176,9 @@ def write_views_capture(directory: str | os.PathLike[str], capture: ViewsCapture
             raise InputError(f"view {k} ({name}): the image must be a grey (H, W) image of "
                              "integers 0..255 to be written as an 8-bit PNG")
         images[name] = a.astype(np.uint8)
-    text = yaml.dump(views_capture_to_dict(capture, names), Dumper=_Dumper, sort_keys=False,
-                     default_flow_style=False)
-    from robostereo.io import write_image_folder
+    from robostereo.io import folder_yaml_text, write_image_folder
 
+    text = folder_yaml_text(views_capture_to_dict(capture, names))
     return write_image_folder(directory, images, {CAPTURE_YAML: text})
 
 
