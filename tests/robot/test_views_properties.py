@@ -140,7 +140,7 @@ def _breakages(doc: dict[str, Any], draw: st.DrawFn) -> None:
     elif how == "nan in pose" and isinstance(views[k][key], dict) and views[k][key]:
         pose = views[k][key]
         field = draw(st.sampled_from(sorted(pose)))
-        bad = draw(st.sampled_from([math.nan, math.inf, -math.inf, "1", None, True]))
+        bad = draw(st.sampled_from([math.nan, math.inf, -math.inf, "1", None, True, 1e200]))
         pose[field] = ([bad] * len(pose[field]) if isinstance(pose[field], list)
                        else {s: bad for s in pose[field]} if isinstance(pose[field], dict)
                        else bad)
@@ -150,7 +150,7 @@ def _breakages(doc: dict[str, Any], draw: st.DrawFn) -> None:
         views[k]["image"] = views[(k + 1) % len(views)]["image"]
     elif how == "one point":
         for v in views:
-            v[key] = views[0][key]
+            v[key] = views[k][key]
     elif how == "few views":
         doc["views"] = views[:draw(st.integers(0, 1))]
     elif how == "views junk":

@@ -300,6 +300,9 @@ class ViewsCapture:
             if len(self.flanges) != n or self.hand_eye is None:
                 raise InputError("flanges need one flange pose per view and the hand_eye")
         # the views must not all stand at one point: nothing to triangulate from
+        if not math.isfinite(self.span_mm):
+            raise InputError(f"the {n} views' optical centres are not a finite distance "
+                             f"apart (largest coordinate {np.abs(self.centres).max():.3g} mm)")
         if self.span_mm <= self.baseline_uncertainty_mm:
             raise InputError(
                 f"all {n} views stand at one point (largest distance between optical centres "
