@@ -205,20 +205,22 @@ class ViewsPlan:
     pattern : str
         ``'line'``, ``'cross'`` or ``'arc'`` (:func:`~robostereo.robot.views.view_offsets`).
     span_mm : float
-        Distance between the outermost viewpoints.
+        Distance between the outermost viewpoints' optical centres, mm.
     step_mm : float
-        Largest distance from a view to its nearest neighbour.
+        Largest distance from a view to its nearest neighbour, mm.
     effective_baseline_mm : float
         The two-view baseline of the same eq. 9 bound (``span_mm`` times
-        :func:`views_baseline_factor`).
+        :func:`views_baseline_factor`), mm.
     depth_mm, accuracy_mm : float
+        The target depth and the wanted bound at it, mm.
     step_disparity_px : float
         Disparity between neighbouring views at `depth_mm`, ``f step / Z``.
     disparity_range : tuple of float
-        Whole-pixel range to search between neighbouring views for ``[near, far]``.
+        Whole-pixel range ``(low, high)`` to search between neighbouring views for the
+        depths ``[near, far]``, px.
     bound_terms_mm : tuple of float
         The three terms of eq. 9 at `depth_mm` (baseline, focal length, disparity) with
-        the effective baseline.
+        the effective baseline, mm; they add up to `accuracy_mm`.
     """
 
     views: int
@@ -333,7 +335,7 @@ def plan_views(
     depth_mm : float
         Target depth ``Z``, millimetres.
     accuracy_mm : float
-        Wanted bound at that depth.
+        Wanted bound at that depth, millimetres.
     views : int, optional
         Number of views, 2..100; default the fewest that keep neighbouring views at most
         `neighbour_disparity_px` apart at `depth_mm`.

@@ -166,12 +166,13 @@ class ViewsCapture:
         Camera pose of each view (``T_world_camera``, world mm): SCARA
         :class:`~robostereo.geometry.poses.Pose` s or any :class:`SE3`.
     depth_range_mm : tuple of float
-        ``(near, far)`` expected depth of the object in front of the cameras (each pair
-        of views has its own disparity range, so N views take a depth range).
+        ``(near, far)`` expected depth of the object in front of the cameras, mm (each
+        pair of views has its own disparity range, so N views take a depth range).
     bit_depth : int
         Significant bits of the grey levels (7 for the thesis's camera).
     baseline_uncertainty_mm, focal_length_uncertainty_mm, disparity_uncertainty_px : float
-        ``dD``, ``ds`` and ``d(disp)`` of eq. (9), for every pair of views.
+        ``dD`` (mm), ``ds`` (mm) and ``d(disp)`` (px) of eq. (9), for every pair of
+        views.
     names : tuple of str or None
         File name of each view's image in a capture folder (e.g. ``view_00.png``).
     notes : mapping
@@ -210,7 +211,20 @@ class ViewsCapture:
     @classmethod
     def from_flange(cls, images: Sequence[NDArray[Any]], camera: Camera, *,
                     flanges: Sequence[SE3], hand_eye: SE3, **kwargs: Any) -> ViewsCapture:
-        """A capture whose camera poses are ``flange @ hand_eye`` (eye-in-hand)."""
+        """A capture whose camera poses are ``flange @ hand_eye`` (eye-in-hand).
+
+        Parameters
+        ----------
+        images : sequence of ndarray, each shape (H, W) or (H, W, 3)
+            The N grabbed images, as for the class.
+        camera : Camera
+        flanges : sequence of SE3
+            The robot's flange pose of each view (``T_world_flange``, world mm).
+        hand_eye : SE3
+            The camera in the flange's frame (``T_flange_camera``, mm).
+        **kwargs
+            The other attributes of the class (``depth_range_mm`` is required).
+        """
         if not isinstance(hand_eye, SE3):
             raise InputError(f"hand_eye must be an SE3, got {type(hand_eye).__name__}")
         flanges = tuple(flanges)
