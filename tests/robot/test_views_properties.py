@@ -328,8 +328,9 @@ def test_view_offsets_are_a_valid_pattern_or_refused(pattern, count, span, depth
     if pattern in ("line", "arc"):
         assert np.linalg.norm(u[-1] - u[0]) == pytest.approx(1.0, rel=1e-9)
     if pattern == "arc":
-        assert np.linalg.norm(u - [0.0, 0.0, depth / span], axis=1) == pytest.approx(
-            depth / span, rel=1e-9)
+        r = depth / span  # hypot: no squares to overflow at r = 1e154
+        assert (u[:, 1] == 0).all()
+        assert np.hypot(u[:, 0], u[:, 2] - r) == pytest.approx(r, rel=1e-9)
     if pattern == "cross":
         assert (o[0] == 0).all() and (np.count_nonzero(o, axis=1)[1:] == 1).all()
         assert np.abs(u).max() == pytest.approx(0.5, rel=1e-12)
