@@ -93,6 +93,11 @@ def test_views_all_at_one_point_are_refused():
         ViewsCapture(_images(4), SEED_CAMERA, _poses([3.0] * 4), depth_range_mm=(900, 1100))
 
 
+def test_views_too_far_apart_for_floating_point_are_refused():
+    with pytest.raises(InputError, match="not a finite distance apart"):
+        ViewsCapture(_images(2), SEED_CAMERA, _poses([0.0, 1e200]), depth_range_mm=(900, 1100))
+
+
 @pytest.mark.parametrize("rng", [(0, 100), (200, 100), (float("inf"), 1e9), (1, True), "12"])
 def test_a_bad_depth_range_is_refused(rng):
     with pytest.raises(InputError, match="depth_range_mm"):

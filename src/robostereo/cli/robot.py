@@ -2,7 +2,9 @@
 ``simulate-handeye`` and ``plan``.
 
 ``demo`` and ``capture`` run the seed's SCARA (the AdeptOne) or, with ``--robot
-six-axis``, the six-axis arm; ``locate --fuse`` merges two capture folders.  Each
+six-axis``, the six-axis arm; ``locate --fuse`` merges two capture folders.  With
+``--views N`` (and ``locate`` on a folder of N views) ``demo``, ``capture``, ``locate``
+and ``plan`` hand over to :mod:`robostereo.cli.views`.  Each
 handler parses, loads, calls the library and writes; every user error is an
 :class:`~robostereo.errors.InputError` (one line, exit code 2, no partial output).
 """
@@ -28,6 +30,13 @@ from robostereo.cli._args import (
     require_seed,
 )
 from robostereo.cli._console import stage_reporter
+from robostereo.cli.views import (
+    add_views_options,
+    run_demo_views,
+    run_locate_views,
+    run_plan_views,
+    views_capture,
+)
 from robostereo.errors import InputError, require_file
 
 __all__ = [
@@ -68,23 +77,31 @@ def add_demo_parser(sub: Any) -> None:
                     "hub-pulley as the simulated AdeptOne's forearm camera sees them from "
                     "two viewpoints 20 mm apart, locate the edge points, and print table 5-1 "
                     "and the hub-pulley's % matched and % false per iteration; write the "
-                    "figures to the output folder.",
+                    "figures to the output folder.  With --views N: locate the block (at two "
+                    "heights) and the pulley from N views in a pattern and print the "
+                    "figures (nothing written).",
     )
-    p.add_argument("--out", type=Path, default=Path("robostereo-out"),
+    p.add_argument("--out", type=Path,
                    help="folder for the figures (created; default ./robostereo-out)")
     p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
     p.add_argument("--robot", choices=("adeptone", "six-axis"), default="adeptone",
                    help="the seed's SCARA (adeptone, default) or the six-axis arm's block "
                         "experiment with an estimated hand-eye transform")
-    p.add_argument("--json", action="store_true", help="six-axis: print one JSON object")
+    p.add_argument("--json", action="store_true",
+                   help="six-axis or --views: print one JSON object")
+    add_views_options(p)
     p.set_defaults(handler=run_demo_command)
 
 
 def run_demo_command(args: argparse.Namespace) -> int:
     from rich.console import Console
 
+    if args.views is not None or args.pattern is not None or args.span is not None:
+        return run_demo_views(args)
+    if args.out is None:
+        args.out = Path("robostereo-out")
     if args.robot != "six-axis" and args.json:
-        raise InputError("--json needs --robot six-axis")
+        raise InputError("--json needs --robot six-axis or --views")
     require_seed(args.seed)
     if args.out.exists() and not args.out.is_dir():
         raise InputError(f"{args.out}: exists and is not a folder")
@@ -179,10 +196,13 @@ def _replace_captures(captures: dict[Path, Any], then: Any = None) -> None:
 
 def add_capture_parser(sub: Any) -> None:
     p = sub.add_parser(
-        "capture", help="grab two views with the (simulated) robot into a capture folder",
+        "capture", help="grab two (or N) views with the (simulated) robot into a capture "
+                        "folder",
         description="Move the AdeptOne's forearm camera to -D/2 and +D/2 about the centre "
                     "along the baseline direction, grab an image at each (rendered by the "
-                    "simulator) and write DIR/left.png, DIR/right.png and DIR/capture.yaml.",
+                    "simulator) and write DIR/left.png, DIR/right.png and DIR/capture.yaml.  "
+                    "With --views N: grab N views in a pattern spanning --span mm about the "
+                    "centre and write DIR/view_00.png, ... and DIR/capture.yaml (views:).",
     )
     p.add_argument("--out", type=Path, required=True, metavar="DIR",
                    help="capture folder to create (must not exist, or be empty)")
@@ -206,6 +226,7 @@ def add_capture_parser(sub: Any) -> None:
     p.add_argument("--handeye", type=Path,
                    help="six-axis: record this camera file's camera and hand_eye "
                         "(robostereo handeye's output) instead of the truth")
+    add_views_options(p)
     p.set_defaults(handler=run_capture_command)
 
 
@@ -213,6 +234,8 @@ def run_capture_command(args: argparse.Namespace) -> int:
     from robostereo.experiments import RigSetup, simulate_capture
     from robostereo.robot.capture import write_capture
 
+    if args.views is not None or args.pattern is not None or args.span is not None:
+        return views_capture(args)
     baseline = args.baseline
     if args.robot == "six-axis":
         if args.direction != 0.0 or args.roll != 0.0 or tuple(args.center) != (400.0, 0.0):
@@ -266,7 +289,10 @@ def add_locate_parser(sub: Any) -> None:
         "locate", help="3-D world coordinates of the edge points of a capture folder",
         description="Rectify a capture folder's two views by their poses, match the edge "
                     "points, and write world and epipolar-frame coordinates with the eq. 9 "
-                    "depth bound of every point (CSV; optionally PLY).",
+                    "depth bound of every point (CSV; optionally PLY).  A folder of N views "
+                    "(capture.yaml with views:): search each edge point's ray in the other "
+                    "views, every view as reference, and write each point once with its "
+                    "bound, confidence and view count.",
     )
     p.add_argument("capture", type=Path, metavar="DIR", help="capture folder")
     p.add_argument("-o", "--output", type=Path,
@@ -285,6 +311,10 @@ def run_locate_command(args: argparse.Namespace) -> int:
     for d in (args.capture, args.fuse):
         if d is not None and not d.is_dir():
             raise InputError(f"{d}: capture folder not found")
+    from robostereo.robot.views_folder import is_views_folder
+
+    if any(d is not None and is_views_folder(d) for d in (args.capture, args.fuse)):
+        return run_locate_views(args)
     if args.fuse is not None:
         return _run_locate_fused(args)
 
@@ -504,7 +534,10 @@ def add_plan_parser(sub: Any) -> None:
         description="Invert eq. 9: the baseline D that bounds the depth error at the target "
                     "depth by the wanted accuracy, and the disparity range to search; with "
                     "--image, the baseline direction that makes most of the scene's edges "
-                    "cross the epipolar lines.",
+                    "cross the epipolar lines.  With --views N (or auto): the span of N views "
+                    "in a pattern that bounds the error alike (least squares over the views: "
+                    "equal, independent edge errors in every view), and the disparity range "
+                    "between neighbouring views.",
     )
     p.add_argument("--depth", type=finite("--depth"), required=True, help="target depth, mm")
     p.add_argument("--accuracy", type=finite("--accuracy"), required=True,
@@ -520,6 +553,7 @@ def add_plan_parser(sub: Any) -> None:
                    default=0.2, help="d(disp) of eq. 9, px (0.2)")
     p.add_argument("--image", type=Path, help="an image of the scene from the camera")
     p.add_argument("--json", action="store_true", help="print one JSON object")
+    add_views_options(p, plan=True)
     p.set_defaults(handler=run_plan)
 
 
@@ -570,6 +604,10 @@ def run_plan(args: argparse.Namespace) -> int:
                      else (SEED_CAMERA, {}))
     near = args.near if args.near is not None else 0.8 * args.depth
     far = args.far if args.far is not None else 1.2 * args.depth
+    if args.views is not None:
+        return run_plan_views(args, camera, extra, near, far)
+    if args.pattern is not None:
+        raise InputError("--pattern needs --views N (or auto)")
     plan = plan_baseline(camera, args.depth, args.accuracy, depth_range_mm=(near, far),
                          disparity_uncertainty_px=args.disparity_uncertainty, **extra)
     out: dict[str, Any] = {

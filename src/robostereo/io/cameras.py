@@ -27,6 +27,7 @@ from robostereo.geometry.camera import Camera, camera_from_dict, camera_to_dict
 from robostereo.geometry.mapping_checks import check_keys
 from robostereo.geometry.poses import Pose, pose_to_dict, scara_pose_from_dict
 from robostereo.geometry.triangulation import StereoCamera
+from robostereo.io.files import folder_yaml_text
 
 __all__ = [
     "load_camera_yaml",
@@ -58,20 +59,11 @@ def _read_yaml(path: str | os.PathLike[str], what: str) -> Any:
         raise InputError(f"{name}: not a valid YAML {what} file{where}") from None
 
 
-class _Dumper(yaml.SafeDumper):
-    """Block-style mappings with flow-style ``[a, b]`` lists."""
-
-
-_Dumper.add_representer(
-    list, lambda d, v: d.represent_sequence("tag:yaml.org,2002:seq", v, flow_style=True)
-)
-
-
 def _write_yaml(data: Mapping[str, Any], path: str | os.PathLike[str], what: str) -> None:
     name = os.fspath(path)
     try:
         with open(name, "w", encoding="utf-8") as fh:
-            yaml.dump(dict(data), fh, Dumper=_Dumper, sort_keys=False, default_flow_style=False)
+            fh.write(folder_yaml_text(data))
     except OSError as exc:
         raise InputError(f"{name}: cannot write {what} file ({exc.strerror})") from None
 

@@ -1,4 +1,4 @@
-"""Writing results: CSV tables, PLY point clouds, image folders; reading folder YAML.
+"""Writing results: CSV tables, PLY point clouds, image folders; folder YAML.
 
 Every writer is atomic: it writes a temporary file beside the target and renames it
 into place only when the whole file is written, so a failure never leaves a partial
@@ -38,6 +38,8 @@ __all__ = [
     "atomic_outputs",
     "atomic_path",
     "check_outputs",
+    "folder_yaml_text",
+    "plain_values",
     "read_folder_yaml",
     "remove_live_parts",
     "remove_stale_parts",
@@ -217,6 +219,52 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
             shutil.rmtree(tmp, ignore_errors=True)
         _live.discard(tmp)
     return target
+
+
+def plain_values(value: Any) -> Any:
+    """`value` with numpy scalars and arrays, tuples and mappings as plain Python values
+    (int, float, bool, list, dict with str keys), for YAML and JSON.
+
+    >>> plain_values({"n": np.int64(3), "xy": np.array([0.5, 1.0]), "ok": np.bool_(True)})
+    {'n': 3, 'xy': [0.5, 1.0], 'ok': True}
+    """
+    if isinstance(value, Mapping):
+        return {str(k): plain_values(x) for k, x in value.items()}
+    if isinstance(value, list | tuple | np.ndarray):
+        return [plain_values(x) for x in value]
+    if isinstance(value, np.bool_):
+        return bool(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    if isinstance(value, np.floating):
+        return float(value)
+    return value
+
+
+class _FolderDumper(yaml.SafeDumper):
+    """Block mappings; lists of numbers flow-style, ``[a, b]``; lists of mappings one
+    entry to a block."""
+
+
+_FolderDumper.add_representer(
+    list, lambda d, v: d.represent_sequence(
+        "tag:yaml.org,2002:seq", v, flow_style=not any(isinstance(x, dict) for x in v))
+)
+
+
+def folder_yaml_text(data: Mapping[str, Any]) -> str:
+    """The text of a folder's YAML file (``capture.yaml``): the keys in their order,
+    block mappings, flow-style lists of numbers (``[0.0172, 0.0137]``), one block per
+    entry of a list of mappings (the views of a capture); numpy values as plain ones
+    (:func:`plain_values`).
+
+    >>> print(folder_yaml_text({"size": (509, 481), "views": [{"image": "a.png"}]}), end="")
+    size: [509, 481]
+    views:
+    - image: a.png
+    """
+    return yaml.dump(plain_values(dict(data)), Dumper=_FolderDumper, sort_keys=False,
+                     default_flow_style=False)
 
 
 def read_folder_yaml(directory: PathLike, filename: str, *, folder: str) -> tuple[Any, Path]:
@@ -439,16 +487,22 @@ def write_csv(path: PathLike, columns: Mapping[str, NDArray[Any]]) -> Path:
 
 
 def write_ply(
-    path: PathLike, xyz: NDArray[np.floating], colors: NDArray[np.uint8] | None = None
+    path: PathLike, xyz: NDArray[np.floating], colors: NDArray[np.uint8] | None = None,
+    *, fields: Mapping[str, NDArray[Any]] | None = None,
 ) -> Path:
     """Write 3-D points (``(N, 3)``, millimetres) as a binary PLY point cloud (trimesh).
 
     Points with a NaN coordinate are left out; with none left the file is a valid PLY
-    with zero vertices.
+    with zero vertices.  `fields` adds per-point vertex properties (name to an ``(N,)``
+    array: integers as ``int``, anything else as ``float``), e.g. a bound and a
+    confidence; it cannot be combined with `colors`.
 
     >>> import tempfile, pathlib
     >>> p = pathlib.Path(tempfile.mkdtemp()) / "empty.ply"
     >>> b"element vertex 0" in write_ply(p, np.full((2, 3), np.nan)).read_bytes()
+    True
+    >>> q = write_ply(p, np.zeros((2, 3)), fields={"bound_mm": np.array([0.5, 1.0])})
+    >>> b"property float bound_mm" in q.read_bytes()
     True
     """
     import trimesh
@@ -457,6 +511,14 @@ def write_ply(
     if pts.ndim != 2 or pts.shape[1] != 3:
         raise InputError(f"3-D points must have shape (N, 3), got {pts.shape}")
     good = np.isfinite(pts).all(axis=1)
+    if fields is not None:
+        if colors is not None:
+            raise InputError("write_ply: give colors or fields, not both")
+        data_f = _ply_with_fields(pts[good], {k: np.asarray(v) for k, v in fields.items()},
+                                  good)
+        with atomic_path(path) as tmp:
+            tmp.write_bytes(data_f)
+        return Path(path)
     if not good.any():  # trimesh cannot export an empty cloud
         header = ["ply", "format binary_little_endian 1.0", "comment robostereo: no points",
                   "element vertex 0", *(f"property float {c}" for c in "xyz")]
@@ -471,3 +533,26 @@ def write_ply(
     with atomic_path(path) as tmp:
         tmp.write_bytes(data if isinstance(data, bytes) else str(data).encode())
     return Path(path)
+
+
+def _ply_with_fields(pts: NDArray[np.float64], fields: Mapping[str, NDArray[Any]],
+                     good: NDArray[np.bool_]) -> bytes:
+    """Binary little-endian PLY of points `pts` (M, 3) with the `fields` (N,) at `good`."""
+    cols: list[tuple[str, str]] = [("x", "<f4"), ("y", "<f4"), ("z", "<f4")]
+    for name, v in fields.items():
+        if not re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+            raise InputError(f"write_ply: field name {name!r} must be a plain identifier")
+        if v.shape != good.shape:
+            raise InputError(f"write_ply: field {name!r} must have shape {good.shape}, got "
+                             f"{v.shape}")
+        is_int = np.issubdtype(v.dtype, np.integer) or np.issubdtype(v.dtype, np.bool_)
+        cols.append((name, "<i4" if is_int else "<f4"))
+    rec = np.zeros(len(pts), dtype=cols)
+    for k, c in enumerate("xyz"):
+        rec[c] = pts[:, k]
+    for name, v in fields.items():
+        rec[name] = v[good]
+    kind = {"<f4": "float", "<i4": "int"}
+    header = ["ply", "format binary_little_endian 1.0", f"element vertex {len(pts)}",
+              *(f"property {kind[t]} {n}" for n, t in cols), "end_header"]
+    return ("\n".join(header) + "\n").encode() + rec.tobytes()

@@ -43,7 +43,6 @@ from pathlib import Path
 from typing import Any, Literal
 
 import numpy as np
-import yaml
 from numpy.typing import NDArray
 
 from robostereo.errors import (
@@ -338,29 +337,10 @@ def capture_from_acquisition(
     )
 
 
-class _Dumper(yaml.SafeDumper):
-    """Block mappings, flow-style short lists."""
-
-
-_Dumper.add_representer(
-    list, lambda d, v: d.represent_sequence("tag:yaml.org,2002:seq", v, flow_style=True)
-)
-
-
-def _plain(v: Any) -> Any:
-    if isinstance(v, Mapping):
-        return {str(k): _plain(x) for k, x in v.items()}
-    if isinstance(v, list | tuple | np.ndarray):
-        return [_plain(x) for x in v]
-    if isinstance(v, np.integer):
-        return int(v)
-    if isinstance(v, np.floating):
-        return float(v)
-    return v
-
-
 def capture_to_dict(capture: Capture) -> dict[str, Any]:
     """The ``capture.yaml`` mapping of a capture."""
+    from robostereo.io import plain_values
+
     out: dict[str, Any] = {"camera": camera_to_dict(capture.camera)}
     if capture.hand_eye is not None and capture.flange_left is not None \
             and capture.flange_right is not None:
@@ -382,7 +362,7 @@ def capture_to_dict(capture: Capture) -> dict[str, Any]:
     }
     for k in ("robot", "scene"):
         if k in capture.notes:
-            out[k] = _plain(capture.notes[k])
+            out[k] = plain_values(capture.notes[k])
     return out
 
 
@@ -411,9 +391,9 @@ def write_capture(directory: str | os.PathLike[str], capture: Capture) -> Path:
             raise InputError(f"{name} image must be a grey (H, W) image of integers 0..255 "
                              "to be written as an 8-bit PNG")
         images.append(img.astype(np.uint8))
-    text = yaml.dump(capture_to_dict(capture), Dumper=_Dumper, sort_keys=False,
-                     default_flow_style=False)
-    from robostereo.io import write_image_folder
+    from robostereo.io import folder_yaml_text, write_image_folder
+
+    text = folder_yaml_text(capture_to_dict(capture))
 
     return write_image_folder(directory, dict(zip(_IMAGES, images, strict=True)),
                               {CAPTURE_YAML: text})

@@ -1,12 +1,13 @@
 """Captures of N views: one camera moved by the robot to N viewpoints.
 
-The thesis grabs two views (4.2); a robot can grab more at almost no cost.  A
-:class:`ViewsCapture` holds N >= 2 grabbed images with the one camera and each view's
-camera pose ``T_world_camera`` (world mm), as the robot reported them or as flange poses
-and a hand-eye transform.  Any two of its views make a two-view
-:class:`~robostereo.robot.capture_folder.Capture` (:meth:`ViewsCapture.pair`), so
-everything that works on a pair works on each pair of an N-view capture, and a two-view
-capture is an N-view capture with N = 2 (:meth:`ViewsCapture.from_capture`).
+The thesis grabs two views (4.2); a robot can grab more at almost no cost
+(multiple-baseline stereo [1]_). A :class:`ViewsCapture` holds N >= 2 grabbed images
+with the one camera and each view's camera pose ``T_world_camera`` (world mm), as the
+robot reported them or as flange poses and a hand-eye transform. Any two of its views
+make a two-view :class:`~robostereo.robot.capture_folder.Capture`
+(:meth:`ViewsCapture.pair`), so everything that works on a pair works on each pair of an
+N-view capture, and a two-view capture is an N-view capture with N = 2
+(:meth:`ViewsCapture.from_capture`).
 
 Positions of N viewpoints in a pattern around a centre view come from
 :func:`view_offsets` (multiple-baseline stereo [1]_).
@@ -19,6 +20,7 @@ References
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Literal
@@ -32,6 +34,7 @@ from robostereo.geometry.poses import SE3, Pose, as_se3
 from robostereo.robot.capture_folder import DISPARITY_UNCERTAINTY_PX, Capture
 
 __all__ = [
+    "MAX_SPAN_MM",
     "PATTERNS",
     "ViewsCapture",
     "view_offsets",
@@ -41,6 +44,10 @@ Pattern = Literal["line", "cross", "arc"]
 
 #: the viewpoint patterns of :func:`view_offsets`
 PATTERNS: tuple[str, ...] = ("line", "cross", "arc")
+
+MAX_SPAN_MM = 1e6
+"""Longest span :func:`view_offsets` lays out, mm (a kilometre: beyond any robot's reach;
+the command line's ``--span`` limit)."""
 
 
 def view_offsets(pattern: Pattern, count: int, span_mm: float, *,
@@ -59,15 +66,24 @@ def view_offsets(pattern: Pattern, count: int, span_mm: float, *,
     count : int
         Number of views, 2..100.
     span_mm : float
-        Distance between the outermost viewpoints, > 0.
+        Distance between the outermost viewpoints, mm, > 0 and at most
+        :data:`MAX_SPAN_MM`.
     depth_mm : float, optional
-        ``'arc'`` only: distance of the centre of the circle from the centre view.
+        ``'arc'`` only: distance of the centre of the circle from the centre view, mm.
 
     Returns
     -------
     ndarray, shape (count, 3)
         ``(x, y, z)`` offsets in mm in the centre camera's frame (x to the image's right,
         y down the image, z along the optical axis); rows ordered along the pattern.
+
+    Raises
+    ------
+    InputError
+        An unknown pattern; a count that is not a whole number in 2..100 (or under 3
+        for a cross); a span that is not a finite number in (0, :data:`MAX_SPAN_MM`], or
+        so short that two views fall on one point; an arc without `depth_mm` or whose
+        span reaches its diameter.
 
     Notes
     -----
@@ -85,11 +101,15 @@ def view_offsets(pattern: Pattern, count: int, span_mm: float, *,
     """
     if pattern not in PATTERNS:
         raise InputError(f"pattern must be one of {', '.join(PATTERNS)}, got {pattern!r}")
-    if isinstance(count, bool) or int(count) != count or not 2 <= count <= 100:
+    whole = isinstance(count, numbers.Integral) or (
+        isinstance(count, float) and count.is_integer())
+    if isinstance(count, bool) or not whole or not 2 <= count <= 100:
         raise InputError(f"count (the number of views) must be a whole number in 2..100, "
                          f"got {count!r}")
     count = int(count)
     require_positive("span_mm", span_mm)
+    if span_mm > MAX_SPAN_MM:
+        raise InputError(f"span_mm must be at most {MAX_SPAN_MM:g} mm, got {span_mm:g}")
     half = 0.5 * float(span_mm)
     out = np.zeros((count, 3))
     if pattern == "line":
@@ -116,6 +136,9 @@ def view_offsets(pattern: Pattern, count: int, span_mm: float, *,
         ang = np.linspace(-a, a, count)
         out[:, 0] = depth_mm * np.sin(ang)
         out[:, 2] = depth_mm * (1.0 - np.cos(ang))
+    gaps = np.abs(np.diff(out, axis=0)).max(axis=1)  # no squares: they underflow
+    if not (gaps > 0).all():  # spans under floating point's reach: steps of zero
+        raise InputError(f"span_mm {span_mm:g} is too short to put {count} views apart")
     return out
 
 
@@ -143,12 +166,13 @@ class ViewsCapture:
         Camera pose of each view (``T_world_camera``, world mm): SCARA
         :class:`~robostereo.geometry.poses.Pose` s or any :class:`SE3`.
     depth_range_mm : tuple of float
-        ``(near, far)`` expected depth of the object in front of the cameras (each pair
-        of views has its own disparity range, so N views take a depth range).
+        ``(near, far)`` expected depth of the object in front of the cameras, mm (each
+        pair of views has its own disparity range, so N views take a depth range).
     bit_depth : int
         Significant bits of the grey levels (7 for the thesis's camera).
     baseline_uncertainty_mm, focal_length_uncertainty_mm, disparity_uncertainty_px : float
-        ``dD``, ``ds`` and ``d(disp)`` of eq. (9), for every pair of views.
+        ``dD`` (mm), ``ds`` (mm) and ``d(disp)`` (px) of eq. (9), for every pair of
+        views.
     names : tuple of str or None
         File name of each view's image in a capture folder (e.g. ``view_00.png``).
     notes : mapping
@@ -187,7 +211,20 @@ class ViewsCapture:
     @classmethod
     def from_flange(cls, images: Sequence[NDArray[Any]], camera: Camera, *,
                     flanges: Sequence[SE3], hand_eye: SE3, **kwargs: Any) -> ViewsCapture:
-        """A capture whose camera poses are ``flange @ hand_eye`` (eye-in-hand)."""
+        """A capture whose camera poses are ``flange @ hand_eye`` (eye-in-hand).
+
+        Parameters
+        ----------
+        images : sequence of ndarray, each shape (H, W) or (H, W, 3)
+            The N grabbed images, as for the class.
+        camera : Camera
+        flanges : sequence of SE3
+            The robot's flange pose of each view (``T_world_flange``, world mm).
+        hand_eye : SE3
+            The camera in the flange's frame (``T_flange_camera``, mm).
+        **kwargs
+            The other attributes of the class (``depth_range_mm`` is required).
+        """
         if not isinstance(hand_eye, SE3):
             raise InputError(f"hand_eye must be an SE3, got {type(hand_eye).__name__}")
         flanges = tuple(flanges)
@@ -277,6 +314,9 @@ class ViewsCapture:
             if len(self.flanges) != n or self.hand_eye is None:
                 raise InputError("flanges need one flange pose per view and the hand_eye")
         # the views must not all stand at one point: nothing to triangulate from
+        if not math.isfinite(self.span_mm):
+            raise InputError(f"the {n} views' optical centres are not a finite distance "
+                             f"apart (largest coordinate {np.abs(self.centres).max():.3g} mm)")
         if self.span_mm <= self.baseline_uncertainty_mm:
             raise InputError(
                 f"all {n} views stand at one point (largest distance between optical centres "

@@ -1,0 +1,60 @@
+"""PLY point clouds with per-point fields: written, read back by another reader."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import trimesh
+
+from robostereo.errors import InputError
+from robostereo.io import write_ply
+
+
+def test_fields_are_vertex_properties_another_reader_reads_back(tmp_path):
+    rng = np.random.default_rng(2)
+    xyz = rng.normal(0.0, 100.0, (50, 3))
+    xyz[7] = np.nan  # left out, with its fields
+    bound = rng.uniform(0.1, 5.0, 50)
+    count = rng.integers(2, 9, 50)
+    p = write_ply(tmp_path / "f.ply", xyz, fields={"bound_mm": bound, "view_count": count})
+    assert b"property float bound_mm\nproperty int view_count\n" in p.read_bytes()
+    cloud = trimesh.load(p, file_type="ply")
+    keep = np.ones(50, bool)
+    keep[7] = False
+    assert np.allclose(cloud.vertices, xyz[keep], rtol=1e-6, atol=1e-4)
+    attrs = cloud.metadata["_ply_raw"]["vertex"]["data"]
+    assert np.allclose(attrs["bound_mm"], bound[keep], rtol=1e-6)
+    assert np.array_equal(attrs["view_count"], count[keep])
+
+
+def test_no_points_with_fields_is_an_empty_cloud_and_bad_fields_are_refused(tmp_path):
+    data = write_ply(tmp_path / "e.ply", np.full((3, 3), np.nan),
+                     fields={"c": np.ones(3)}).read_bytes()
+    assert b"element vertex 0\n" in data and data.endswith(b"end_header\n")
+    with pytest.raises(InputError, match=r"field 'c' must have shape \(3,\)"):
+        write_ply(tmp_path / "b.ply", np.zeros((3, 3)), fields={"c": np.ones(4)})
+    with pytest.raises(InputError, match="plain identifier"):
+        write_ply(tmp_path / "b.ply", np.zeros((3, 3)), fields={"a b": np.ones(3)})
+    with pytest.raises(InputError, match="colors or fields"):
+        write_ply(tmp_path / "b.ply", np.zeros((3, 3)), np.zeros((3, 4), np.uint8),
+                  fields={"c": np.ones(3)})
+    assert not (tmp_path / "b.ply").exists()
+
+
+def test_folder_yaml_reads_back_the_plain_values_of_numpy_ones():
+    import yaml
+
+    from robostereo.io import folder_yaml_text
+
+    data = {"camera": {"size": np.array([509, 481])}, "bits": np.int64(7),
+            "range": (np.float32(0.5), 900.0), "ok": np.bool_(False),
+            "views": [{"image": "a.png", "pose": {"x": np.float64(-20.0)}},
+                      {"image": "b.png", "pose": {"x": 20.0}}]}
+    text = folder_yaml_text(data)
+    assert yaml.safe_load(text) == {
+        "camera": {"size": [509, 481]}, "bits": 7, "range": [0.5, 900.0], "ok": False,
+        "views": [{"image": "a.png", "pose": {"x": -20.0}},
+                  {"image": "b.png", "pose": {"x": 20.0}}]}
+    # numbers in flow lists, each view a block of its own, keys in their order
+    assert "  size: [509, 481]\n" in text and "\n- image: b.png\n" in text
+    assert text.index("camera") < text.index("bits") < text.index("views")
