@@ -88,7 +88,7 @@ def add_matcher_args(p: Any) -> None:
 
     p.add_argument("--method", choices=METHODS, default=None,
                    help="matcher: window (default; every disparity scored by side-aware "
-                        "census windows, calibrated confidence) or relaxation (the seed's)")
+                        "census windows, calibrated confidence) or relaxation (the thesis's)")
     p.add_argument("--min-confidence", type=unit_interval("--min-confidence"), default=None,
                    help="least confidence P(correct) of an accepted match; lower: more "
                         "matches, higher: fewer false (default "

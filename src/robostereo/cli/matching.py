@@ -64,7 +64,7 @@ def add_match_parser(sub: Any) -> None:
     add_matcher_args(p)
     p.add_argument("--iterations", type=int, default=5, help="relaxation iterations (5)")
     p.add_argument("--seed-mode", action="store_true",
-                   help="the seed's matcher: relaxation, whole-pixel edges, plain w, one "
+                   help="the thesis's matcher: relaxation, whole-pixel edges, plain w, one "
                         "threshold")
     p.set_defaults(handler=run_match)
 

@@ -1,7 +1,7 @@
 """The robot commands: ``demo``, ``capture``, ``locate``, ``handeye``,
 ``simulate-handeye`` and ``plan``.
 
-``demo`` and ``capture`` run the seed's SCARA (the AdeptOne) or, with ``--robot
+``demo`` and ``capture`` run the thesis's SCARA (the AdeptOne) or, with ``--robot
 six-axis``, the six-axis arm; ``locate --fuse`` merges two capture folders.  With
 ``--views N`` (and ``locate`` on a folder of N views) ``demo``, ``capture``, ``locate``
 and ``plan`` hand over to :mod:`robostereo.cli.views`.  Each
@@ -72,7 +72,7 @@ def add_parsers(sub: Any) -> None:
 
 def add_demo_parser(sub: Any) -> None:
     p = sub.add_parser(
-        "demo", help="run the seed's experiments on the simulated AdeptOne (no files needed)",
+        "demo", help="run the thesis's experiments on the simulated AdeptOne (no files needed)",
         description="Render the precision block at two heights 79.65 mm apart and the "
                     "hub-pulley as the simulated AdeptOne's forearm camera sees them from "
                     "two viewpoints 20 mm apart, locate the edge points, and print table 5-1 "
@@ -85,7 +85,7 @@ def add_demo_parser(sub: Any) -> None:
                    help="folder for the figures (created; default ./robostereo-out)")
     p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
     p.add_argument("--robot", choices=("adeptone", "six-axis"), default="adeptone",
-                   help="the seed's SCARA (adeptone, default) or the six-axis arm's block "
+                   help="the thesis's SCARA (adeptone, default) or the six-axis arm's block "
                         "experiment with an estimated hand-eye transform")
     p.add_argument("--json", action="store_true",
                    help="six-axis or --views: print one JSON object")
@@ -209,7 +209,7 @@ def add_capture_parser(sub: Any) -> None:
     p.add_argument("--scene", choices=("block", "pulley"), default="block",
                    help="simulated object (block)")
     p.add_argument("--lift", type=finite("--lift", 1e6), default=0.0,
-                   help="block: raise of its top, mm (0; the seed's second set: 79.65)")
+                   help="block: raise of its top, mm (0; the thesis's second set: 79.65)")
     p.add_argument("--baseline", type=finite("--baseline", 1e6), default=20.0,
                    help="baseline D, mm (20)")
     p.add_argument("--direction", type=finite("--direction", 1e6), default=0.0,
@@ -220,7 +220,7 @@ def add_capture_parser(sub: Any) -> None:
                    metavar=("X", "Y"), help="mid-baseline point, world mm (400 0)")
     p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
     p.add_argument("--robot", choices=("adeptone", "six-axis"), default="adeptone",
-                   help="simulated robot (adeptone: the seed's SCARA)")
+                   help="simulated robot (adeptone: the thesis's SCARA)")
     p.add_argument("--tilt", type=finite("--tilt"), default=25.0,
                    help="six-axis: camera tilt from vertical, degrees (25)")
     p.add_argument("--handeye", type=Path,
@@ -544,7 +544,7 @@ def add_plan_parser(sub: Any) -> None:
                    help="wanted eq. 9 bound, mm")
     p.add_argument("--camera", type=Path,
                    help="camera YAML (a capture's camera, or match's stereo camera YAML), "
-                        "or robostereo handeye's camera file (default: the seed's camera)")
+                        "or robostereo handeye's camera file (default: the thesis's camera)")
     p.add_argument("--near", type=finite("--near"),
                    help="nearest depth to search, mm (0.8 x depth)")
     p.add_argument("--far", type=finite("--far"),

@@ -31,6 +31,17 @@ Submodules
 :mod:`~robostereo.robot.simulated`
     The simulated six-axis experiments (hand-eye views, tilted captures, the demo) and
     the block fused from two baselines.
+:mod:`~robostereo.robot.views`
+    :class:`~robostereo.robot.views.ViewsCapture` (N grabbed views of one camera and
+    their poses) and the viewpoint patterns (line, cross, arc).
+:mod:`~robostereo.robot.views_folder`
+    N-view capture folders: ``capture.yaml`` with a list of views.
+:mod:`~robostereo.robot.multiview`
+    Locating edge points from N views: each view the reference in turn, the bound of
+    eq. 9 generalised; :mod:`~robostereo.robot.multiview_search` holds its stages and
+    :mod:`~robostereo.robot.multiview_kernels` their numba kernels.
+:mod:`~robostereo.robot.simulated_views`
+    The simulated robots grabbing N views in a pattern.
 
 Poses (:class:`~robostereo.geometry.poses.SE3`, the SCARA
 :class:`~robostereo.geometry.poses.Pose`) and the rectification of two general poses
