@@ -91,10 +91,11 @@ def usable_pixels(valid: ArrayLike) -> NDArray[np.bool_]:
                      borderValue=1).astype(bool)
 
 
-#: pixels of a colour image converted at a time (a float buffer of 3 MiB, not a float
-#: copy of the whole image; few enough calls that two images converted on two threads
-#: do not queue for the interpreter lock between them)
-_GREY_BLOCK_PIXELS = 1 << 18
+#: pixels of a colour image converted at a time (a float buffer of 384 KiB, not a float
+#: copy of the whole image: the 3 MiB buffers of two images converted side by side were
+#: a third of the matcher's peak memory on a colour scene; a dozen calls an image still
+#: cost little next to the conversion; the grey levels do not depend on the block)
+_GREY_BLOCK_PIXELS = 1 << 15
 
 
 def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
