@@ -22,14 +22,13 @@ def _numpy_peaks(s: np.ndarray, threshold: np.float32, m: int):
     c = mag[:, m:w - m]
     hit = (c >= threshold) & (c > mag[:, m - 1:w - m - 1]) & (c >= mag[:, m + 1:w - m + 1])
     rows, cols = np.nonzero(hit)
-    cols = cols + m
-    return rows, cols, mag[rows, cols - 1], mag[rows, cols], mag[rows, cols + 1], g[rows, cols - 1]
+    return rows, cols + m
 
 
 @pytest.mark.parametrize("shape", [(40, 60), (3, 400), (9, 11), (6, 10)])
 def test_one_pass_peaks_equal_numpy_even_when_the_buffers_grow(shape):
     # noise has a peak every third or fourth pixel, far above the buffers' first size
-    s = np.random.default_rng(3).uniform(0, 127, shape).astype(np.float32)
+    s = np.random.default_rng(3).uniform(0, 127, shape).astype(np.float32)  # (H, W)
     thr = np.float32(2.0)
     got = gradient_peaks(s, thr, 5)
     want = _numpy_peaks(s, thr, 5)
@@ -37,8 +36,7 @@ def test_one_pass_peaks_equal_numpy_even_when_the_buffers_grow(shape):
     if shape[1] > 11:
         assert got[0].shape[0] > max(256, shape[0] * shape[1] // 16)  # the buffers grew
     for a, b in zip(got, want, strict=True):
-        assert np.array_equal(a, b.astype(a.dtype))
-    assert [a.dtype for a in got[2:]] == [np.float32] * 4
+        assert a.dtype == np.int64 and np.array_equal(a, b)
 
 
 def test_walking_connectivity_equals_the_grid():

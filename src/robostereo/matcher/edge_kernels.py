@@ -147,21 +147,22 @@ def _grown(a, size):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
-def _row_peaks(s, threshold, m, r, i, line, column, mag_before, mag_peak, mag_after,
-               gradient):  # type: ignore[no-untyped-def]
-    """Peaks of row ``r`` (``s``) into the buffers from index ``i``; the next index."""
-    half = np.float32(0.5)
-    prev = abs((s[m] - s[m - 2]) * half)
-    cur = abs((s[m + 1] - s[m - 1]) * half)
+def _abs_g(s, x):  # type: ignore[no-untyped-def]
+    """``|g(x)| = |(s[x + 1] - s[x - 1]) / 2|`` of row ``s`` (float32)."""
+    return abs((s[x + 1] - s[x - 1]) * np.float32(0.5))
+
+
+@kernel(nogil=True)
+def _row_peaks(s, threshold, m, i, columns):  # type: ignore[no-untyped-def]
+    """Columns of the peaks of row ``s`` into ``columns`` from index ``i``; the next
+    index.  ``|g|`` is computed once per pixel and kept for the three columns the test
+    sees."""
+    prev = _abs_g(s, m - 1)
+    cur = _abs_g(s, m)
     for x in range(m, s.shape[0] - m):
-        nxt = abs((s[x + 2] - s[x]) * half)
+        nxt = _abs_g(s, x + 1)
         if cur >= threshold and cur > prev and cur >= nxt:
-            line[i] = r
-            column[i] = x
-            mag_before[i] = prev
-            mag_peak[i] = cur
-            mag_after[i] = nxt
-            gradient[i] = (s[x + 1] - s[x - 1]) * half
+            columns[i] = x
             i += 1
         prev = cur
         cur = nxt
@@ -173,37 +174,36 @@ def gradient_peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
     """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of
     ``smoothed`` (the lines used, ``(L, W)`` float32):
     strictly above the left neighbour, at least the right one and ``threshold``, at
-    least ``m >= 2`` pixels inside the borders.  Returns the rows, columns, ``|g|`` at
-    the column and its neighbours, and ``g`` at the column (float32 arithmetic, as
-    NumPy's on the same arrays).
+    least ``m >= 2`` pixels inside the borders (float32 arithmetic, as NumPy's on the
+    same arrays).  Returns their lines and columns, ``(N,)`` int64 each, sorted.
 
-    One pass over the image: ``|g|`` is computed once per pixel, kept for the three
-    columns the test sees (:func:`_row_peaks`), and the peaks go into buffers that grow
-    (double) before a row that might not fit, never inside a row's loop."""
+    One pass over the image (:func:`_row_peaks`); the columns go into an int32 buffer
+    that grows (doubles) before a row that might not fit, never inside a row's loop.
+    The gradients at the peaks are not kept: :func:`peak_features` computes them again
+    from ``smoothed``, the same float32 values, so that the buffer is 4 bytes a peak."""
     n_rows, w = smoothed.shape
     cap = max(256, n_rows * w // 16)  # 6% of the pixels: few images grow it
-    line = np.empty(cap, np.int64)
-    column = np.empty(cap, np.int64)
-    mag_before = np.empty(cap, np.float32)  # |g| at column - 1
-    mag_peak = np.empty(cap, np.float32)  # |g| at the column
-    mag_after = np.empty(cap, np.float32)  # |g| at column + 1
-    gradient = np.empty(cap, np.float32)  # g at the column
+    buf = np.empty(cap, np.int32)
+    counts = np.zeros(n_rows, np.int64)
     i = 0
     if w - m > m:
         most = (w - 2 * m + 1) // 2 + 1  # peaks of a row: never two side by side
         for r in range(n_rows):
             if cap - i < most:  # room for a whole row, so the row's loop never grows
                 cap = max(2 * cap, i + most)
-                line = _grown(line, cap)
-                column = _grown(column, cap)
-                mag_before = _grown(mag_before, cap)
-                mag_peak = _grown(mag_peak, cap)
-                mag_after = _grown(mag_after, cap)
-                gradient = _grown(gradient, cap)
-            i = _row_peaks(smoothed[r], threshold, m, r, i, line, column, mag_before,
-                           mag_peak, mag_after, gradient)
-    return (line[:i].copy(), column[:i].copy(), mag_before[:i].copy(), mag_peak[:i].copy(),
-            mag_after[:i].copy(), gradient[:i].copy())
+                buf = _grown(buf, cap)
+            i0 = i
+            i = _row_peaks(smoothed[r], threshold, m, i, buf)
+            counts[r] = i - i0
+    line = np.empty(i, np.int64)
+    column = np.empty(i, np.int64)
+    k = 0
+    for r in range(n_rows):
+        for _ in range(counts[r]):
+            line[k] = r
+            column[k] = buf[k]
+            k += 1
+    return line, column
 
 
 @kernel(nogil=True)
@@ -237,8 +237,8 @@ def mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
-def peak_features(line, column, mag_before, mag_peak, mag_after, gradient, smoothed, grey,
-                  row_offset, row_step, subpixel, n_lines):  # type: ignore[no-untyped-def]
+def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
+                  n_lines):  # type: ignore[no-untyped-def]
     """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
     the grey levels before and after of the peaks of :func:`gradient_peaks` (float32
     arithmetic where NumPy's on the same arrays is float32)."""
@@ -253,19 +253,25 @@ def peak_features(line, column, mag_before, mag_peak, mag_after, gradient, smoot
     quarter = np.float32(0.25)
     two = np.float32(2.0)
     for i in range(n):
+        s = smoothed[line[i]]
+        c = column[i]
+        mag_before = _abs_g(s, c - 1)  # |g| at the column's left, the column, its right
+        mag_peak = _abs_g(s, c)
+        mag_after = _abs_g(s, c + 1)
+        gradient = (s[c + 1] - s[c - 1]) * half  # g at the column
         # -- sub-pixel position and magnitude: the vertex of the parabola through |g|
         offset = np.float32(0.0)
         if subpixel:
-            curvature = mag_before[i] - two * mag_peak[i] + mag_after[i]
+            curvature = mag_before - two * mag_peak + mag_after
             if curvature < 0:
-                offset = half * (mag_before[i] - mag_after[i]) / curvature
+                offset = half * (mag_before - mag_after) / curvature
                 offset = min(max(offset, -half), half)
-            mag[i] = mag_peak[i] - quarter * (mag_before[i] - mag_after[i]) * offset
+            mag[i] = mag_peak - quarter * (mag_before - mag_after) * offset
         else:
-            mag[i] = mag_peak[i]
-        x[i] = column[i] + np.float64(offset)
+            mag[i] = mag_peak
+        x[i] = c + np.float64(offset)
         # -- contrast sign, grey levels before and after
-        sign[i] = 1 if gradient[i] > 0 else (-1 if gradient[i] < 0 else 0)
+        sign[i] = 1 if gradient > 0 else (-1 if gradient < 0 else 0)
         before[i] = smoothed[line[i], min(max(column[i] - SIDE_OFFSET, 0), w - 1)]
         after[i] = smoothed[line[i], min(max(column[i] + SIDE_OFFSET, 0), w - 1)]
     # -- connectivity, pattern type, mean grey
@@ -283,18 +289,14 @@ def edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_
     """:func:`gradient_peaks`, with ``check`` only those on ``usable`` pixels, then
     :func:`peak_features`, in one call (one release of the interpreter lock for the
     image, not one per step); also the rows."""
-    line, column, mag_before, mag_peak, mag_after, gradient = gradient_peaks(
-        smoothed, threshold, m)
+    line, column = gradient_peaks(smoothed, threshold, m)
     row = row_offset + row_step * line
     if check:
         keep = np.empty(line.shape[0], np.bool_)
         for i in range(line.shape[0]):
             keep[i] = usable[row[i], column[i]]
         line, column, row = line[keep], column[keep], row[keep]
-        mag_before, mag_peak, mag_after = mag_before[keep], mag_peak[keep], mag_after[keep]
-        gradient = gradient[keep]
     x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = peak_features(
-        line, column, mag_before, mag_peak, mag_after, gradient, smoothed, grey, row_offset,
-        row_step, subpixel, n_lines)
+        line, column, smoothed, grey, row_offset, row_step, subpixel, n_lines)
     return (line, column, row, x, sign, mag, up, down, up_off, down_off, pattern, mean5,
             before, after)
