@@ -11,6 +11,9 @@ Each edge point ``P[i, j](d, s, m, p, a)`` (thesis 3.2) carries its position ``d
 (here ``x``, pixels), contrast sign ``s``, gradient magnitude ``m``, connectivity
 pattern type ``p`` (1..16) and 5 x 5 mean grey level ``a``; robostereo adds the
 grey levels on either side of the edge, which tell edges apart better than one mean.
+
+The loops over the rows and the edge points (gradient peaks in one pass, features,
+connectivity) are the numba kernels of :mod:`robostereo.matcher.edge_kernels`.
 """
 
 from __future__ import annotations
