@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import pytest
 from synthetic import render_profile
@@ -184,3 +185,11 @@ def test_outlines_between_textured_surfaces_are_located_without_bias() -> None:
     assert o.size > 300
     assert abs(np.median(o)) <= 0.1
     assert np.median(np.abs(o)) <= 0.4
+
+
+def test_colour_converted_in_blocks_equals_the_whole_image_at_once():
+    rgb = np.random.default_rng(4).integers(0, 256, (150, 517, 3)).astype(np.uint8)
+    assert rgb.shape[0] * rgb.shape[1] > 2 * (1 << 15)  # several blocks, the last partial
+    whole = cv2.cvtColor(rgb.astype(np.float32), cv2.COLOR_RGB2GRAY)
+    whole *= np.float32(127 / 255)
+    assert to_grey(rgb).tobytes() == whole.tobytes()

@@ -11,6 +11,9 @@ Each edge point ``P[i, j](d, s, m, p, a)`` (thesis 3.2) carries its position ``d
 (here ``x``, pixels), contrast sign ``s``, gradient magnitude ``m``, connectivity
 pattern type ``p`` (1..16) and 5 x 5 mean grey level ``a``; robostereo adds the
 grey levels on either side of the edge, which tell edges apart better than one mean.
+
+The loops over the rows and the edge points (gradient peaks in one pass, features,
+connectivity) are the numba kernels of :mod:`robostereo.matcher.edge_kernels`.
 """
 
 from __future__ import annotations
@@ -22,7 +25,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError, require_int, require_positive
-from robostereo.matcher.jit import kernel
+from robostereo.matcher.edge_kernels import SIDE_OFFSET, connect, edge_points, patterns
 
 __all__ = [
     "SEED_KERNEL",
@@ -55,9 +58,6 @@ image constant."""
 
 #: grey levels of the thesis's vision system: 0..127 (7 bit)
 SEED_GREY_LEVELS = 128
-
-#: how far (pixels) the grey levels beside an edge are sampled, either side
-SIDE_OFFSET = 4
 
 #: edge points lie at least this many pixels inside the left and right borders, so that
 #: their features (5 x 5 window, side grey levels) are not cut by the border
@@ -94,10 +94,11 @@ def usable_pixels(valid: ArrayLike) -> NDArray[np.bool_]:
                      borderValue=1).astype(bool)
 
 
-#: pixels of a colour image converted at a time (a float buffer of 3 MiB, not a float
-#: copy of the whole image; few enough calls that two images converted on two threads
-#: do not queue for the interpreter lock between them)
-_GREY_BLOCK_PIXELS = 1 << 18
+#: pixels of a colour image converted at a time (a float buffer of 384 KiB, not a float
+#: copy of the whole image: the 3 MiB buffers of two images converted side by side were
+#: a third of the matcher's peak memory on a colour scene; a dozen calls an image still
+#: cost little next to the conversion; the grey levels do not depend on the block)
+_GREY_BLOCK_PIXELS = 1 << 15
 
 
 def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
@@ -309,28 +310,8 @@ def pattern_type(up_offset: ArrayLike, down_offset: ArrayLike, has_up: ArrayLike
                                        np.asarray(down_offset, dtype=np.int64),
                                        np.asarray(has_up, dtype=bool),
                                        np.asarray(has_down, dtype=bool))
-    out = _patterns(u.ravel(), v.ravel(), hu.ravel(), hd.ravel())
+    out = patterns(u.ravel(), v.ravel(), hu.ravel(), hd.ravel())
     return out.reshape(u.shape)
-
-
-@kernel(nogil=True)
-def _pattern(u, v, hu, hd):  # type: ignore[no-untyped-def]
-    """Pattern type of one edge point (:func:`pattern_type`)."""
-    if hu and hd:
-        return 1 + 3 * (u + 1) + (v + 1)
-    if hu:
-        return 11 + u
-    if hd:
-        return 14 + v
-    return 16
-
-
-@kernel(nogil=True)
-def _patterns(u, v, hu, hd):  # type: ignore[no-untyped-def]
-    out = np.empty(u.shape[0], np.int8)
-    for i in range(u.shape[0]):
-        out[i] = _pattern(u[i], v[i], hu[i], hd[i])
-    return out
 
 
 def pattern_difference(
@@ -379,171 +360,10 @@ def connectivity(
     up_offset, down_offset : ndarray of int8, shape (N,)
         Its column offset -1, 0 or +1 (0 where none).
     """
-    up, down, up_off, down_off = _connect(
+    up, down, up_off, down_off = connect(
         np.ascontiguousarray(line, dtype=np.int64), np.ascontiguousarray(column, dtype=np.int64),
         np.ascontiguousarray(sign, dtype=np.int8), int(n_lines), int(width))
     return up.astype(np.intp), down.astype(np.intp), up_off, down_off
-
-
-@kernel(nogil=True)
-def _connect(line, column, sign, n_lines, width):  # type: ignore[no-untyped-def]
-    n = line.shape[0]
-    stride = width + 2
-    grid = np.full((n_lines + 2) * stride, -1, dtype=np.int64)
-    for i in range(n):
-        grid[(line[i] + 1) * stride + column[i] + 1] = i
-    up = np.full(n, -1, dtype=np.int64)
-    down = np.full(n, -1, dtype=np.int64)
-    up_off = np.zeros(n, dtype=np.int8)
-    down_off = np.zeros(n, dtype=np.int8)
-    for i in range(n):
-        base = (line[i] + 1) * stride + column[i] + 1
-        for dl in (-1, 1):
-            for o in (0, -1, 1):  # straight above (below) first, then -1, then +1
-                c = grid[base + dl * stride + o]
-                if c >= 0 and sign[c] == sign[i]:
-                    if dl < 0:
-                        up[i] = c
-                        up_off[i] = o
-                    else:
-                        down[i] = c
-                        down_off[i] = o
-                    break
-    return up, down, up_off, down_off
-
-
-@kernel(nogil=True)
-def _abs_gradient(s, out):  # type: ignore[no-untyped-def]
-    """``out[x] = |(s[x + 1] - s[x - 1]) / 2|`` for 1 <= x <= w - 2 (float32)."""
-    half = np.float32(0.5)
-    for x in range(1, s.shape[0] - 1):
-        out[x] = abs((s[x + 1] - s[x - 1]) * half)
-
-
-@kernel(nogil=True)
-def _peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
-    """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of
-    ``smoothed`` (the lines used, ``(L, W)`` float32):
-    strictly above the left neighbour, at least the right one and ``threshold``, at
-    least ``m`` pixels inside the borders.  Returns the rows, columns, ``|g|`` at the
-    column and its neighbours, and ``g`` at the column (float32 arithmetic, as NumPy's
-    on the same arrays)."""
-    n_rows, w = smoothed.shape
-    mag_row = np.zeros(w, np.float32)  # |g| of one row: computed again in the second pass
-    # -- count the peaks
-    count = 0
-    for r in range(n_rows):
-        _abs_gradient(smoothed[r], mag_row)
-        for x in range(m, w - m):
-            if (mag_row[x] >= threshold and mag_row[x] > mag_row[x - 1]
-                    and mag_row[x] >= mag_row[x + 1]):
-                count += 1
-    # -- record them
-    line = np.empty(count, np.int64)
-    column = np.empty(count, np.int64)
-    mag_before = np.empty(count, np.float32)  # |g| at column - 1
-    mag_peak = np.empty(count, np.float32)  # |g| at the column
-    mag_after = np.empty(count, np.float32)  # |g| at column + 1
-    gradient = np.empty(count, np.float32)  # g at the column
-    i = 0
-    half = np.float32(0.5)
-    for r in range(n_rows):
-        _abs_gradient(smoothed[r], mag_row)
-        for x in range(m, w - m):
-            if (mag_row[x] >= threshold and mag_row[x] > mag_row[x - 1]
-                    and mag_row[x] >= mag_row[x + 1]):
-                line[i] = r
-                column[i] = x
-                mag_before[i] = mag_row[x - 1]
-                mag_peak[i] = mag_row[x]
-                mag_after[i] = mag_row[x + 1]
-                gradient[i] = (smoothed[r, x + 1] - smoothed[r, x - 1]) * half
-                i += 1
-    return line, column, mag_before, mag_peak, mag_after, gradient
-
-
-@kernel(nogil=True)
-def _mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
-    """Mean of the 5 x 5 grey levels around each pixel, the border reflected
-    (``cv2.BORDER_REFLECT_101``), summed in float64."""
-    h, w = g.shape
-    out = np.empty(rows.shape[0], np.float64)
-    for i in range(rows.shape[0]):
-        acc = 0.0
-        for dy in range(-2, 3):
-            y = rows[i] + dy
-            y = -y if y < 0 else (2 * (h - 1) - y if y > h - 1 else y)
-            y = min(max(y, 0), h - 1)  # images under 3 rows: reflect once, then clamp
-            for dx in range(-2, 3):
-                x = cols[i] + dx
-                x = -x if x < 0 else (2 * (w - 1) - x if x > w - 1 else x)
-                x = min(max(x, 0), w - 1)
-                acc += g[y, x]
-        out[i] = acc / 25.0
-    return out
-
-
-@kernel(nogil=True)
-def _features(line, column, mag_before, mag_peak, mag_after, gradient, smoothed, grey,
-              row_offset, row_step, subpixel, n_lines):  # type: ignore[no-untyped-def]
-    """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
-    the grey levels before and after of the peaks (float32 arithmetic where NumPy's
-    on the same arrays is float32)."""
-    n = line.shape[0]
-    w = smoothed.shape[1]
-    x = np.empty(n, np.float64)
-    mag = np.empty(n, np.float64)
-    sign = np.empty(n, np.int8)
-    before = np.empty(n, np.float64)
-    after = np.empty(n, np.float64)
-    half = np.float32(0.5)
-    quarter = np.float32(0.25)
-    two = np.float32(2.0)
-    for i in range(n):
-        # -- sub-pixel position and magnitude: the vertex of the parabola through |g|
-        offset = np.float32(0.0)
-        if subpixel:
-            curvature = mag_before[i] - two * mag_peak[i] + mag_after[i]
-            if curvature < 0:
-                offset = half * (mag_before[i] - mag_after[i]) / curvature
-                offset = min(max(offset, -half), half)
-            mag[i] = mag_peak[i] - quarter * (mag_before[i] - mag_after[i]) * offset
-        else:
-            mag[i] = mag_peak[i]
-        x[i] = column[i] + np.float64(offset)
-        # -- contrast sign, grey levels before and after
-        sign[i] = 1 if gradient[i] > 0 else (-1 if gradient[i] < 0 else 0)
-        before[i] = smoothed[line[i], min(max(column[i] - SIDE_OFFSET, 0), w - 1)]
-        after[i] = smoothed[line[i], min(max(column[i] + SIDE_OFFSET, 0), w - 1)]
-    # -- connectivity, pattern type, mean grey
-    up, down, up_off, down_off = _connect(line, column, sign, n_lines, w)
-    pattern = np.empty(n, np.int8)
-    for i in range(n):
-        pattern[i] = _pattern(up_off[i], down_off[i], up[i] >= 0, down[i] >= 0)
-    mean5 = _mean5_at(grey, row_offset + row_step * line, column)
-    return x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
-
-
-@kernel(nogil=True)
-def _edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_lines,
-                 usable, check):  # type: ignore[no-untyped-def]
-    """:func:`_peaks`, with ``check`` only those on ``usable`` pixels, then
-    :func:`_features`, in one call (one release of the interpreter lock for the image,
-    not one per step); also the rows."""
-    line, column, mag_before, mag_peak, mag_after, gradient = _peaks(smoothed, threshold, m)
-    row = row_offset + row_step * line
-    if check:
-        keep = np.empty(line.shape[0], np.bool_)
-        for i in range(line.shape[0]):
-            keep[i] = usable[row[i], column[i]]
-        line, column, row = line[keep], column[keep], row[keep]
-        mag_before, mag_peak, mag_after = mag_before[keep], mag_peak[keep], mag_after[keep]
-        gradient = gradient[keep]
-    x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = _features(
-        line, column, mag_before, mag_peak, mag_after, gradient, smoothed, grey, row_offset,
-        row_step, subpixel, n_lines)
-    return (line, column, row, x, sign, mag, up, down, up_off, down_off, pattern, mean5,
-            before, after)
 
 
 def detect_edges(
@@ -642,7 +462,7 @@ def detect_edges(
             raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
         usable = usable_pixels(vm)
     k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = (
-        _edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step), bool(subpixel),
+        edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step), bool(subpixel),
                      int(n_lines), usable, valid is not None))
     return EdgeSet(
         line=k.astype(np.intp, copy=False), row=r.astype(np.intp, copy=False), x=x,

@@ -1,0 +1,302 @@
+"""Numba kernels of the edge stage: gradient peaks along rows and their features.
+
+:func:`edge_points` is what :func:`robostereo.matcher.edges.detect_edges` calls on the
+smoothed image: the peaks of the row gradient (:func:`gradient_peaks`, thesis 3.1), then
+their features (:func:`peak_features`, thesis 3.2): sub-pixel position, sign,
+connectivity (:func:`connect_sorted`), pattern type (:func:`pattern_of`), 5 x 5 mean grey
+(:func:`mean5_at`) and the grey levels either side.  :func:`connect` and :func:`patterns`
+serve :func:`robostereo.matcher.edges.connectivity` and
+:func:`robostereo.matcher.edges.pattern_type` on points in any order.  Only numba
+functions and the constants they compile in.
+
+References
+----------
+.. [1] T.-Q. Kim, "A robot vision system for determining 3-D coordinates of
+   object points", M.S. thesis, NJIT, 1989, sections 3.1-3.2.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from robostereo.matcher.jit import kernel
+
+__all__ = [
+    "SIDE_OFFSET",
+    "connect",
+    "connect_sorted",
+    "edge_points",
+    "gradient_peaks",
+    "mean5_at",
+    "pattern_of",
+    "patterns",
+    "peak_features",
+]
+
+#: how far (pixels) the grey levels beside an edge are sampled, either side
+SIDE_OFFSET = 4
+
+
+@kernel(nogil=True)
+def pattern_of(u, v, hu, hd):  # type: ignore[no-untyped-def]
+    """Pattern type 1..16 of one edge point from its neighbours' offsets ``u`` (above),
+    ``v`` (below) and whether it has them (:func:`robostereo.matcher.edges.pattern_type`)."""
+    if hu and hd:
+        return 1 + 3 * (u + 1) + (v + 1)
+    if hu:
+        return 11 + u
+    if hd:
+        return 14 + v
+    return 16
+
+
+@kernel(nogil=True)
+def patterns(u, v, hu, hd):  # type: ignore[no-untyped-def]
+    """:func:`pattern_of` of each point of ``(N,)`` arrays; ``(N,)`` int8."""
+    out = np.empty(u.shape[0], np.int8)
+    for i in range(u.shape[0]):
+        out[i] = pattern_of(u[i], v[i], hu[i], hd[i])
+    return out
+
+
+@kernel(nogil=True)
+def connect(line, column, sign, n_lines, width):  # type: ignore[no-untyped-def]
+    """Connected neighbours above and below of points in any order, through a grid of
+    ``(n_lines + 2) x (width + 2)`` indices (:func:`robostereo.matcher.edges.connectivity`).
+
+    Returns ``up, down`` (index or -1) and ``up_off, down_off`` (int8 offset -1..1)."""
+    n = line.shape[0]
+    stride = width + 2
+    grid = np.full((n_lines + 2) * stride, -1, dtype=np.int64)
+    for i in range(n):
+        grid[(line[i] + 1) * stride + column[i] + 1] = i
+    up = np.full(n, -1, dtype=np.int64)
+    down = np.full(n, -1, dtype=np.int64)
+    up_off = np.zeros(n, dtype=np.int8)
+    down_off = np.zeros(n, dtype=np.int8)
+    for i in range(n):
+        base = (line[i] + 1) * stride + column[i] + 1
+        for dl in (-1, 1):
+            for o in (0, -1, 1):  # straight above (below) first, then -1, then +1
+                c = grid[base + dl * stride + o]
+                if c >= 0 and sign[c] == sign[i]:
+                    if dl < 0:
+                        up[i] = c
+                        up_off[i] = o
+                    else:
+                        down[i] = c
+                        down_off[i] = o
+                    break
+    return up, down, up_off, down_off
+
+
+@kernel(nogil=True)
+def _nearest(column, sign, c, sg, j, end):  # type: ignore[no-untyped-def]
+    """Among points ``j..end-1`` of one line (columns ascending, the first at column
+    ``c - 1`` or beyond) the one of sign ``sg`` at column ``c``, else ``c - 1``, else
+    ``c + 1``: its index and offset, or -1 and 0."""
+    best = -1
+    best_rank = 3
+    best_o = 0
+    while j < end and column[j] <= c + 1:
+        if sign[j] == sg:
+            o = column[j] - c
+            rank = 0 if o == 0 else (1 if o < 0 else 2)  # 0, then -1, then +1
+            if rank < best_rank:
+                best, best_rank, best_o = j, rank, o
+        j += 1
+    return best, best_o
+
+
+@kernel(nogil=True)
+def connect_sorted(line, column, sign, n_lines):  # type: ignore[no-untyped-def]
+    """:func:`connect` of points sorted by ``(line, column)`` with no two at one place,
+    without the grid: each line is walked beside the lines above and below, a pointer
+    into each that only moves forward.  The same result, in memory of order ``N``."""
+    n = line.shape[0]
+    starts = np.zeros(n_lines + 1, np.int64)  # points of line l: starts[l] .. starts[l + 1]
+    for i in range(n):
+        starts[line[i] + 1] += 1
+    for k in range(n_lines):
+        starts[k + 1] += starts[k]
+    up = np.full(n, -1, dtype=np.int64)
+    down = np.full(n, -1, dtype=np.int64)
+    up_off = np.zeros(n, dtype=np.int8)
+    down_off = np.zeros(n, dtype=np.int8)
+    for k in range(n_lines):
+        pu = starts[k - 1] if k > 0 else 0  # the line above: empty for the first line
+        eu = starts[k] if k > 0 else 0
+        pd = starts[k + 1]  # the line below: empty for the last line
+        ed = starts[k + 2] if k + 1 < n_lines else pd
+        for i in range(starts[k], starts[k + 1]):
+            c = column[i]
+            while pu < eu and column[pu] < c - 1:
+                pu += 1
+            while pd < ed and column[pd] < c - 1:
+                pd += 1
+            up[i], up_off[i] = _nearest(column, sign, c, sign[i], pu, eu)
+            down[i], down_off[i] = _nearest(column, sign, c, sign[i], pd, ed)
+    return up, down, up_off, down_off
+
+
+@kernel(nogil=True)
+def _grown(a, size):  # type: ignore[no-untyped-def]
+    out = np.empty(size, a.dtype)
+    out[:a.shape[0]] = a
+    return out
+
+
+@kernel(nogil=True)
+def _abs_g(s, x):  # type: ignore[no-untyped-def]
+    """``|g(x)| = |(s[x + 1] - s[x - 1]) / 2|`` of row ``s`` (float32)."""
+    return abs((s[x + 1] - s[x - 1]) * np.float32(0.5))
+
+
+@kernel(nogil=True)
+def _row_peaks(s, threshold, m, i, columns):  # type: ignore[no-untyped-def]
+    """Columns of the peaks of row ``s`` into ``columns`` from index ``i``; the next
+    index.  ``|g|`` is computed once per pixel and kept for the three columns the test
+    sees."""
+    prev = _abs_g(s, m - 1)
+    cur = _abs_g(s, m)
+    for x in range(m, s.shape[0] - m):
+        nxt = _abs_g(s, x + 1)
+        if cur >= threshold and cur > prev and cur >= nxt:
+            columns[i] = x
+            i += 1
+        prev = cur
+        cur = nxt
+    return i
+
+
+@kernel(nogil=True)
+def gradient_peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
+    """Peaks of ``|g|``, ``g(x) = (S(x + 1) - S(x - 1)) / 2`` along each row of
+    ``smoothed`` (the lines used, ``(L, W)`` float32):
+    strictly above the left neighbour, at least the right one and ``threshold``, at
+    least ``m >= 2`` pixels inside the borders (float32 arithmetic, as NumPy's on the
+    same arrays).  Returns their lines and columns, ``(N,)`` int64 each, sorted.
+
+    One pass over the image (:func:`_row_peaks`); the columns go into an int32 buffer
+    that grows (doubles) before a row that might not fit, never inside a row's loop.
+    The gradients at the peaks are not kept: :func:`peak_features` computes them again
+    from ``smoothed``, the same float32 values, so that the buffer is 4 bytes a peak."""
+    n_rows, w = smoothed.shape
+    cap = max(256, n_rows * w // 16)  # 6% of the pixels: few images grow it
+    buf = np.empty(cap, np.int32)
+    counts = np.zeros(n_rows, np.int64)
+    i = 0
+    if w - m > m:
+        most = (w - 2 * m + 1) // 2 + 1  # peaks of a row: never two side by side
+        for r in range(n_rows):
+            if cap - i < most:  # room for a whole row, so the row's loop never grows
+                cap = max(2 * cap, i + most)
+                buf = _grown(buf, cap)
+            i0 = i
+            i = _row_peaks(smoothed[r], threshold, m, i, buf)
+            counts[r] = i - i0
+    line = np.empty(i, np.int64)
+    column = np.empty(i, np.int64)
+    k = 0
+    for r in range(n_rows):
+        for _ in range(counts[r]):
+            line[k] = r
+            column[k] = buf[k]
+            k += 1
+    return line, column
+
+
+@kernel(nogil=True)
+def mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
+    """Mean of the 5 x 5 grey levels of ``g`` ``(H, W)`` around each pixel
+    ``(rows[i], cols[i])``, the border reflected (``cv2.BORDER_REFLECT_101``), summed in
+    float64 row by row; ``(N,)`` float64."""
+    h, w = g.shape
+    out = np.empty(rows.shape[0], np.float64)
+    for i in range(rows.shape[0]):
+        acc = 0.0
+        r0 = rows[i]
+        c0 = cols[i]
+        if 2 <= r0 < h - 2 and 2 <= c0 < w - 2:  # inside: no reflection, the same order
+            for y in range(r0 - 2, r0 + 3):
+                for x in range(c0 - 2, c0 + 3):
+                    acc += g[y, x]
+            out[i] = acc / 25.0
+            continue
+        for dy in range(-2, 3):
+            y = r0 + dy
+            y = -y if y < 0 else (2 * (h - 1) - y if y > h - 1 else y)
+            y = min(max(y, 0), h - 1)  # images under 3 rows: reflect once, then clamp
+            for dx in range(-2, 3):
+                x = c0 + dx
+                x = -x if x < 0 else (2 * (w - 1) - x if x > w - 1 else x)
+                x = min(max(x, 0), w - 1)
+                acc += g[y, x]
+        out[i] = acc / 25.0
+    return out
+
+
+@kernel(nogil=True)
+def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
+                  n_lines):  # type: ignore[no-untyped-def]
+    """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
+    the grey levels before and after of the peaks of :func:`gradient_peaks` (float32
+    arithmetic where NumPy's on the same arrays is float32)."""
+    n = line.shape[0]
+    w = smoothed.shape[1]
+    x = np.empty(n, np.float64)
+    mag = np.empty(n, np.float64)
+    sign = np.empty(n, np.int8)
+    before = np.empty(n, np.float64)
+    after = np.empty(n, np.float64)
+    half = np.float32(0.5)
+    quarter = np.float32(0.25)
+    two = np.float32(2.0)
+    for i in range(n):
+        s = smoothed[line[i]]
+        c = column[i]
+        mag_before = _abs_g(s, c - 1)  # |g| at the column's left, the column, its right
+        mag_peak = _abs_g(s, c)
+        mag_after = _abs_g(s, c + 1)
+        gradient = (s[c + 1] - s[c - 1]) * half  # g at the column
+        # -- sub-pixel position and magnitude: the vertex of the parabola through |g|
+        offset = np.float32(0.0)
+        if subpixel:
+            curvature = mag_before - two * mag_peak + mag_after
+            if curvature < 0:
+                offset = half * (mag_before - mag_after) / curvature
+                offset = min(max(offset, -half), half)
+            mag[i] = mag_peak - quarter * (mag_before - mag_after) * offset
+        else:
+            mag[i] = mag_peak
+        x[i] = c + np.float64(offset)
+        # -- contrast sign, grey levels before and after
+        sign[i] = 1 if gradient > 0 else (-1 if gradient < 0 else 0)
+        before[i] = smoothed[line[i], min(max(column[i] - SIDE_OFFSET, 0), w - 1)]
+        after[i] = smoothed[line[i], min(max(column[i] + SIDE_OFFSET, 0), w - 1)]
+    # -- connectivity, pattern type, mean grey
+    up, down, up_off, down_off = connect_sorted(line, column, sign, n_lines)
+    pattern = np.empty(n, np.int8)
+    for i in range(n):
+        pattern[i] = pattern_of(up_off[i], down_off[i], up[i] >= 0, down[i] >= 0)
+    mean5 = mean5_at(grey, row_offset + row_step * line, column)
+    return x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
+
+
+@kernel(nogil=True)
+def edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_lines,
+                usable, check):  # type: ignore[no-untyped-def]
+    """:func:`gradient_peaks`, with ``check`` only those on ``usable`` pixels, then
+    :func:`peak_features`, in one call (one release of the interpreter lock for the
+    image, not one per step); also the rows."""
+    line, column = gradient_peaks(smoothed, threshold, m)
+    row = row_offset + row_step * line
+    if check:
+        keep = np.empty(line.shape[0], np.bool_)
+        for i in range(line.shape[0]):
+            keep[i] = usable[row[i], column[i]]
+        line, column, row = line[keep], column[keep], row[keep]
+    x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = peak_features(
+        line, column, smoothed, grey, row_offset, row_step, subpixel, n_lines)
+    return (line, column, row, x, sign, mag, up, down, up_off, down_off, pattern, mean5,
+            before, after)

@@ -1,0 +1,62 @@
+"""The edge stage's kernels against plain NumPy and the grid connectivity."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from robostereo.matcher.edge_kernels import (
+    connect,
+    connect_sorted,
+    gradient_peaks,
+    mean5_at,
+)
+
+
+def _numpy_peaks(s: np.ndarray, threshold: np.float32, m: int):
+    """The peak test written with whole-array NumPy operations (float32)."""
+    mag = np.zeros_like(s)
+    g = (s[:, 2:] - s[:, :-2]) * np.float32(0.5)
+    mag[:, 1:-1] = np.abs(g)
+    w = s.shape[1]
+    c = mag[:, m:w - m]
+    hit = (c >= threshold) & (c > mag[:, m - 1:w - m - 1]) & (c >= mag[:, m + 1:w - m + 1])
+    rows, cols = np.nonzero(hit)
+    return rows, cols + m
+
+
+@pytest.mark.parametrize("shape", [(40, 60), (3, 400), (9, 11), (6, 10)])
+def test_one_pass_peaks_equal_numpy_even_when_the_buffers_grow(shape):
+    # noise has a peak every third or fourth pixel, far above the buffers' first size
+    s = np.random.default_rng(3).uniform(0, 127, shape).astype(np.float32)  # (H, W)
+    thr = np.float32(2.0)
+    got = gradient_peaks(s, thr, 5)
+    want = _numpy_peaks(s, thr, 5)
+    assert got[0].shape[0] == want[0].shape[0]
+    if shape[1] > 11:
+        assert got[0].shape[0] > max(256, shape[0] * shape[1] // 16)  # the buffers grew
+    for a, b in zip(got, want, strict=True):
+        assert a.dtype == np.int64 and np.array_equal(a, b)
+
+
+def test_walking_connectivity_equals_the_grid():
+    rng = np.random.default_rng(5)
+    n_lines, width = 30, 25
+    taken = rng.random((n_lines, width)) < 0.4
+    line, column = np.nonzero(taken)  # sorted by (line, column), one point a place
+    sign = rng.choice(np.array([-1, 1], np.int8), line.shape[0])
+    walked = connect_sorted(line.astype(np.int64), column.astype(np.int64), sign, n_lines)
+    grid = connect(line.astype(np.int64), column.astype(np.int64), sign, n_lines, width)
+    assert (walked[0] >= 0).sum() > 50  # many connections to compare
+    for a, b in zip(walked, grid, strict=True):
+        assert a.dtype == b.dtype and np.array_equal(a, b)
+
+
+def test_mean5_inside_and_at_the_border_equals_a_reflected_window():
+    g = np.random.default_rng(7).uniform(0, 127, (8, 9)).astype(np.float32)
+    padded = np.pad(g.astype(np.float64), 2, mode="reflect")  # = BORDER_REFLECT_101
+    rows, cols = np.meshgrid(np.arange(8), np.arange(9), indexing="ij")
+    got = mean5_at(g, rows.ravel(), cols.ravel())
+    want = [padded[r:r + 5, c:c + 5].mean()
+            for r, c in zip(rows.ravel(), cols.ravel(), strict=True)]
+    assert np.allclose(got, want, rtol=0, atol=1e-12)
