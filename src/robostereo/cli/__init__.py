@@ -4,7 +4,8 @@ Every user error (bad file, bad parameter, bad image) is reported as one line on
 standard error, ``robostereo: error: ...``, with exit code 2 and no partial output;
 input that is used but looks wrong (:class:`~robostereo.errors.PlausibilityWarning`)
 as ``robostereo: warning: ...``.  SIGTERM ends a command as SIGINT does: one line,
-exit code 143 (130 for SIGINT), nothing half-written.
+exit code 143 (130 for SIGINT), nothing half-written: a command's outputs appear all
+together or not at all (an interrupt after they are in place leaves them whole).
 
 The commands live by group: :mod:`robostereo.cli.matching` (``match``, ``rig``,
 ``evaluate``, ``batch``) and :mod:`robostereo.cli.robot` (``demo``, ``capture``,
