@@ -577,7 +577,8 @@ def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
     Matched: of the central reference view's edge points with a known depth that cross
     the epipolar line of some other view at `min_angle_deg` or more (the ones the views
     can measure: the thesis's matcher, too, counts only edge points found along its
-    rows), those with a located point (from any reference) within 1 pixel in that view;
+    rows), those with a located point (from any reference) within 1 pixel in that view
+    (both in its undistorted image);
     `matched_all` counts every edge point with a known depth.  False: located points
     that are not right by :func:`views_correct`.  Only the points with a confidence of
     at least `min_confidence` count.
@@ -589,7 +590,14 @@ def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
                        kind="stable")
     ref = int(order[0])
     edges = reference_edges(views, ref, threshold, 5)
-    known = np.isfinite(sim.renderings[ref].depth[edges.grid[:, 1], edges.grid[:, 0]])
+    # edge pixels are in the undistorted image, the renderings in the grabbed one
+    cam = cap.camera
+    c = np.array(cam.principal_point)
+    grab = cam.distort((edges.pixel - c) / [cam.fx, cam.fy]) * [cam.fx, cam.fy] + c
+    h, w = sim.renderings[ref].depth.shape
+    gx = np.clip(np.rint(grab[:, 0]).astype(np.intp), 0, w - 1)
+    gy = np.clip(np.rint(grab[:, 1]).astype(np.intp), 0, h - 1)
+    known = np.isfinite(sim.renderings[ref].depth[gy, gx])
     # the edges the views can measure: across some baseline's image direction
     dirs = np.delete((views.C - views.C[ref]) @ views.R[ref], ref, axis=0)[:, :2]
     dirs /= np.maximum(np.linalg.norm(dirs, axis=1, keepdims=True), 1e-12)
@@ -597,7 +605,7 @@ def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
     near = np.zeros(len(edges), bool)
     false = int((~views_correct(sim, located)).sum())
     if len(located):
-        uv, _ = cap.camera.project(located.world, cap.poses[ref])
+        uv, _ = views.project(located.world, ref)
         near = cKDTree(uv).query(edges.pixel)[0] <= 1.0
     counted = known & across
     matched = float((near & counted).sum() / max(int(counted.sum()), 1))
