@@ -177,3 +177,18 @@ def test_points_below_the_least_confidence_get_the_no_match_label(occluder):
     assert false_every > 0.02
     assert false <= 0.5 * false_every and false <= 0.02
     assert right.sum() >= 0.9 * right_every.sum()
+
+
+def test_a_generous_depth_range_is_narrowed_to_the_scene(block_line):
+    import dataclasses
+
+    sim, tight = block_line
+    wide = dataclasses.replace(sim.capture, depth_range_mm=(300.0, 1070.0))
+    loc = locate_views(wide)
+    every = locate_views(wide, params=ViewsParameters(range_step_px=None))
+    on, err, _ = views_block_truth(sim, loc)
+    # the same block top as from the capture's tight range, every point within its bound
+    assert abs(on.sum() - views_block_truth(sim, tight)[0].sum()) <= 0.05 * on.sum()
+    assert np.all(np.abs(err[on]) <= loc.bound_mm[on])
+    # no point outside the scene's depths (the table 1050 mm below the camera)
+    assert loc.depth_mm.min() > 800.0 and len(loc) >= 0.95 * len(every)
