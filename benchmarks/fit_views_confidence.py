@@ -5,7 +5,10 @@ Run:  python benchmarks/fit_views_confidence.py
 Scenes (simulated, with ground truth): the hub-pulley from 5 views on a line, in a cross
 and from the six-axis arm; the block from 5 views on a line and in a cross; a post
 before a printed plane (an occluder) from 5 views on a line.  Each located point is right
-or wrong by :func:`robostereo.experiments.views_correct`.  The features are those of
+or wrong by :func:`robostereo.experiments.views_correct`; every point is kept
+(``min_confidence=0``) and the capture's whole depth range searched
+(``range_step_px=None``: the narrowing itself keeps points by this confidence).
+The features are those of
 :func:`robostereo.robot.multiview.views_confidence`; the weights are fitted by
 iteratively reweighted least squares (a logistic regression) on all scenes but one and
 scored on the one left out: the share of wrong points, the mean confidence, and the
@@ -98,7 +101,9 @@ def main() -> int:
     data = {}
     for name, kw in scenes.items():
         sim = simulate_views(count=5, span_mm=80.0, **kw)
-        loc = locate_views(sim.capture, params=ViewsParameters(min_confidence=0.0))
+        # every point the search offers, over the capture's whole depth range
+        loc = locate_views(sim.capture, params=ViewsParameters(min_confidence=0.0,
+                                                                range_step_px=None))
         data[name] = (confidence_features(loc), views_correct(sim, loc).astype(float))
         print(f"{name}: {len(loc)} points, {100 * (1 - data[name][1].mean()):.2f} % wrong",
               flush=True)
