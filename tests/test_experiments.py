@@ -207,4 +207,36 @@ def test_views_demo_locates_the_block_within_its_bounds_and_the_pulley():
     # wrong pulley points than 2 (whose fits cannot check themselves)
     assert five["median_bound_mm"] < two["median_bound_mm"]
     assert five["pulley_false"] < two["pulley_false"]
-    assert five["pulley_false"] < 0.05
+    # the points reported (confidence >= min_confidence): the target is 0.5 % false
+    assert five["pulley_false"] < 0.01 and five["pulley_matched"] > 0.98
+
+
+def test_views_pulley_score_counts_the_true_points_of_a_distorted_camera_as_matched():
+    # the six-axis camera has lens distortion: the score must compare the edge points
+    # and the located points in one image (a located point exactly at the truth of
+    # every edge point of the central view is matched and right)
+    from robostereo.experiments import views_pulley_score
+    from robostereo.robot.multiview import LocatedViews
+    from robostereo.robot.multiview_search import prepare_views, reference_edges
+    from robostereo.robot.simulated_views import simulate_views
+
+    sim = simulate_views("pulley", count=3, span_mm=40.0, robot="six-axis")
+    ref, cam = 1, sim.capture.camera
+    edges = reference_edges(prepare_views(sim.capture), ref, 8.0, 5)
+    c = np.array(cam.principal_point)
+    f = np.array([cam.fx, cam.fy])
+    grab = cam.distort((edges.pixel - c) / f) * f + c
+    u, v = np.rint(grab).astype(int).T
+    d = sim.renderings[ref].depth
+    keep = np.isfinite(d[v, u])
+    grab, u, v = grab[keep], u[keep], v[keep]
+    world = cam.backproject(grab, d[v, u], sim.capture.poses[ref])
+    m = len(world)
+    z = np.zeros(m)
+    loc = LocatedViews(world=world, bound_mm=z + 1.0, confidence=z + 1.0,
+                       view_count=np.full(m, 3), reference=np.full(m, ref),
+                       pixel=grab, depth_mm=d[v, u], views=np.ones((m, 3), bool),
+                       residual_px=z, window_cost=z, distinct=z, views_seen=np.full(m, 2))
+    matched, false, matched_all = views_pulley_score(sim, loc)
+    assert matched > 0.97 and matched_all > 0.97
+    assert false < 0.01

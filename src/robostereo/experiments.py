@@ -569,14 +569,6 @@ def views_correct(sim: SimulatedViews, located: LocatedViews) -> NDArray[np.bool
     return ok
 
 
-def _confident(located: LocatedViews, least: float) -> LocatedViews:
-    keep = located.confidence >= least
-    if keep.all():
-        return located
-    return LocatedViews(**{f: getattr(located, f)[keep]
-                           for f in located.__dataclass_fields__})
-
-
 def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
                        threshold: float = 8.0, min_angle_deg: float = 15.0,
                        min_confidence: float = 0.0) -> tuple[float, float, float]:
@@ -585,19 +577,27 @@ def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
     Matched: of the central reference view's edge points with a known depth that cross
     the epipolar line of some other view at `min_angle_deg` or more (the ones the views
     can measure: the thesis's matcher, too, counts only edge points found along its
-    rows), those with a located point (from any reference) within 1 pixel in that view;
+    rows), those with a located point (from any reference) within 1 pixel in that view
+    (both in its undistorted image);
     `matched_all` counts every edge point with a known depth.  False: located points
     that are not right by :func:`views_correct`.  Only the points with a confidence of
     at least `min_confidence` count.
     """
-    located = _confident(located, min_confidence)
+    located = located.subset(located.confidence >= min_confidence)
     cap = sim.capture
     views = prepare_views(cap)
     order = np.argsort(np.linalg.norm(cap.centres - cap.centres.mean(axis=0), axis=1),
                        kind="stable")
     ref = int(order[0])
     edges = reference_edges(views, ref, threshold, 5)
-    known = np.isfinite(sim.renderings[ref].depth[edges.grid[:, 1], edges.grid[:, 0]])
+    # edge pixels are in the undistorted image, the renderings in the grabbed one
+    cam = cap.camera
+    c = np.array(cam.principal_point)
+    grab = cam.distort((edges.pixel - c) / [cam.fx, cam.fy]) * [cam.fx, cam.fy] + c
+    h, w = sim.renderings[ref].depth.shape
+    gx = np.clip(np.rint(grab[:, 0]).astype(np.intp), 0, w - 1)
+    gy = np.clip(np.rint(grab[:, 1]).astype(np.intp), 0, h - 1)
+    known = np.isfinite(sim.renderings[ref].depth[gy, gx])
     # the edges the views can measure: across some baseline's image direction
     dirs = np.delete((views.C - views.C[ref]) @ views.R[ref], ref, axis=0)[:, :2]
     dirs /= np.maximum(np.linalg.norm(dirs, axis=1, keepdims=True), 1e-12)
@@ -605,7 +605,7 @@ def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
     near = np.zeros(len(edges), bool)
     false = int((~views_correct(sim, located)).sum())
     if len(located):
-        uv, _ = cap.camera.project(located.world, cap.poses[ref])
+        uv, _ = views.project(located.world, ref)
         near = cKDTree(uv).query(edges.pixel)[0] <= 1.0
     counted = known & across
     matched = float((near & counted).sum() / max(int(counted.sum()), 1))
@@ -635,9 +635,9 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
         only, as the two-view demo measures), ``bound_at_max_error_mm``,
         ``all_within_bound``, ``median_bound_mm``, ``block_points``; ``outline_coverage``
         (:func:`views_outline_coverage`, first height); ``pulley_matched``,
-        ``pulley_false``, ``pulley_matched_all_edges`` (:func:`views_pulley_score`),
-        ``pulley_matched_confident`` and ``pulley_false_confident`` (the points with a
-        confidence of 0.5 or more: more likely right than wrong), ``pulley_points``;
+        ``pulley_false``, ``pulley_matched_all_edges`` (:func:`views_pulley_score`, of
+        the points `locate_views` reports: those whose confidence reaches
+        ``params.min_confidence``), ``pulley_points``;
         ``locate_seconds`` (the three locates) and ``seconds`` (everything).
 
     Notes
@@ -675,7 +675,6 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
     ploc = locate_views(pul.capture, params=params)
     t_loc += time.perf_counter() - t
     matched, false, matched_all = views_pulley_score(pul, ploc)
-    m_conf, f_conf, _ = views_pulley_score(pul, ploc, min_confidence=0.5)
     e, b = np.concatenate(errs), np.concatenate(bounds)
     worst = int(np.argmax(np.abs(e)))
     el = np.concatenate(longs)
@@ -691,8 +690,6 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
         "outline_coverage": round(cover, 4),
         "pulley_matched": round(matched, 4), "pulley_false": round(false, 4),
         "pulley_matched_all_edges": round(matched_all, 4),
-        "pulley_matched_confident": round(m_conf, 4),
-        "pulley_false_confident": round(f_conf, 4),
         "pulley_points": len(ploc),
         "locate_seconds": round(t_loc, 3),
         "seconds": round(time.perf_counter() - t0, 3),

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from robostereo.errors import InputError
-from robostereo.experiments import views_block_truth
+from robostereo.experiments import views_block_truth, views_correct
 from robostereo.robot.multiview import (
     LocatedViews,
     ViewsParameters,
@@ -61,6 +61,8 @@ def test_bad_input_raises_one_line_input_errors():
         ViewsParameters(half_window=0)
     with pytest.raises(InputError, match="step_px"):
         ViewsParameters(step_px=-1.0)
+    with pytest.raises(InputError, match="min_confidence"):
+        ViewsParameters(min_confidence=1.5)
 
 
 def _post_before_a_printed_plane():
@@ -161,3 +163,32 @@ def test_bad_captures_are_refused_with_one_line(block_line, change, word):
         locate_views(ViewsCapture(tuple(images), cap.camera, tuple(poses),
                                   depth_range_mm=cap.depth_range_mm))
     assert "\n" not in str(e.value)
+
+
+def test_points_below_the_least_confidence_get_the_no_match_label(occluder):
+    every = locate_views(occluder.capture, params=ViewsParameters(min_confidence=0.0))
+    accepted = locate_views(occluder.capture)
+    assert np.all(accepted.confidence >= ViewsParameters().min_confidence)
+    assert every.confidence.min() < ViewsParameters().min_confidence
+    right_every, right = views_correct(occluder, every), views_correct(occluder, accepted)
+    # beside the post a few per cent of all points are wrong (the truth's); the accepted
+    # ones keep most of the right points with far fewer wrong ones
+    false_every, false = 1 - right_every.mean(), 1 - right.mean()
+    assert false_every > 0.02
+    assert false <= 0.5 * false_every and false <= 0.02
+    assert right.sum() >= 0.9 * right_every.sum()
+
+
+def test_a_generous_depth_range_is_narrowed_to_the_scene(block_line):
+    import dataclasses
+
+    sim, tight = block_line
+    wide = dataclasses.replace(sim.capture, depth_range_mm=(300.0, 1070.0))
+    loc = locate_views(wide)
+    every = locate_views(wide, params=ViewsParameters(range_step_px=None))
+    on, err, _ = views_block_truth(sim, loc)
+    # the same block top as from the capture's tight range, every point within its bound
+    assert abs(on.sum() - views_block_truth(sim, tight)[0].sum()) <= 0.05 * on.sum()
+    assert np.all(np.abs(err[on]) <= loc.bound_mm[on])
+    # no point outside the scene's depths (the table 1050 mm below the camera)
+    assert loc.depth_mm.min() > 800.0 and len(loc) >= 0.95 * len(every)
