@@ -5,7 +5,7 @@ Run:  python benchmarks/fit_views_confidence.py
 Scenes (simulated, with ground truth): the hub-pulley from 5 views on a line, in a cross
 and from the six-axis arm; the block from 5 views on a line and in a cross; a post
 before a printed plane (an occluder) from 5 views on a line.  Each located point is right
-or wrong by :func:`robostereo.experiments.views_correct`; every point is kept
+or wrong by :func:`robostereo.robot.views_truth.views_correct`; every point is kept
 (``min_confidence=0``) and the capture's whole depth range searched
 (``range_step_px=None``: the narrowing itself keeps points by this confidence).
 The features are those of
@@ -26,27 +26,15 @@ points kept; then chosen on every scene with the weights above (the default).
 from __future__ import annotations
 
 import numpy as np
-from scipy.ndimage import gaussian_filter
 
-from robostereo.experiments import views_correct
 from robostereo.robot.multiview import (
     ViewsParameters,
     confidence_features,
     locate_views,
     views_confidence,
 )
-from robostereo.robot.simulated_views import simulate_views
-from robostereo.simulation import Box, ImagePlane, Scene, TablePlane
-
-
-def _occluder() -> Scene:
-    rng = np.random.default_rng(5)
-    blobs = gaussian_filter(rng.standard_normal((200, 320)), 8.0) > 0
-    plane = ImagePlane(origin=(320.0, 50.0), image=0.15 + 0.65 * blobs, mm_per_px=0.5,
-                       z=0.5, margin_mm=5.0, margin_albedo=0.5)
-    post = Box(center=(400.0, 0.0), z_base=0.0, size=(12.0, 40.0, 150.0), albedo=0.5)
-    return Scene((TablePlane(z=0.0, albedo=0.5), plane, post),
-                 light_direction=(0.2, -0.1, 1.0))
+from robostereo.robot.simulated_views import post_before_a_printed_plane, simulate_views
+from robostereo.robot.views_truth import views_correct
 
 
 def _fit(x: np.ndarray, y: np.ndarray, iterations: int = 50) -> np.ndarray:
@@ -96,7 +84,7 @@ def main() -> int:
         "pulley six-axis": dict(kind="pulley", pattern="line", robot="six-axis"),
         "block line": dict(kind="block", pattern="line"),
         "block cross": dict(kind="block", pattern="cross"),
-        "occluder line": dict(kind="block", pattern="line", scene=_occluder()),
+        "occluder line": dict(kind="block", pattern="line", scene=post_before_a_printed_plane()),
     }
     data = {}
     for name, kw in scenes.items():

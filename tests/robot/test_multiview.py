@@ -4,14 +4,14 @@ import numpy as np
 import pytest
 
 from robostereo.errors import InputError
-from robostereo.experiments import views_block_truth, views_correct
 from robostereo.robot.multiview import (
     LocatedViews,
     ViewsParameters,
     locate_views,
     views_bound,
 )
-from robostereo.robot.simulated_views import simulate_views
+from robostereo.robot.simulated_views import post_before_a_printed_plane, simulate_views
+from robostereo.robot.views_truth import views_block_truth, views_correct
 from robostereo.simulation import Box
 
 
@@ -65,27 +65,10 @@ def test_bad_input_raises_one_line_input_errors():
         ViewsParameters(min_confidence=1.5)
 
 
-def _post_before_a_printed_plane():
-    """A post (12 x 40 mm, 150 mm tall) before a plane printed with random blobs, under
-    the SCARA's mid viewpoint: plane edge points beside the post are hidden from the
-    views on one side and seen from the others."""
-    from scipy.ndimage import gaussian_filter
-
-    from robostereo.simulation import ImagePlane, Scene, TablePlane
-
-    rng = np.random.default_rng(5)
-    blobs = gaussian_filter(rng.standard_normal((200, 320)), 8.0) > 0
-    plane = ImagePlane(origin=(320.0, 50.0), image=0.15 + 0.65 * blobs, mm_per_px=0.5,
-                       z=0.5, margin_mm=5.0, margin_albedo=0.5)
-    post = Box(center=(400.0, 0.0), z_base=0.0, size=(12.0, 40.0, 150.0), albedo=0.5)
-    return Scene((TablePlane(z=0.0, albedo=0.5), plane, post),
-                 light_direction=(0.2, -0.1, 1.0))
-
-
 @pytest.fixture(scope="module")
 def occluder():
     sim = simulate_views("block", count=5, pattern="line", span_mm=80.0,
-                         scene=_post_before_a_printed_plane())
+                         scene=post_before_a_printed_plane())
     return sim
 
 

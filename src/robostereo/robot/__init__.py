@@ -42,6 +42,8 @@ Submodules
     :mod:`~robostereo.robot.multiview_kernels` their numba kernels.
 :mod:`~robostereo.robot.simulated_views`
     The simulated robots grabbing N views in a pattern.
+:mod:`~robostereo.robot.views_truth`
+    N-view located points scored against a simulated capture's truth.
 
 Poses (:class:`~robostereo.geometry.poses.SE3`, the SCARA
 :class:`~robostereo.geometry.poses.Pose`) and the rectification of two general poses

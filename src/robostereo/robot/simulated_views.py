@@ -40,12 +40,21 @@ from robostereo.robot.simulated import (
 from robostereo.robot.simulated_scara import RigSetup, block_scene, pulley_scene
 from robostereo.robot.sixaxis import WRIST_CAMERA, WRIST_HAND_EYE, SixAxisArm
 from robostereo.robot.views import PATTERNS, ViewsCapture, view_offsets
-from robostereo.simulation import Rendering, Scene, hub_pulley_scene, render
+from robostereo.simulation import (
+    Box,
+    ImagePlane,
+    Rendering,
+    Scene,
+    TablePlane,
+    hub_pulley_scene,
+    render,
+)
 
 __all__ = [
     "ROBOTS",
     "SimulatedViews",
     "estimated_hand_eye",
+    "post_before_a_printed_plane",
     "simulate_views",
 ]
 
@@ -283,3 +292,27 @@ def _simulate_six_axis(kind: str, count: int, pattern: str, span_mm: float, lift
         names=tuple(f"view_{k:02d}.png" for k in range(count)), notes=notes)
     return SimulatedViews(capture=cap, scene=scene, renderings=tuple(renders),
                           true_poses=tuple(true_poses), camera=WRIST_CAMERA)
+
+
+def post_before_a_printed_plane() -> Scene:
+    """An occluder seen from both sides: a post before a plane printed with random blobs.
+
+    The post (12 x 40 mm, 150 mm tall, at world ``(400, 0)``) stands under the SCARA's
+    mid viewpoint (:class:`~robostereo.robot.simulated_scara.RigSetup`) before a plane
+    0.5 mm above the table printed with smoothed random blobs, so the plane's edge points
+    beside the post are hidden from the views on one side and seen from the others.
+    Pass it as ``simulate_views("block", scene=...)``.
+
+    Returns
+    -------
+    Scene
+    """
+    from scipy.ndimage import gaussian_filter
+
+    rng = np.random.default_rng(5)
+    blobs = gaussian_filter(rng.standard_normal((200, 320)), 8.0) > 0
+    plane = ImagePlane(origin=(320.0, 50.0), image=0.15 + 0.65 * blobs, mm_per_px=0.5,
+                       z=0.5, margin_mm=5.0, margin_albedo=0.5)
+    post = Box(center=(400.0, 0.0), z_base=0.0, size=(12.0, 40.0, 150.0), albedo=0.5)
+    return Scene((TablePlane(z=0.0, albedo=0.5), plane, post),
+                 light_direction=(0.2, -0.1, 1.0))
