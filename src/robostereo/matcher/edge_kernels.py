@@ -1,7 +1,7 @@
 """Numba kernels of the edge stage: gradient peaks along rows and their features.
 
 :func:`edge_points` is what :func:`robostereo.matcher.edges.detect_edges` calls on the
-smoothed image: the peaks of the row gradient (:func:`gradient_peaks`, thesis 3.1), then
+smoothed image: the peaks of the row gradient (:func:`gradient_peaks`, thesis 3.1 [1]_), then
 their features (:func:`peak_features`, thesis 3.2): sub-pixel position, sign,
 connectivity (:func:`connect_sorted`), pattern type (:func:`pattern_of`), 5 x 5 mean grey
 (:func:`mean5_at`) and the grey levels either side.  :func:`connect` and :func:`patterns`
