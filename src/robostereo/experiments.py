@@ -414,7 +414,7 @@ def print_demo_report(result: DemoResult, console: Any = None) -> None:
         t.add_row("window", str(sc.counted), str(sc.matched), f"{100 * sc.matched_fraction:.1f}",
                   str(sc.false), f"{100 * sc.false_fraction:.2f}")
     con.print(t)
-    con.print("  iterations 0..: the seed's relaxation; window: robostereo's default matcher")
+    con.print("  iterations 0..: the thesis's relaxation; window: robostereo's default matcher")
     tm = result.timings
     if tm:
         con.print(f"time: block {tm.get('block', 0):.1f} s, pulley {tm.get('pulley', 0):.1f} s, "
