@@ -175,3 +175,37 @@ def test_a_generous_depth_range_is_narrowed_to_the_scene(block_line):
     assert np.all(np.abs(err[on]) <= loc.bound_mm[on])
     # no point outside the scene's depths (the table 1050 mm below the camera)
     assert loc.depth_mm.min() > 800.0 and len(loc) >= 0.95 * len(every)
+
+
+@pytest.fixture(scope="module")
+def pulley_pair():
+    """A pair of views 60 mm apart (the fit of the confidence saw a pair 80 mm apart):
+    every point is a two-view fit, with zero residual whatever its match."""
+    sim = simulate_views("pulley", count=2, pattern="line", span_mm=60.0)
+    every = locate_views(sim.capture, params=ViewsParameters(min_confidence=0.0,
+                                                              range_step_px=None))
+    return sim, every, locate_views(sim.capture)
+
+
+def _calibration_error(p, y, bins=10):
+    """Expected calibration error over `bins` equal bins of confidence."""
+    k = np.clip((p * bins).astype(int), 0, bins - 1)
+    return sum(abs(p[k == b].mean() - y[k == b].mean()) * (k == b).mean()
+               for b in range(bins) if (k == b).any())
+
+
+def test_two_view_fits_are_doubted_so_few_wrong_ones_are_reported(pulley_pair):
+    sim, every, reported = pulley_pair
+    assert np.all(every.view_count == 2) and np.all(every.residual_px < 1e-6)
+    right_every, right = views_correct(sim, every), views_correct(sim, reported)
+    false_every, false = 1 - right_every.mean(), 1 - right.mean()
+    # a few per cent of two-view fits are wrong; the reported ones are mostly right
+    assert false_every > 0.01
+    assert false <= 0.01 and false <= 0.4 * false_every
+    assert right.sum() >= 0.9 * right_every.sum()
+
+
+def test_confidence_of_a_held_out_two_view_capture_is_calibrated(pulley_pair):
+    sim, every, _ = pulley_pair
+    right = views_correct(sim, every).astype(float)
+    assert _calibration_error(every.confidence, right) < 0.06
