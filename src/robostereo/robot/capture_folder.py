@@ -70,7 +70,11 @@ __all__ = [
     "capture_from_acquisition",
     "capture_to_dict",
     "disparity_range_from_depth",
+    "extras_from_dict",
+    "extras_to_dict",
     "read_capture",
+    "warn_identity_hand_eye",
+    "warn_metres",
     "warn_units",
     "write_capture",
 ]
@@ -83,7 +87,10 @@ _KEYS = (
 )
 Rectification = Literal["auto", "theta", "general"]
 Geometry = EpipolarGeometry | GeneralEpipolarGeometry
-_UNCERTAINTY_KEYS = ("baseline_mm", "focal_length_mm", "disparity_px")
+#: ``uncertainty`` keys of ``capture.yaml`` and the capture attributes they fill (eq. 9)
+_UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
+                ("focal_length_mm", "focal_length_uncertainty_mm"),
+                ("disparity_px", "disparity_uncertainty_px"))
 
 DISPARITY_UNCERTAINTY_PX = 0.2
 """``d(disp)`` of eq. (9) for sub-pixel edges, pixels.
@@ -339,7 +346,6 @@ def capture_from_acquisition(
 
 def capture_to_dict(capture: Capture) -> dict[str, Any]:
     """The ``capture.yaml`` mapping of a capture."""
-    from robostereo.io import plain_values
 
     out: dict[str, Any] = {"camera": camera_to_dict(capture.camera)}
     if capture.hand_eye is not None and capture.flange_left is not None \
@@ -355,15 +361,53 @@ def capture_to_dict(capture: Capture) -> dict[str, Any]:
         out["disparity_range"] = [float(v) for v in capture.disparity_range]
     if capture.depth_range_mm is not None:
         out["depth_range_mm"] = [float(v) for v in capture.depth_range_mm]
-    out["uncertainty"] = {
-        "baseline_mm": float(capture.baseline_uncertainty_mm),
-        "focal_length_mm": float(capture.focal_length_uncertainty_mm),
-        "disparity_px": float(capture.disparity_uncertainty_px),
-    }
+    out.update(extras_to_dict(capture))
+    return out
+
+
+def extras_to_dict(capture: Any) -> dict[str, Any]:
+    """The ``uncertainty`` mapping and the ``robot``/``scene`` notes of a capture file.
+
+    What two-view (:class:`Capture`) and N-view
+    (:class:`~robostereo.robot.views.ViewsCapture`) files share: `capture` has the eq. 9
+    attributes ``baseline_uncertainty_mm``, ``focal_length_uncertainty_mm``,
+    ``disparity_uncertainty_px`` and ``notes``.
+    """
+    from robostereo.io import plain_values
+
+    out: dict[str, Any] = {
+        "uncertainty": {key: float(getattr(capture, attr)) for key, attr in _UNCERTAINTY}}
     for k in ("robot", "scene"):
         if k in capture.notes:
             out[k] = plain_values(capture.notes[k])
     return out
+
+
+def extras_from_dict(data: Mapping[str, Any], source: str) -> dict[str, Any]:
+    """The eq. 9 uncertainties and the notes of a parsed capture file, as the keyword
+    arguments of :class:`Capture` or :class:`~robostereo.robot.views.ViewsCapture`.
+
+    Raises
+    ------
+    InputError
+        ``uncertainty`` not a mapping of its three keys, or a value that is not a finite
+        number >= 0; the message names `source`.
+    """
+    kw: dict[str, Any] = {}
+    unc = data.get("uncertainty") or {}
+    keys = [key for key, _ in _UNCERTAINTY]
+    if not isinstance(unc, Mapping) or any(k not in keys for k in unc):
+        raise InputError(f"{source}: key 'uncertainty' must be a mapping of {', '.join(keys)}")
+    for key, attr in _UNCERTAINTY:
+        if key in unc:
+            v = unc[key]
+            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) \
+                    or v < 0:
+                raise InputError(f"{source}: uncertainty '{key}' must be a finite number "
+                                 f">= 0, got {v!r}")
+            kw[attr] = float(v)
+    kw["notes"] = {k: data[k] for k in ("robot", "scene") if k in data}
+    return kw
 
 
 def write_capture(directory: str | os.PathLike[str], capture: Capture) -> Path:
@@ -459,24 +503,10 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
                 kw[key] = _pair(key, data[key])
             except InputError as exc:
                 raise InputError(f"{src}: {exc}") from None
-    unc = data.get("uncertainty") or {}
-    if not isinstance(unc, Mapping) or any(k not in _UNCERTAINTY_KEYS for k in unc):
-        raise InputError(f"{src}: key 'uncertainty' must be a mapping of "
-                         f"{', '.join(_UNCERTAINTY_KEYS)}")
-    for key, attr in zip(_UNCERTAINTY_KEYS, ("baseline_uncertainty_mm",
-                                             "focal_length_uncertainty_mm",
-                                             "disparity_uncertainty_px"), strict=True):
-        if key in unc:
-            v = unc[key]
-            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) \
-                    or v < 0:
-                raise InputError(f"{src}: uncertainty '{key}' must be a finite number >= 0, "
-                                 f"got {v!r}")
-            kw[attr] = float(v)
-    notes = {k: data[k] for k in ("robot", "scene") if k in data}
+    kw.update(extras_from_dict(data, src))
     try:
         capture = Capture(left=images[0], right=images[1], camera=camera, pose_left=poses[0],
-                          pose_right=poses[1], bit_depth=bit_depth, notes=notes, **extra, **kw)
+                          pose_right=poses[1], bit_depth=bit_depth, **extra, **kw)
     except InputError as exc:
         raise InputError(f"{d}: {exc}") from None
     warn_units(data, capture, src)
@@ -520,21 +550,49 @@ def warn_units(data: Mapping[str, Any], capture: Capture, source: str) -> None:
         return
     groups = (("pose_left", "pose_right"), ("flange_left", "flange_right"), ("hand_eye",))
     for keys in groups:
-        raw = [data.get(k) for k in keys]
-        if not all(isinstance(r, Mapping) and ("position" in r or "matrix" in r)
-                   and "unit" not in r for r in raw):
-            continue
         poses = [getattr(capture, k) for k in keys]
-        if any(p is None for p in poses):
-            continue
-        t = np.array([as_se3(p).translation for p in poses])
-        if float(np.abs(t).max()) < METRES_AS_MM_BELOW and (keys[0] != "hand_eye"
-                                                             or np.abs(t).max() > 0):
-            where = f" with the scene {far:g} mm away" if far is not None else ""
-            warn_input(f"{source}: {' and '.join(keys)}: every translation is under "
-                       f"{METRES_AS_MM_BELOW:g} mm (largest {float(np.abs(t).max()):.4g})"
-                       f"{where}: metres written as millimetres? add 'unit: m'")
-    he = capture.hand_eye
-    if he is not None and np.allclose(he.matrix, np.eye(4), atol=1e-9):
+        if all(p is not None for p in poses):
+            warn_metres(source, " and ".join(keys), [data.get(k) for k in keys], poses, far,
+                        hand_eye=keys[0] == "hand_eye")
+    warn_identity_hand_eye(source, capture.hand_eye)
+
+
+def warn_metres(source: str, what: str, written: list[Any], poses: list[Any],
+                far: float | None, *, hand_eye: bool = False) -> None:
+    """Warn when poses written with a translation and no ``unit`` all lie within
+    :data:`METRES_AS_MM_BELOW` mm of the origin: metres written as millimetres.
+
+    Parameters
+    ----------
+    source : str
+        The file, for the message.
+    what : str
+        The keys the poses were read from, for the message.
+    written : list
+        The poses as written (mappings); only those in a form with a translation
+        (``position`` or ``matrix``) and without ``unit`` are judged, all or none.
+    poses : list of SE3
+        The poses read from them.
+    far : float or None
+        The scene's far depth, mm, when known (the caller skips scenes under 100 mm).
+    hand_eye : bool
+        A hand-eye transform: an all-zero translation is the identity placeholder
+        (:func:`warn_identity_hand_eye`), not metres.
+    """
+    if not all(isinstance(r, Mapping) and ("position" in r or "matrix" in r)
+               and "unit" not in r for r in written):
+        return
+    t = float(np.abs(np.array([as_se3(p).translation for p in poses])).max())
+    if t < METRES_AS_MM_BELOW and (not hand_eye or t > 0):
+        where = f" with the scene {far:g} mm away" if far is not None else ""
+        warn_input(f"{source}: {what}: every translation is under "
+                   f"{METRES_AS_MM_BELOW:g} mm (largest {t:.4g}){where}: metres written as "
+                   "millimetres? add 'unit: m'")
+
+
+def warn_identity_hand_eye(source: str, hand_eye: SE3 | None) -> None:
+    """Warn when a capture file's ``hand_eye`` is the identity: a placeholder, not a
+    calibration."""
+    if hand_eye is not None and np.allclose(hand_eye.matrix, np.eye(4), atol=1e-9):
         warn_input(f"{source}: hand_eye is the identity (camera frame = flange frame): a "
                    "placeholder, not a calibration? (robostereo handeye estimates it)")

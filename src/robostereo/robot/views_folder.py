@@ -32,7 +32,6 @@ need a depth range (each pair of views has its own disparity range), so
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 from collections.abc import Mapping
 from pathlib import Path, PurePosixPath
@@ -40,13 +39,16 @@ from typing import Any
 
 import numpy as np
 
-from robostereo.errors import InputError, warn_input
+from robostereo.errors import InputError
 from robostereo.geometry.camera import camera_from_dict, camera_to_dict
 from robostereo.geometry.poses import SE3, as_se3, pose_from_dict, pose_to_dict
 from robostereo.robot.capture_folder import (
     CAPTURE_YAML,
-    METRES_AS_MM_BELOW,
+    extras_from_dict,
+    extras_to_dict,
     read_capture,
+    warn_identity_hand_eye,
+    warn_metres,
 )
 from robostereo.robot.views import ViewsCapture
 
@@ -65,9 +67,6 @@ VIEWS_KEYS: tuple[str, ...] = (
     "scene",
 )
 _VIEW_KEYS = ("image", "pose", "flange")
-_UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
-                ("focal_length_mm", "focal_length_uncertainty_mm"),
-                ("disparity_px", "disparity_uncertainty_px"))
 
 
 def _image_names(capture: ViewsCapture) -> tuple[str, ...]:
@@ -103,7 +102,6 @@ def views_capture_to_dict(capture: ViewsCapture,
         Plain YAML values; flange poses and ``hand_eye`` when the capture has them,
         otherwise the camera poses.
     """
-    from robostereo.io import plain_values
 
     names = _image_names(capture) if names is None else names
     flanges = capture.flanges if capture.hand_eye is not None else None
@@ -119,10 +117,7 @@ def views_capture_to_dict(capture: ViewsCapture,
         out["hand_eye"] = pose_to_dict(capture.hand_eye)
     out["depth_range_mm"] = [float(v) for v in capture.depth_range_mm]
     out["bit_depth"] = int(capture.bit_depth)
-    out["uncertainty"] = {key: float(getattr(capture, attr)) for key, attr in _UNCERTAINTY}
-    for k in ("robot", "scene"):
-        if k in capture.notes:
-            out[k] = plain_values(capture.notes[k])
+    out.update(extras_to_dict(capture))
     return out
 
 
@@ -359,16 +354,15 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
         images.append(img)
         bits.append(b)
     kw = _settings(data, src, max(bits))
-    notes = {k: data[k] for k in ("robot", "scene") if k in data}
     try:
         if flanges:
             assert hand_eye is not None
             capture = ViewsCapture.from_flange(images, camera, flanges=flanges,
                                                hand_eye=hand_eye, names=tuple(names),
-                                               notes=notes, **kw)
+                                               **kw)
         else:
             capture = ViewsCapture(tuple(images), camera, tuple(poses), names=tuple(names),
-                                   notes=notes, **kw)
+                                   **kw)
     except InputError as exc:
         raise InputError(f"{src}: {exc}") from None
     _warn_units(data, capture, src)
@@ -376,7 +370,8 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
 
 
 def _settings(data: Mapping[str, Any], src: str, file_bits: int) -> dict[str, Any]:
-    """``depth_range_mm``, ``bit_depth`` and the eq. 9 uncertainties of a views file."""
+    """``depth_range_mm``, ``bit_depth``, the eq. 9 uncertainties and the notes of a views
+    file."""
     rng = data["depth_range_mm"]
     ok = isinstance(rng, list) and len(rng) == 2 and all(
         isinstance(v, int | float) and not isinstance(v, bool) for v in rng)
@@ -387,18 +382,7 @@ def _settings(data: Mapping[str, Any], src: str, file_bits: int) -> dict[str, An
     if isinstance(bit_depth, bool) or not isinstance(bit_depth, int):
         raise InputError(f"{src}: key 'bit_depth' must be an integer, got {bit_depth!r}")
     kw["bit_depth"] = bit_depth
-    unc = data.get("uncertainty") or {}
-    keys = [key for key, _ in _UNCERTAINTY]
-    if not isinstance(unc, Mapping) or any(k not in keys for k in unc):
-        raise InputError(f"{src}: key 'uncertainty' must be a mapping of {', '.join(keys)}")
-    for key, attr in _UNCERTAINTY:
-        if key in unc:
-            v = unc[key]
-            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) \
-                    or v < 0:
-                raise InputError(f"{src}: uncertainty '{key}' must be a finite number >= 0, "
-                                 f"got {v!r}")
-            kw[attr] = float(v)
+    kw.update(extras_from_dict(data, src))
     return kw
 
 
@@ -408,23 +392,10 @@ def _warn_units(data: Mapping[str, Any], capture: ViewsCapture, src: str) -> Non
     far = capture.depth_range_mm[1]
     if far >= 100.0:
         key = "flange" if capture.flanges is not None else "pose"
-        raw = [v.get(key) for v in data["views"]]
-        groups: list[tuple[str, list[Any], list[SE3]]] = [
-            (f"every view's {key}", raw,
-             list(capture.flanges if capture.flanges is not None else capture.poses))]
+        warn_metres(src, f"every view's {key}", [v.get(key) for v in data["views"]],
+                    list(capture.flanges if capture.flanges is not None else capture.poses),
+                    far)
         if capture.hand_eye is not None:
-            groups.append(("hand_eye", [data.get("hand_eye")], [capture.hand_eye]))
-        for what, maps, poses in groups:
-            if not all(isinstance(r, Mapping) and ("position" in r or "matrix" in r)
-                       and "unit" not in r for r in maps):
-                continue
-            t = np.abs(np.array([as_se3(p).translation for p in poses]))
-            if float(t.max()) < METRES_AS_MM_BELOW and (what != "hand_eye" or t.max() > 0):
-                warn_input(f"{src}: {what}: every translation is under "
-                           f"{METRES_AS_MM_BELOW:g} mm (largest {float(t.max()):.4g}) with "
-                           f"the scene {far:g} mm away: metres written as millimetres? add "
-                           "'unit: m'")
-    he = capture.hand_eye
-    if he is not None and np.allclose(he.matrix, np.eye(4), atol=1e-9):
-        warn_input(f"{src}: hand_eye is the identity (camera frame = flange frame): a "
-                   "placeholder, not a calibration? (robostereo handeye estimates it)")
+            warn_metres(src, "hand_eye", [data.get("hand_eye")], [capture.hand_eye], far,
+                        hand_eye=True)
+    warn_identity_hand_eye(src, capture.hand_eye)
