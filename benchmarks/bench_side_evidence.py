@@ -22,7 +22,11 @@ $ROBOSTEREO_DATA) and M synthetic occluder pairs (seeds 1000.., as
    leave-one-scene-out (the grid's weight with the largest mean coverage at <= 2 and
    3 % false near steps over the *other* scenes), the held-out scene's coverage at
    <= 2 % false near steps and away; the first row is today's score.  Coverage here is
-   the ranking's (the calibration curve does not change it).
+   the ranking's (the calibration curve does not change it);
+3. what the accepted matches that the rule calls false are, near steps and away: how
+   many carry a disparity that the ground truth holds (within 1 px) within 4 px of the
+   edge on its row or the rows above and below (a surface beside the edge, not a wrong
+   one), and how many have unknown ground truth within 4 px on their row.
 """
 
 from __future__ import annotations
@@ -130,6 +134,32 @@ def class_table(data: dict[str, dict]) -> None:
                       f"  {100 * t[4] / max(t[3], 1):7.1f}")
 
 
+def false_accepted(data: dict[str, dict]) -> None:
+    print("\naccepted matches false by the rule: count (% of accepted) | of them, with their "
+          "disparity in the ground truth within 4 px (rows +-1) | with unknown ground truth "
+          "within 4 px on the row")
+    for name, s in data.items():
+        if name.startswith("occ"):
+            continue
+        gt = s["gt"]
+        h, w = gt.shape
+        line = f"{name:11s}"
+        for where, sub in (("near", s["near"]), ("away", ~s["near"])):
+            acc = s["known"] & s["accepted"] & sub
+            false = np.nonzero(acc & s["matched"] & ~s["right"])[0]
+            beside = unknown = 0
+            for i in false:
+                cols = np.arange(int(np.floor(s["x"][i])) - 3, int(np.floor(s["x"][i])) + 5)
+                cols = cols[(cols >= 0) & (cols < w) & (np.abs(cols - s["x"][i]) <= 4)]
+                r = int(s["rows"][i])
+                g = gt[max(r - 1, 0):min(r + 2, h)][:, cols]
+                beside += bool(np.any(np.abs(g[np.isfinite(g)] - s["d"][i]) <= 1.0))
+                unknown += bool(np.any(~np.isfinite(gt[r, cols])))
+            line += (f"   {where}: {len(false):3d} ({100 * len(false) / max(acc.sum(), 1):4.2f} %)"
+                     f" | {beside:3d} | {unknown:3d}")
+        print(line)
+
+
 def held_out(data: dict[str, dict], rule: str) -> None:
     real = [k for k in data if not k.startswith("occ")]
     base = {k: DEFAULT_MODEL.score(s["features"]) for k, s in data.items()}
@@ -187,6 +217,7 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     class_table(data)
     held_out(data, args.rule)
+    false_accepted(data)
     return 0
 
 
