@@ -178,8 +178,8 @@ class WindowCosts:
         ``best``: unlike ``second``, not lowered by another placement that sees another
         surface (at an occluding contour the window on the occluder sees one disparity).
     best_left, cost_left : ndarray of int
-        The least cost of the window shifted half a window left alone, over the
-        disparities in view, and its disparity (the first of equals; -1: none).  At an
+        The best disparity of the window shifted half a window left alone, over the
+        disparities in view (the first of equals; -1: none), and its cost there.  At an
         occluding contour the side window on the occluder's side sees one surface.
     best_right, cost_right : ndarray of int
         The same for the window shifted half a window right.

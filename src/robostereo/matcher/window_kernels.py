@@ -75,8 +75,8 @@ PATH_MAX_DISPARITIES = 128
 #:   the order 0 centred, 1 half a window left, 2 right, 3 up, 4 down (-1: no ``best``);
 #: * ``second_placement``: that window's own least cost over the disparities in view
 #:   more than one from ``best`` (``OUT_OF_VIEW``: none);
-#: * ``best_left``, ``cost_left``: the left-shifted window's own least cost over the
-#:   disparities in view and its disparity (the first of equals; -1: none);
+#: * ``best_left``, ``cost_left``: the left-shifted window's own best disparity over
+#:   those in view (the first of equals; -1: none) and its cost there;
 #:   ``best_right``, ``cost_right`` the right-shifted one's;
 #: * ``second_best``: the disparity of ``second`` (the first of equals; -1: none);
 #: * ``right_best_placement``: the left-right check with the winning window alone: the
