@@ -74,15 +74,19 @@ def test_right_ground_truth_and_z_buffer_agree_on_real_scenes(real_scenes) -> No
         if scene.gt_disparity_right is None:
             continue
         v = left_visibility(scene.gt_disparity, scene.gt_disparity_right)
-        assert v.agreement() >= 0.94, name  # measured 0.959-0.997
+        assert v.agreement() >= 0.97, name  # measured 0.9875-0.9981
         known = v.state != UNKNOWN
         assert 0.01 < np.mean(v.state[known] == HIDDEN) < 0.3, name
 
 
-def test_an_edge_is_visible_when_either_pixel_beside_it_is() -> None:
-    s = np.array([[VISIBLE, HIDDEN, HIDDEN, UNKNOWN, VISIBLE]], dtype=np.int8)
-    assert edge_visibility([0, 0, 0, 0], [0.5, 1.5, 2.5, 3.5], s).tolist() == [
-        VISIBLE, HIDDEN, UNKNOWN, VISIBLE]
+def test_an_edge_is_visible_when_a_pixel_near_it_is() -> None:
+    s = np.array([[VISIBLE, HIDDEN, HIDDEN, HIDDEN, HIDDEN, UNKNOWN, VISIBLE]], dtype=np.int8)
+    x = [0.5, 1.4, 3.4, 4.4, 5.5]
+    assert edge_visibility([0] * 5, x, s, reach=1.0).tolist() == [
+        VISIBLE, HIDDEN, HIDDEN, UNKNOWN, VISIBLE]
+    # the default reach, 1.5 px, also looks one pixel further on the nearer side
+    assert edge_visibility([0] * 5, x, s).tolist() == [
+        VISIBLE, VISIBLE, HIDDEN, UNKNOWN, VISIBLE]
 
 
 def test_the_breakdown_sorts_every_point_not_accepted_once() -> None:

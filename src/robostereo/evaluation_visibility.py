@@ -25,9 +25,10 @@ Visibility is read off the ground truth (:func:`left_visibility`) in two ways:
 A pixel is *hidden* when the z-buffer hides it or the cross-check does, or when its
 right position lies outside the right image; *visible* when it is known and not hidden;
 *unknown* where the left ground truth is unknown (:data:`VISIBLE`, :data:`HIDDEN`,
-:data:`UNKNOWN`).  An edge point lies between the two pixels round its sub-pixel
-position; it is visible when either of them is (an occluding contour is seen in both
-views even though the background pixel beside it is not), hidden when both are
+:data:`UNKNOWN`).  An edge point is visible when a pixel of its row within 1.5 px of
+its sub-pixel position is (an occluding contour is seen in both views even though the
+background pixels beside it are not, and its intensity edge often lies 1-1.5 px from
+where the ground truth's surface ends), hidden when all of them are
 (:func:`edge_visibility`).
 """
 
@@ -99,7 +100,9 @@ def zbuffer_occlusion(
     -------
     ndarray of bool, shape (H, W)
         True where a known pixel's right position ``j - d`` lies inside the footprint
-        ``(lo, hi)`` of a known pixel of the row with a larger disparity.  Unknown
+        ``[lo, hi)`` of a known pixel of the row with a larger disparity (half-open, so
+        the footprints of one surface tile the right row: ground truth in half pixels
+        often puts a right position exactly on a shared border).  Unknown
         pixels are False (neither hidden nor hiding).
 
     Notes
@@ -145,7 +148,7 @@ def zbuffer_occlusion(
     reach = math.ceil(float(np.nanmax(g) - np.nanmin(g))) + 1
     with np.errstate(invalid="ignore"):  # NaN compares False: unknown pixels do nothing
         for o in range(1, min(reach, w - 1) + 1):
-            hidden[:, :-o] |= ((g[:, o:] > g[:, :-o]) & (lo[:, o:] < xr[:, :-o])
+            hidden[:, :-o] |= ((g[:, o:] > g[:, :-o]) & (lo[:, o:] <= xr[:, :-o])
                                & (xr[:, :-o] < hi[:, o:]))
     return hidden & known
 
@@ -289,8 +292,9 @@ def left_visibility(
                       cross_checked=cc)
 
 
-def edge_visibility(rows: ArrayLike, x: ArrayLike, state: ArrayLike) -> NDArray[np.int8]:
-    """Per edge point: visible when either pixel round its sub-pixel position is.
+def edge_visibility(rows: ArrayLike, x: ArrayLike, state: ArrayLike, *,
+                    reach: float = 1.5) -> NDArray[np.int8]:
+    """Per edge point: visible when a pixel of its row within ``reach`` of it is.
 
     Parameters
     ----------
@@ -298,31 +302,38 @@ def edge_visibility(rows: ArrayLike, x: ArrayLike, state: ArrayLike) -> NDArray[
         Edge points (row, sub-pixel column).
     state : array_like of int, shape (H, W)
         :attr:`Visibility.state`.
+    reach : float
+        Pixels ``j`` of the row with ``|j - x| <= reach`` (1.5: the two pixels round
+        ``x`` and the nearer of their neighbours; an outline's intensity edge often lies
+        1-1.5 px from where the ground truth's surface ends).
 
     Returns
     -------
     ndarray of int8, shape (N,)
-        :data:`VISIBLE` when pixel ``floor(x)`` or ``floor(x) + 1`` is visible,
-        :data:`HIDDEN` when both are hidden (one of them off the image counts as the
-        other), :data:`UNKNOWN` otherwise.
+        :data:`VISIBLE` when one of those pixels is visible, :data:`HIDDEN` when all of
+        them (inside the image) are hidden, :data:`UNKNOWN` otherwise.
 
     Examples
     --------
-    >>> s = np.array([[1, 1, 0, 0, -1, 1]], dtype=np.int8)
-    >>> edge_visibility([0, 0, 0, 0], [1.5, 2.4, 3.6, 4.6], s).tolist()
+    >>> s = np.array([[1, 1, 0, 0, 0, 0, -1, 1]], dtype=np.int8)
+    >>> edge_visibility([0, 0, 0, 0], [1.5, 3.5, 4.6, 6.5], s).tolist()
     [1, 0, -1, 1]
+    >>> edge_visibility([0], [2.6], s, reach=2.0).tolist()  # pixel 1 is 1.6 px away
+    [1]
     """
     s = np.asarray(state)
     if s.ndim != 2:
         raise InputError(f"state must be an (H, W) map, got shape {s.shape}")
+    require_nonnegative("reach", reach)
     h, w = s.shape
     r = np.clip(np.asarray(rows, dtype=np.intp), 0, h - 1)
     xs = np.asarray(x, dtype=float)
-    c0 = np.clip(np.floor(xs).astype(np.intp), 0, w - 1)
-    c1 = np.clip(c0 + 1, 0, w - 1)
-    a, b = s[r, c0], s[r, c1]
-    return np.where((a == VISIBLE) | (b == VISIBLE), VISIBLE,
-                    np.where((a == HIDDEN) & (b == HIDDEN), HIDDEN, UNKNOWN)).astype(np.int8)
+    k = int(np.ceil(reach)) + 1
+    cols = np.floor(xs).astype(np.intp)[:, None] + np.arange(-k + 1, k + 1)
+    use = (np.abs(cols - xs[:, None]) <= reach + 1e-9) & (cols >= 0) & (cols <= w - 1)
+    v = np.where(use, s[r[:, None], np.clip(cols, 0, w - 1)], HIDDEN)
+    return np.where((v == VISIBLE).any(axis=1), VISIBLE,
+                    np.where((v == HIDDEN).all(axis=1), HIDDEN, UNKNOWN)).astype(np.int8)
 
 
 @dataclass(frozen=True)
