@@ -163,6 +163,10 @@ def experiment(data: list[dict]) -> None:
     print("\n4. a second acceptance for flagged points, chosen leave one scene out "
           "(matched / false %, silhouette rule)")
     grid = np.arange(0.50, 0.9525, 0.005)
+    for s in data:
+        k, f = s["known"], s["sides_disagree"]
+        print(f"  {s['name']:<11} sides disagree at {100 * f[k & s['near']].mean():.0f} % of "
+              f"the near-step points, {100 * f[k & ~s['near']].mean():.0f} % of the others")
     for flag, bound in (("sides_disagree", "near"), ("all", "near"),
                         ("sides_disagree", "visible"), ("all", "visible")):
         print(f"flag: {flag}, near-step bound over the {bound} points")
