@@ -16,11 +16,11 @@ Visibility is read off the ground truth (:func:`left_visibility`) in two ways:
     ``continuity`` px (one surface, so a slanted surface's footprints tile the right
     row without gaps), the pixel's own otherwise (a depth step).  Sub-pixel disparities
     are handled by these intervals, never by equal integer positions.
-*left-right cross-check* (:func:`cross_check_occlusion`, where the right view's
-    ground truth exists)
-    the right ground truth at the pixels within 1 px of ``x - d``: a nearer surface there
-    (more than ``tolerance`` px larger disparity at all) hides the left pixel, the same
-    disparity (within ``tolerance`` at one) shows it; anything else gives no verdict.
+*left-right cross-check* (:func:`cross_check_occlusion`)
+    where the right view's ground truth exists: that ground truth at the pixels within
+    1 px of ``x - d``; a nearer surface there (more than ``tolerance`` px larger
+    disparity at all of them) hides the left pixel, the same disparity (within
+    ``tolerance`` at one) shows it; anything else gives no verdict.
 
 A pixel is *hidden* when the z-buffer hides it or the cross-check does, or when its
 right position lies outside the right image; *visible* when it is known and not hidden;
