@@ -103,3 +103,26 @@ def test_the_breakdown_sorts_every_point_not_accepted_once() -> None:
     assert missing_breakdown([0] * 8, x, accepted, best, gt, vis, subset=near).counted == 4
     with pytest.raises(InputError, match="visibility"):
         missing_breakdown([0] * 8, x, accepted, best, gt, vis[:3])
+
+
+def test_half_occluded_outline_points_are_seldom_accepted_on_an_occluder_pair() -> None:
+    from robostereo.evaluation_outlines import MethodPoints
+    from robostereo.evaluation_rules import depth_step_mask, near_steps
+    from robostereo.evaluation_visibility import visibility_figures
+    from robostereo.matcher.pipeline import match_stereo
+
+    p = occluder_pair(3)
+    res = match_stereo(p.left, p.right, p.disparity_range)
+    e = res.left_edges
+    near = near_steps(e.row, e.x, depth_step_mask(p.disparity))
+    vf = visibility_figures(e.row, e.x, p.disparity, near, left_visibility(p.disparity),
+                            [MethodPoints("robostereo", res.accepted_disparity(),
+                                          res.edge_disparity, res.edge_confidence)],
+                            levels=(0.02,))
+    pts, s = vf.near_points, vf.scores["robostereo"]
+    assert pts["hidden"] > 30 and pts["visible"] > 3 * pts["hidden"]
+    # eight pairs pooled: 0.9 % of the hidden accepted, 60 % of the visible
+    assert s["hidden"].matched_fraction < 0.1 < 0.4 < s["visible"].matched_fraction
+    b = vf.missing["robostereo"]["near"]
+    assert b.counts["hidden"] >= 0.9 * pts["hidden"]
+    assert vf.coverage["robostereo"]["visible"][0] >= vf.coverage["robostereo"]["all"][0]
