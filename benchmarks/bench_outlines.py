@@ -21,7 +21,12 @@ default (read at the same edge points).  Printed per pair and pooled:
   1.5 px of an exact boundary, matched or not
   (:func:`robostereo.evaluation_outlines.boundary_offsets`), so that a bias of the
   localisation at steps between two textured surfaces is told from the acceptance's
-  choice of which silhouette edges it keeps.
+  choice of which silhouette edges it keeps;
+* near steps over all edge points and over those the right view sees (by the pairs'
+  exact occlusion masks, and by the ground truth z-buffered,
+  :mod:`robostereo.evaluation_visibility`), and the near-step points robostereo does
+  not accept sorted by why: hidden in the other view, visibility unknown, no candidate,
+  best disparity right but refused, best disparity wrong.
 """
 
 from __future__ import annotations
@@ -44,12 +49,22 @@ from robostereo.evaluation import (
     sgbm_sweep,
 )
 from robostereo.evaluation_outlines import (
+    MethodPoints,
     OffsetSummary,
     RowBoundaries,
     boundary_offsets,
     row_boundaries,
     settings_curve,
     silhouette_offsets,
+)
+from robostereo.evaluation_visibility import (
+    BREAKDOWN,
+    HIDDEN,
+    VISIBLE,
+    Visibility,
+    format_visibility_figures,
+    left_visibility,
+    visibility_figures,
 )
 from robostereo.matcher.pipeline import match_stereo
 from robostereo.simulation.occluders import occluder_pair
@@ -68,7 +83,7 @@ def main(argv: list[str] | None = None) -> int:
     labels: tuple[float, ...] = ()
     print(f"{'pair':>4} {'method':<10} {'rule':<10}  near: {'n':>4} {'matched':>8} {'false':>7}"
           f"   away: {'n':>5} {'matched':>8} {'false':>7}")
-    gts, offset_rows = [], 0
+    gts, offset_rows, exact_states, z_states = [], 0, [], []
     for seed in range(args.pairs):
         p = occluder_pair(seed, height=args.height, width=args.width)
         gt = p.disparity
@@ -92,6 +107,8 @@ def main(argv: list[str] | None = None) -> int:
         # pool the pairs side by side in one wide ground truth (rows stay rows)
         offset = offset_rows
         gts.append(gt)
+        exact_states.append(np.where(p.occluded, HIDDEN, VISIBLE).astype(np.int8))
+        z_states.append(left_visibility(gt).state)
         offset_rows += gt.shape[1] + 8
         for k, v in (("row", e.row), ("x", e.x + offset), ("d", d), ("best", res.edge_disparity),
                      ("conf", res.edge_confidence), ("sg", sg), ("exact", exact),
@@ -100,9 +117,12 @@ def main(argv: list[str] | None = None) -> int:
         sweeps.append(sw)
     h = max(g.shape[0] for g in gts)
     wide = np.full((h, offset_rows), np.nan)
+    wide_states = [np.full((h, offset_rows), -1, dtype=np.int8) for _ in range(2)]
     col = 0
-    for g in gts:
+    for k, g in enumerate(gts):
         wide[: g.shape[0], col: col + g.shape[1]] = g
+        for w, st in zip(wide_states, (exact_states[k], z_states[k]), strict=True):
+            w[: g.shape[0], col: col + g.shape[1]] = st
         col += g.shape[1] + 8
     cat = {k: np.concatenate(v) for k, v in pooled.items()}
     rows, x = cat["row"].astype(int), cat["x"]
@@ -133,6 +153,18 @@ def main(argv: list[str] | None = None) -> int:
         print(f"silhouette offsets, {label}: {o.count} edges, signed median {signed:+.2f} px "
               f"(+ = outside the object), median |offset| {o.median_abs_px:.2f} px, "
               f"{100 * o.over_1px:.1f} % > 1 px")
+    points = [MethodPoints("robostereo", cat["d"], cat["best"], cat["conf"]),
+              MethodPoints("sgbm", cat["sg"])]
+    for label, st in (("exact occlusion masks", wide_states[0]),
+                      ("ground truth z-buffered", wide_states[1])):
+        vis = Visibility(state=st, zbuffer_hidden=st == HIDDEN,
+                         out_of_view=np.zeros(st.shape, dtype=bool))
+        vf = visibility_figures(rows, x, wide, near, vis, points, levels=OUTLINE_LEVELS)
+        print(f"\npooled, visibility by the {label}:")
+        print("\n".join(format_visibility_figures(vf)))
+        b = vf.missing["robostereo"]["near"]
+        print("  as % of the near-step points: " + ", ".join(
+            f"{k} {100 * b.counts[k] / max(b.counted, 1):.1f}" for k in BREAKDOWN))
     o = OffsetSummary.of(cat["located"])
     print(f"edge localisation, every edge within 1.5 px of an exact boundary: {o.count} edges, "
           f"signed median {float(np.median(cat['located'])):+.2f} px, median |offset| "

@@ -120,6 +120,19 @@ def test_cli_evaluate_json_keeps_its_keys_and_adds_outlines(data_dir: Path, caps
             near = o["rules"][rule][method]["near"]
             assert near["counted"] == o["near_points"] and 0 <= near["false_percent"] <= 100
     assert o["distance_3d_mm"] == {}  # tsukuba has no calibration
+    v = o["visibility"]
+    pts = v["near_points"]
+    assert pts["all"] == o["near_points"] == pts["visible"] + pts["hidden"] + pts["unknown"]
+    assert 0 < pts["hidden"] < pts["visible"]
+    assert v["agreement_zbuffer_cross_check"] is None  # tsukuba has no right ground truth
+    miss = v["not_accepted"]["robostereo"]["near"]
+    near = o["rules"]["silhouette"]["robostereo"]["near"]
+    assert miss["counted"] == pts["all"] and miss["accepted"] == near["matched"]
+    assert sum(miss[k] for k in ("hidden", "visibility_unknown", "no_candidate",
+                                 "best_right_refused", "best_wrong")) == (
+        miss["counted"] - miss["accepted"])
+    vis = v["near_silhouette_rule"]["robostereo"]["visible"]
+    assert vis["counted"] == pts["visible"] and vis["matched"] <= near["matched"]
 
 
 def test_evaluate_scene_scores_by_the_rule_asked(real_scenes) -> None:

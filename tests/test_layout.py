@@ -27,7 +27,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("robostereo.io", "robostereo.datasets"),
     ("robostereo.matcher",),
     ("robostereo.simulation", "robostereo.evaluation", "robostereo.evaluation_rules",
-     "robostereo.evaluation_outlines", "robostereo.rig"),
+     "robostereo.evaluation_outlines", "robostereo.evaluation_visibility", "robostereo.rig"),
     ("robostereo.robot",),
     ("robostereo.experiments", "robostereo.plots", "robostereo.batch"),
     ("robostereo.cli",),

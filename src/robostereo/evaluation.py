@@ -466,7 +466,10 @@ def evaluate_scene(
        and its ground truth (:func:`errors_3d`).
     6. With ``outlines``: both rules near and away from depth steps, ECE of the
        confidence, the located points' 3-D distances to the ground-truth surface (with
-       ``scene.calib``) and the silhouette offsets, for both methods at the same points.
+       ``scene.calib``) and the silhouette offsets, for both methods at the same points;
+       near steps also over the edge points visible in both views (the ground truth
+       z-buffered, cross-checked with ``scene.gt_disparity_right``) and why the rest
+       are not accepted.
     """
     lo, hi = searched_range(scene.disparity_range if disparity_range is None
                             else disparity_range, scene.shape[1])  # both methods search it
@@ -502,7 +505,8 @@ def evaluate_scene(
                                             tolerance=tolerance, rule=rule)
         points.append(MethodPoints("sgbm", ds, sweep=sweep[0], sweep_labels=sweep[1]))
     of = (outline_figures(e.row, e.x, scene.gt_disparity, points, camera=camera,
-                          tolerance=tolerance) if outlines else None)
+                          tolerance=tolerance, gt_right=scene.gt_disparity_right)
+          if outlines else None)
     h, w = scene.shape
     return SceneEvaluation(
         name=scene.name, path=str(scene.path) if scene.path is not None else "",

@@ -16,7 +16,9 @@ ground-truth disparity jump of more than 2 px between known 4-neighbours) and *a
 * the silhouette offsets (:func:`silhouette_offsets`): how far the edges matched with
   the nearer surface's disparity lie from the ground truth's boundary
   (:func:`boundary_offsets`: how far every edge point near a boundary lies from it,
-  the edge localisation alone).
+  the edge localisation alone);
+* near steps, the same over the edge points visible in both views and why the points
+  not accepted are missing (:mod:`robostereo.evaluation_visibility`).
 """
 
 from __future__ import annotations
@@ -40,6 +42,12 @@ from robostereo.evaluation_rules import (
     near_steps,
     rule_errors,
     score_matches,
+)
+from robostereo.evaluation_visibility import (
+    VisibilityFigures,
+    format_visibility_figures,
+    left_visibility,
+    visibility_figures,
 )
 from robostereo.geometry.triangulation import StereoCamera, triangulate
 
@@ -392,6 +400,9 @@ class OutlineFigures:
         matchers only: a dense one is read at their edge points).
     step_px, radius_px, connectivity : float, int, int
         The near-step definition used (2, 4, 4).
+    visibility : VisibilityFigures or None
+        Near steps over all edge points and over those visible in both views, and why
+        points are not accepted (:mod:`robostereo.evaluation_visibility`).
     """
 
     near_points: int
@@ -402,6 +413,7 @@ class OutlineFigures:
     step_px: float = 2.0
     radius_px: int = 4
     connectivity: int = 4
+    visibility: VisibilityFigures | None = None
 
     def figures(self, method: str, rule: str) -> SplitFigures:
         """The :class:`SplitFigures` of ``method`` by ``rule``."""
@@ -424,6 +436,8 @@ class OutlineFigures:
                                        "median_abs_px": _clean(o.median_abs_px),
                                        "over_1px": _clean(o.over_1px)}
                                    for m, o in self.offsets.items()},
+            **({"visibility": self.visibility.as_dict()} if self.visibility is not None
+               else {}),
         }  # fmt: skip
 
 
@@ -463,7 +477,8 @@ def _percentiles(v: NDArray[np.float64]) -> tuple[float, float]:
 def outline_figures(
     rows: ArrayLike, x: ArrayLike, gt_disparity: ArrayLike, methods: Sequence[MethodPoints], *,
     camera: StereoCamera | None = None, tolerance: float = 1.0, step: float = 2.0,
-    radius: int = 4, connectivity: int = 4,
+    radius: int = 4, connectivity: int = 4, gt_right: ArrayLike | None = None,
+    visibility: bool = True,
 ) -> OutlineFigures:
     """Every near/away figure of :class:`OutlineFigures` for methods at the same points.
 
@@ -478,6 +493,11 @@ def outline_figures(
     tolerance, step, radius, connectivity
         The rules' tolerance and the near-step definition
         (:func:`~robostereo.evaluation_rules.depth_step_mask`).
+    gt_right : array_like, shape (H, W), optional
+        The right view's ground truth: the visibility's left-right cross-check.
+    visibility : bool
+        Also the figures over the edge points visible in both views
+        (:func:`~robostereo.evaluation_visibility.visibility_figures`).
 
     Returns
     -------
@@ -522,12 +542,16 @@ def outline_figures(
     offsets = {m.method: OffsetSummary.of(silhouette_offsets(
         r, xs, m.disparity, bounds, reach=float(radius), tolerance=tolerance)[1])
         for m in methods if m.best is not None}
+    vf = None
+    if visibility:
+        vf = visibility_figures(r, xs, g, near, left_visibility(g, gt_right), methods,
+                                levels=OUTLINE_LEVELS, tolerance=tolerance)
     s0 = split[0] if split else None
     return OutlineFigures(
         near_points=s0.near.counted if s0 else int(near.sum()),
         away_points=s0.away.counted if s0 else int(away.sum()), split=tuple(split),
         distances_mm=distances, offsets=offsets, step_px=step, radius_px=radius,
-        connectivity=connectivity)
+        connectivity=connectivity, visibility=vf)
 
 
 def _f(v: float | None, fmt: str) -> str:
@@ -569,4 +593,6 @@ def format_outline_figures(of: OutlineFigures) -> list[str]:
         lines.append(f"  silhouette offsets, {_label(m)}: {o.count} edges matched with the "
                      f"nearer surface, median |offset| {_f(o.median_abs_px, '.2f')} px, "
                      f"{_f(100 * o.over_1px, '.1f')} % > 1 px")
+    if of.visibility is not None:
+        lines += format_visibility_figures(of.visibility)
     return lines

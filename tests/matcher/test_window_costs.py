@@ -20,8 +20,10 @@ from robostereo.matcher.window_costs import (
 from robostereo.matcher.window_kernels import OUT_OF_VIEW, PATH_MAX_DISPARITIES
 
 
-def _brute(left, right, rows, cols, d_lo, d_hi, vertical, trunc=64):
-    """Every window cost by plain numpy: pixel costs, 9 x 9 sums, the placements."""
+def _brute(left, right, rows, cols, d_lo, d_hi, vertical, trunc=64, *, placements=False):
+    """Every window cost by plain numpy: pixel costs, 9 x 9 sums, the placements (their
+    least, or with ``placements`` each one's (5, N, nd) in the order centred, left,
+    right, up, down, and the function that sums a window)."""
     h, w = left.shape
     cl, cr = census_transform(left), census_transform(right)
     sl, sr = sobel_x(left).astype(int), sobel_x(right).astype(int)
@@ -38,6 +40,14 @@ def _brute(left, right, rows, cols, d_lo, d_hi, vertical, trunc=64):
         return sum(pix[k][ys, xx].sum() if 0 <= xx < w else 9 * (34 + trunc)
                    for xx in range(x - 4, x + 5))
 
+    if placements:
+        each = np.full((5, len(rows), nd), OUT_OF_VIEW)
+        for p, (dy, dx) in enumerate([(0, 0), (0, -4), (0, 4), (-4, 0), (4, 0)]):
+            for i, (y, c) in enumerate(zip(rows, cols, strict=True)):
+                for k in range(nd):
+                    if 0 <= c - d_lo - k < w:
+                        each[p, i, k] = box(k, y + dy, c + dx)
+        return each, box
     offs = [(0, -4), (0, 0), (0, 4)] + ([(-4, 0), (4, 0)] if vertical else [])
     out = np.full((len(rows), nd), OUT_OF_VIEW)
     for i, (y, c) in enumerate(zip(rows, cols, strict=True)):
@@ -64,6 +74,55 @@ def test_window_costs_equal_brute_force(vertical):
     row = _brute(left, right, rows, cols, 0, 12, False)
     assert np.array_equal(wc.best_row, np.argmin(row, axis=1))
     assert np.all(wc.in_view == (ref < OUT_OF_VIEW).sum(axis=1))
+
+
+def test_side_evidence_columns_equal_brute_force():
+    """The placement that wins, its own second cost, each side window's own best, the
+    disparity of the second cost and the left-right check with the winning placement,
+    on a pair with a nearer square (two surfaces under the windows at its outline)."""
+    rng = np.random.default_rng(11)
+    h, w = 40, 80
+    back = rng.uniform(0, 127, (h, w + 20)).astype(np.float32)
+    front = rng.uniform(0, 127, (h, w + 20)).astype(np.float32)
+    left = back[:, :w].copy()
+    right = back[:, 3:3 + w].copy()  # background disparity 3
+    left[10:30, 30:50] = front[10:30, 30:50]
+    right[10:30, 22:42] = front[10:30, 30:50]  # the square at disparity 8
+    rows = np.array([12, 15, 20, 20, 20, 25, 28])
+    cols = np.array([29, 31, 30, 49, 60, 45, 51])
+    wc = window_costs(left, right, rows, cols, (0, 11), sides=True)
+    each, box = _brute(left, right, rows, cols, 0, 11, True, placements=True)
+    n, nd = len(rows), 12
+    least = each.min(axis=0)
+    k1 = np.argmin(least, axis=1)
+    at = np.arange(n)
+    assert np.array_equal(wc.best, k1)
+    placement = np.argmax(each[:, at, k1] == least[at, k1], axis=0)  # the first of equals
+    assert np.array_equal(wc.placement, placement)
+    far = np.abs(np.arange(nd)[None] - k1[:, None]) > 1
+    own = np.where(far & (least < OUT_OF_VIEW), each[placement, at], OUT_OF_VIEW)
+    assert np.array_equal(wc.second_placement, own.min(axis=1))
+    second = np.where(far, least, OUT_OF_VIEW)
+    assert np.array_equal(wc.second_best, np.argmin(second, axis=1))
+    assert np.array_equal(wc.second, second.min(axis=1))
+    for side, p in (("left", 1), ("right", 2)):
+        assert np.array_equal(getattr(wc, "best_" + side), np.argmin(each[p], axis=1))
+        assert np.array_equal(getattr(wc, "cost_" + side), each[p].min(axis=1))
+    # the left-right check with the winning window: the right pixel x - k1 against the
+    # left pixels x - k1 + k, both windows placed as the winner
+    shift = [(0, 0), (0, -4), (0, 4), (-4, 0), (4, 0)]
+    for i in range(n):
+        dy, dx = shift[placement[i]]
+        x_right = cols[i] - k1[i]
+        costs = [box(k, rows[i] + dy, x_right + k + dx) if x_right + k < w else OUT_OF_VIEW
+                 for k in range(nd)]
+        assert wc.right_best_placement[i] == int(np.argmin(costs)), i
+    # the scene has both surfaces: some window prefers each disparity
+    assert {3, 8} <= set(wc.best_left.tolist()) | set(wc.best_right.tolist())
+    # without sides the other columns are the same and these are left at -1
+    plain = window_costs(left, right, rows, cols, (0, 11))
+    assert np.array_equal(plain.best, wc.best) and np.array_equal(plain.second, wc.second)
+    assert np.all(plain.placement == -1) and np.all(plain.right_best_placement == -1)
 
 
 @pytest.mark.parametrize("vertical", [False, True])

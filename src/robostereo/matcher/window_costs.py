@@ -166,6 +166,31 @@ class WindowCosts:
         ``best_path`` is then the windows' best whole disparity in the best bin, the
         costs are the bins', ``before_path`` and ``after_path`` the windows' (for the
         parabola).
+
+    With ``sides`` (:func:`window_costs`) also what each placement of the window saw
+    on its own (-1 throughout without):
+
+    placement : ndarray of int
+        The window that gives ``cost`` at ``best``: 0 centred, 1 half a window left,
+        2 right, 3 up, 4 down (the first of equal ones); -1 where there is no ``best``.
+    second_placement : ndarray of int
+        That window's own least cost over the disparities in view more than one from
+        ``best``: unlike ``second``, not lowered by another placement that sees another
+        surface (at an occluding contour the window on the occluder sees one disparity).
+    best_left, cost_left : ndarray of int
+        The best disparity of the window shifted half a window left alone, over the
+        disparities in view (the first of equals; -1: none), and its cost there.  At an
+        occluding contour the side window on the occluder's side sees one surface.
+    best_right, cost_right : ndarray of int
+        The same for the window shifted half a window right.
+    second_best : ndarray of int
+        The disparity of ``second`` (the first of equals; -1 where there is none).
+    right_best_placement : ndarray of int
+        The left-right check with the window of ``placement`` alone: the best disparity
+        of the right pixel ``x - d_min - k1`` against every left pixel, both windows
+        placed as that one (-1 where there is none).  At an occluding contour the right
+        pixel lies on the contour too, and its five windows may prefer the other
+        surface; the window on the occluder's side sees the occluder in both views.
     """
 
     d_min: int
@@ -185,6 +210,14 @@ class WindowCosts:
     second_path: NDArray[np.int32]
     before_path: NDArray[np.int32]
     after_path: NDArray[np.int32]
+    placement: NDArray[np.int32]
+    second_placement: NDArray[np.int32]
+    best_left: NDArray[np.int32]
+    cost_left: NDArray[np.int32]
+    best_right: NDArray[np.int32]
+    cost_right: NDArray[np.int32]
+    second_best: NDArray[np.int32]
+    right_best_placement: NDArray[np.int32]
 
 
 def _halve(image: NDArray[np.generic], *, mask: bool = False) -> NDArray[np.generic]:
@@ -296,6 +329,7 @@ def window_costs(
     valid_left: NDArray[np.bool_] | None = None,
     valid_right: NDArray[np.bool_] | None = None,
     path_penalties: tuple[float, float] | None = PATH_PENALTIES,
+    sides: bool = False,
 ) -> WindowCosts:
     """Side-aware census + gradient window costs at left pixels, every disparity.
 
@@ -320,6 +354,10 @@ def window_costs(
         ``(P1, P2)`` of the paths along the row, per pixel of the window: the cost of
         a one-pixel change of disparity between neighbouring columns and of a larger
         jump (Notes, 6).  None: no paths.
+    sides : bool
+        Also keep what each placement saw on its own (:class:`WindowCosts`:
+        ``placement`` ... ``right_best_placement``; Notes, 7), for measuring evidence
+        at occluding contours; the matcher does not read them.
 
     Returns
     -------
@@ -345,6 +383,11 @@ def window_costs(
        sum is read at the edge points (``best_path`` ...).  A path carries the
        disparity of textured parts of the row into ambiguous ones (repeated patterns,
        weak texture), where a window alone has two near-equal minima.
+    7. With ``sides``: the winning placement and its own second cost, the best
+       disparity of each side window alone, the disparity of the second cost, and the
+       left-right check with the winning placement alone.  At an occluding contour the
+       window on the occluder's side sees one surface; the other side may see a surface
+       the right view cannot (half-occlusion).
 
     Examples
     --------
@@ -405,7 +448,8 @@ def window_costs(
         settings = StreamSettings(
             d_min=d_lo, n_disparities=nd, truncation=np.int16(trunc),
             pixel_cost_max=np.int16(34 + trunc), half_window=HALF_WINDOW,
-            vertical=bool(vertical), p1=p1, p2=p2, path_row_step=PATH_ROW_STEP)
+            vertical=bool(vertical), p1=p1, p2=p2, path_row_step=PATH_ROW_STEP,
+            sides=bool(sides))
         # bands of at least 64 rows, one per thread: a band repeats 2 * HALF_WINDOW rows
         n_bands = max(1, min(n_threads(), h // 64))
         step = -(-h // n_bands)

@@ -65,13 +65,31 @@ PATH_MAX_DISPARITIES = 128
 #: the columns of :func:`stream_rows`' summary of an edge point, in order: the fields of
 #: :class:`~robostereo.matcher.window_costs.WindowCosts` (its docstring says what each
 #: holds): with the five windows, with the three along the row, the disparities in view,
-#: the left-right check and the paths
+#: the left-right check, the paths, and what each placement saw on its own (only with
+#: ``StreamSettings.sides``, -1 otherwise; :func:`_sides`).  Those last eight, per edge
+#: point, from the per-disparity costs of the five placements at it and at the right
+#: pixel's partners (the pass over all disparities; a sparse pass over a few candidate
+#: disparities reads them among those):
+#:
+#: * ``placement``: the window that gives ``cost`` at ``best``, the first of equals in
+#:   the order 0 centred, 1 half a window left, 2 right, 3 up, 4 down (-1: no ``best``);
+#: * ``second_placement``: that window's own least cost over the disparities in view
+#:   more than one from ``best`` (``OUT_OF_VIEW``: none);
+#: * ``best_left``, ``cost_left``: the left-shifted window's own best disparity over
+#:   those in view (the first of equals; -1: none) and its cost there;
+#:   ``best_right``, ``cost_right`` the right-shifted one's;
+#: * ``second_best``: the disparity of ``second`` (the first of equals; -1: none);
+#: * ``right_best_placement``: the left-right check with the winning window alone: the
+#:   best disparity of the right pixel ``x - d_min - best`` against every left pixel,
+#:   both windows placed as the winner (-1: none).
 STREAM_COLUMNS: tuple[str, ...] = (
     "best", "cost", "second", "before", "after",
     "best_row", "cost_row", "second_row",
     "in_view",
     "right_best",
     "best_path", "cost_path", "second_path", "before_path", "after_path",
+    "placement", "second_placement", "best_left", "cost_left", "best_right", "cost_right",
+    "second_best", "right_best_placement",
 )
 #: the summary as named columns, for the kernels that read it (:func:`evidence`)
 StreamSummary = namedtuple("StreamSummary", STREAM_COLUMNS)
@@ -90,6 +108,14 @@ _COST_PATH = STREAM_COLUMNS.index("cost_path")
 _SECOND_PATH = STREAM_COLUMNS.index("second_path")
 _BEFORE_PATH = STREAM_COLUMNS.index("before_path")
 _AFTER_PATH = STREAM_COLUMNS.index("after_path")
+_PLACEMENT = STREAM_COLUMNS.index("placement")
+_SECOND_PLACEMENT = STREAM_COLUMNS.index("second_placement")
+_BEST_LEFT = STREAM_COLUMNS.index("best_left")
+_COST_LEFT = STREAM_COLUMNS.index("cost_left")
+_BEST_RIGHT = STREAM_COLUMNS.index("best_right")
+_COST_RIGHT = STREAM_COLUMNS.index("cost_right")
+_SECOND_BEST = STREAM_COLUMNS.index("second_best")
+_RIGHT_BEST_PLACEMENT = STREAM_COLUMNS.index("right_best_placement")
 
 
 class StreamImages(NamedTuple):
@@ -115,6 +141,7 @@ class StreamSettings(NamedTuple):
     p1: int  # path penalties per window (sum of its pixels); p1 < 0: no paths
     p2: int
     path_row_step: int  # paths on every path_row_step-th row
+    sides: bool = False  # also what each placement saw on its own (STREAM_COLUMNS)
 
 
 class RowPixels(NamedTuple):
@@ -218,6 +245,67 @@ def _least(boxes_up, boxes_mid, boxes_down, k, x, hw, vertical):  # type: ignore
     if vertical:
         return min(row, np.int32(min(boxes_up[k, x], boxes_down[k, x]))), row
     return row, row
+
+
+@kernel(fastmath=True, nogil=True)
+def _sides(boxes_up, boxes_mid, boxes_down, cost_all, best, best_cost, second, column,
+           d_min, hw, margin, vertical, o):  # type: ignore[no-untyped-def]
+    """What each placement saw on its own at one edge point, into its summary row ``o``
+    (the last eight :data:`STREAM_COLUMNS`, defined there).  ``cost_all`` (nd,) holds
+    the least of the five windows per disparity (``OUT_OF_VIEW`` out of view), ``best``,
+    ``best_cost`` and ``second`` its best disparity, cost and second cost, ``column``
+    the edge pixel's (unpadded); the box sums are padded by ``margin`` columns."""
+    big = np.int32(OUT_OF_VIEW)
+    nd = cost_all.shape[0]
+    w = boxes_mid.shape[1] - 2 * margin
+    pc = column + margin
+    # -- each side window's own best over the disparities in view, and the disparity of
+    #    the second cost
+    best_left, cost_left, best_right, cost_right, second_best = -1, big, -1, big, -1
+    for k in range(nd):
+        if cost_all[k] >= big:
+            continue
+        v_left = np.int32(boxes_mid[k, pc - hw])
+        v_right = np.int32(boxes_mid[k, pc + hw])
+        if v_left < cost_left:
+            cost_left, best_left = v_left, k
+        if v_right < cost_right:
+            cost_right, best_right = v_right, k
+        if second_best < 0 and abs(k - best) > 1 and cost_all[k] == second:
+            second_best = k
+    o[_BEST_LEFT], o[_COST_LEFT] = best_left, cost_left
+    o[_BEST_RIGHT], o[_COST_RIGHT] = best_right, cost_right
+    o[_SECOND_BEST] = second_best
+    o[_PLACEMENT], o[_SECOND_PLACEMENT], o[_RIGHT_BEST_PLACEMENT] = -1, big, -1
+    if best < 0:
+        return
+    # -- the window that gives the best cost (the first of equals) and its own second
+    if boxes_mid[best, pc] == best_cost:
+        placement, boxes, shift = 0, boxes_mid, 0
+    elif boxes_mid[best, pc - hw] == best_cost:
+        placement, boxes, shift = 1, boxes_mid, -hw
+    elif boxes_mid[best, pc + hw] == best_cost:
+        placement, boxes, shift = 2, boxes_mid, hw
+    elif vertical and boxes_up[best, pc] == best_cost:
+        placement, boxes, shift = 3, boxes_up, 0
+    else:
+        placement, boxes, shift = 4, boxes_down, 0
+    own_second = big
+    for k in range(nd):
+        if abs(k - best) > 1 and cost_all[k] < big:
+            own_second = min(own_second, np.int32(boxes[k, pc + shift]))
+    # -- the left-right check with that window alone: the right pixel against every left
+    #    pixel, both windows placed as the winner
+    x_right = column - d_min - best
+    right_best, right_cost = -1, big
+    for k in range(nd):
+        x_left = x_right + d_min + k
+        if 0 <= x_left < w:
+            v = np.int32(boxes[k, x_left + margin + shift])
+            if v < right_cost:
+                right_cost, right_best = v, k
+    o[_PLACEMENT], o[_SECOND_PLACEMENT], o[_RIGHT_BEST_PLACEMENT] = (placement, own_second,
+                                                                     right_best)
 
 
 @kernel(fastmath=True, nogil=True, inline="always")
@@ -492,6 +580,9 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
             o[_SECOND_ROW] = second_row
             o[_IN_VIEW] = n_in_view
             o[_RIGHT_BEST] = -1
+            if settings.sides:
+                _sides(boxes_up, boxes_mid, boxes_down, cost_all, best, best_cost, second,
+                       column, d_min, hw, m, vertical, o)
             if best < 0:
                 continue
             # -- left-right check: the right pixel of the best disparity against every
