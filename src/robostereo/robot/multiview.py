@@ -115,6 +115,12 @@ class ViewsParameters:
         default: on the simulated block (5 views on a line over 80 mm) 4 took the lift's
         error from 0.095 to 0.056 mm but the largest error from 0.53-0.60 to 0.88 mm
         (a point 3.5 mm from a corner that dropped the one unbiased view).
+    edge_blur_px : float or None
+        Gaussian sigma (pixels) of the images whose gradient places the sub-pixel edge
+        points (:func:`~robostereo.robot.multiview_search.prepare_views`); 0 (the
+        default): the undistorted grey levels unsmoothed; None: the thesis's smoothed
+        images, which the search uses.  The smoothing merges an edge with a second one
+        within about 2 px (a face seen nearly edge-on) and moves it by up to 0.12 px.
     min_views : int
         Views a point's fit must rest on (the reference included), when that many see
         its window: a fit of two views matches exactly whatever it is given, so it
@@ -162,6 +168,7 @@ class ViewsParameters:
     min_epipolar_angle_deg: float = 15.0
     edge_lines: int = 2
     drop_sigmas: float | None = None
+    edge_blur_px: float | None = 0.0
     combine: Literal["best-half", "all"] = "best-half"
     min_views: int = 3
     min_confidence: float = 0.79
@@ -191,6 +198,9 @@ class ViewsParameters:
             require_positive("drop_sigmas", self.drop_sigmas)
         if self.range_step_px is not None:
             require_positive("range_step_px", self.range_step_px)
+        if self.edge_blur_px is not None and not 0 <= self.edge_blur_px <= 10:
+            raise InputError(f"edge_blur_px must be in 0..10 or None, got "
+                             f"{self.edge_blur_px!r}")
         if not 0 <= self.min_epipolar_angle_deg < 90:
             raise InputError(f"min_epipolar_angle_deg must be in [0, 90), got "
                              f"{self.min_epipolar_angle_deg!r}")
@@ -413,7 +423,7 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     if not isinstance(p, ViewsParameters):
         raise InputError(f"params must be a ViewsParameters, got {type(p).__name__}")
     n = len(capture)
-    views = prepare_views(capture)
+    views = prepare_views(capture, p.edge_blur_px)
     h, w = views.smoothed.shape[1:]
     border = p.half_window + 2
     claimed = np.zeros((n, h, w), bool)
