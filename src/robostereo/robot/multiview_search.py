@@ -96,12 +96,15 @@ class PreparedViews:
         return uv * np.diag(self.K)[:2] + self.K[:2, 2], z
 
 
-def _gradient(s: NDArray[np.float32]) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
-    gx = np.zeros_like(s)
-    gy = np.zeros_like(s)
-    gx[:, 1:-1] = 0.5 * (s[:, 2:] - s[:, :-2])
-    gy[1:-1, :] = 0.5 * (s[2:, :] - s[:-2, :])
-    return gx, gy
+def _gradient(s: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.float32]
+              ) -> None:
+    """``gx, gy`` (zeroed at the borders) of `s`: central differences, in place."""
+    gx[:, 0] = gx[:, -1] = 0.0
+    gy[0] = gy[-1] = 0.0
+    np.subtract(s[:, 2:], s[:, :-2], out=gx[:, 1:-1])
+    np.subtract(s[2:], s[:-2], out=gy[1:-1])
+    gx *= 0.5
+    gy *= 0.5
 
 
 def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.0) -> PreparedViews:
@@ -137,30 +140,25 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.0) -> Pr
         d = cam.distort(n)
         map_x = (d[:, 0] * cam.fx + cx).reshape(h, w).astype(np.float32)
         map_y = (d[:, 1] * cam.fy + cy).reshape(h, w).astype(np.float32)
-    sm, gxs, gys, fxs, fys = [], [], [], [], []
-    for img in capture.images:
+    n_views = len(capture.images)
+    sm, gxs, gys = (np.empty((n_views, h, w), np.float32) for _ in range(3))
+    fine = edge_blur_px is not None
+    fxs, fys = (np.empty((n_views, h, w), np.float32) for _ in range(2)) if fine else (gxs, gys)
+    for i, img in enumerate(capture.images):
         g = to_grey(img, bit_depth=int(capture.bit_depth))
         if undistort:
             g = cv2.remap(g, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-        s = smooth(g)
-        gx, gy = _gradient(s)
-        if edge_blur_px is None:
-            fx, fy = gx, gy
-        else:
+        sm[i] = smooth(g)
+        _gradient(sm[i], gxs[i], gys[i])
+        if fine:
             g = np.asarray(g, np.float32)
-            if edge_blur_px > 0:
-                g = cv2.GaussianBlur(g, (0, 0), float(edge_blur_px),
+            if edge_blur_px > 0:  # type: ignore[operator]
+                g = cv2.GaussianBlur(g, (0, 0), float(edge_blur_px),  # type: ignore[arg-type]
                                      borderType=cv2.BORDER_REFLECT_101)
-            fx, fy = _gradient(g)
-        sm.append(s)
-        gxs.append(gx)
-        gys.append(gy)
-        fxs.append(fx)
-        fys.append(fy)
+            _gradient(g, fxs[i], fys[i])
     poses = [as_se3(p) for p in capture.poses]
     return PreparedViews(
-        smoothed=np.stack(sm), gx=np.stack(gxs), gy=np.stack(gys), fine_gx=np.stack(fxs),
-        fine_gy=np.stack(fys), K=K, K_inv=np.linalg.inv(K),
+        smoothed=sm, gx=gxs, gy=gys, fine_gx=fxs, fine_gy=fys, K=K, K_inv=np.linalg.inv(K),
         R=np.stack([p.rotation for p in poses]),
         C=np.stack([p.translation for p in poses]))
 
