@@ -83,3 +83,20 @@ def test_an_edge_beside_a_narrow_face_is_placed_from_the_unsmoothed_image(strip_
     assert len(err_fine) > 50 and len(err_smooth) > 50
     assert np.all(np.abs(err_fine) <= bound_fine)
     assert np.abs(err_fine).max() < 0.7 * np.abs(err_smooth).max()
+
+
+def test_views_that_cannot_vote_turn_away_wrong_two_view_fits():
+    # the six-axis arm's cross of 3 views: an edge along one arm's epipolar lines is
+    # measured by the other view alone; the muted view still has to see an edge there
+    from robostereo.robot.simulated_views import simulate_views
+    from robostereo.robot.views_truth import views_correct
+
+    sim = simulate_views("pulley", count=3, pattern="cross", span_mm=80.0, robot="six-axis")
+    counts = {}
+    for check in (False, True):
+        loc = locate_views(sim.capture, params=ViewsParameters(check_two_view_fits=check))
+        ok = views_correct(sim, loc)
+        counts[check] = (int(ok.sum()), int((~ok).sum()))
+    assert counts[False][1] > 100  # wrong two-view fits to turn away
+    assert counts[True][1] < 0.7 * counts[False][1]
+    assert counts[True][0] >= 0.99 * counts[False][0]

@@ -11,7 +11,9 @@
   view's window scored (:func:`~robostereo.robot.multiview_kernels.sweep_costs`) and
   the views combined robustly (the best half [2]_);
 * :func:`refine_points`: each view's sub-pixel edge point near the best depth, the
-  3-D point refined by least squares over the views that agree, its bound.
+  3-D point refined by least squares over the views that agree, its bound;
+* :func:`contradicted`: whether a view left out of a point's fit finds no edge where
+  the point falls in it (a check of two-view fits, which cannot check themselves).
 
 References
 ----------
@@ -40,6 +42,7 @@ __all__ = [
     "RayMatches",
     "ReferenceEdges",
     "RefinedPoints",
+    "contradicted",
     "epipolar_sines",
     "prepare_views",
     "reference_edges",
@@ -586,3 +589,60 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
                          used_reference=use_ref,
                          edge=edge,
                          residual_rms=rms, rho_std_unit=rho_std, epipolar_sine=sine, ok=ok)
+
+
+def _carried_normals(affine: _F, normal: _F) -> _F:
+    """The reference's edge normals (M, 2) carried into each other view by the depth
+    plane's map `affine` (M, V, 2, 2; gradients map with its inverse transpose), unit,
+    shape (M, V, 2)."""
+    with np.errstate(all="ignore"):
+        inv_t = np.linalg.inv(affine + 1e-12 * np.eye(2)).transpose(0, 1, 3, 2)
+        n = np.einsum("mvij,mj->mvi", inv_t, normal)
+        return n / np.maximum(np.linalg.norm(n, axis=2, keepdims=True), 1e-12)
+
+
+def contradicted(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: RayMatches,
+                 fit: RefinedPoints, check: NDArray[np.bool_], *, threshold: float,
+                 reject_px: float, border: int, lines: int = 2) -> NDArray[np.bool_]:
+    """Whether some other view left out of a point's fit has no edge where it sees the
+    point, for the points in `check`, shape (M,).
+
+    Notes
+    -----
+    A view along whose epipolar line the edge runs does not vote on the depth (its
+    window slides along the edge and fits at every depth, :func:`search_rays`), but it
+    still sees the edge: the fitted point must fall on an edge of the carried-over
+    orientation and polarity in it.  A wrong depth moves the point along the epipolar
+    line, which leaves the edge by the motion times the sine of their angle; on the
+    repeated rings of the hub-pulley a wrong two-view match lies tens of pixels away,
+    several pixels off the edge.  For each view not in the fit in which the point
+    falls `border` pixels or more inside the image: the sub-pixel edge point
+    (:func:`~robostereo.robot.multiview_kernels.edge_near`, within 2 px) nearest the
+    projection; the point is contradicted if there is none or it lies more than
+    `reject_px` away along the normal.
+    """
+    m = len(edges)
+    out = np.zeros(m, bool)
+    idx = np.nonzero(check & fit.ok)[0]
+    if not len(idx):
+        return out
+    h, w = views.smoothed.shape[1:]
+    normals = _carried_normals(rays.affine[idx], edges.normal[idx])
+    for v, j in enumerate(rays.others):
+        uv, z = views.project(fit.world[idx], int(j))
+        nj = normals[:, v]
+        look = (~fit.used[idx, v] & (z > 0) & np.isfinite(uv).all(axis=1)
+                & np.isfinite(nj).all(axis=1))
+        with np.errstate(invalid="ignore"):
+            look &= ((uv[:, 0] >= border) & (uv[:, 1] >= border)
+                     & (uv[:, 0] <= w - 1 - border) & (uv[:, 1] <= h - 1 - border))
+        ii = np.nonzero(look)[0]
+        if not len(ii):
+            continue
+        ex, ey, _, _, found = edge_near(views.fine_gx[j], views.fine_gy[j], uv[ii, 0],
+                                        uv[ii, 1], nj[ii, 0], nj[ii, 1], 2, threshold / 2.0,
+                                        border, lines)
+        with np.errstate(invalid="ignore"):
+            off = np.abs((ex - uv[ii, 0]) * nj[ii, 0] + (ey - uv[ii, 1]) * nj[ii, 1])
+        out[idx[ii]] |= ~found | ~(off <= reject_px)
+    return out
