@@ -110,7 +110,7 @@ def _gradient(s: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.fl
     gy *= 0.5
 
 
-def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.0) -> PreparedViews:
+def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> PreparedViews:
     """Undistort, convert, smooth and differentiate every view (see :class:`PreparedViews`).
 
     Parameters
@@ -131,6 +131,8 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.0) -> Pr
     the smoothed gradient's peak moved 0.119 px in the view whose side-face strip was
     2.2 px wide and 0.031 px at 3.6 px; the unsmoothed one's 0.034 and 0.002 px, with
     the same spread (0.010-0.017 px against 0.008-0.015 px over 40 points of one edge).
+    A light blur (the default, see ``ViewsParameters.edge_blur_px``) trades a little
+    of that back for less noise.
     """
     cam = capture.camera
     w, h = cam.image_size
