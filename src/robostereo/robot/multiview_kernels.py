@@ -34,7 +34,7 @@ def _bilinear(img, x, y):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
-def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type: ignore[no-untyped-def]
+def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  # type: ignore[no-untyped-def]
     """``1 - ZNCC`` of each point's reference window in each other view at each depth.
 
     Parameters
@@ -55,12 +55,14 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type
         Each point's inverse depths, 1/mm.
     margin : float
         Least distance of a window sample from the image border, pixels.
+    skip : bool (M, V)
+        Views not to score for a point (NaN at every depth): those that cannot vote.
 
     Returns
     -------
     float32 (M, V, K)
-        ``1 - ZNCC`` (0 best, 2 worst); NaN where the window leaves the image or the
-        point is behind the view.
+        ``1 - ZNCC`` (0 best, 2 worst); NaN where the window leaves the image, the
+        point is behind the view or the view is skipped.
     """
     m, p = ref_patch.shape
     nv = views.shape[0]
@@ -71,6 +73,10 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type
     buf = np.empty(p, np.float64)
     for i in range(m):
         for v in range(nv):
+            if skip[i, v]:
+                for k in range(nk):
+                    out[i, v, k] = OUTSIDE
+                continue
             img = images[views[v]]
             a00 = aff[i, v, 0, 0]
             a01 = aff[i, v, 0, 1]

@@ -385,8 +385,7 @@ def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], half_window
            combine: str) -> tuple[_F, _F, _F, NDArray[np.intp]]:
     """Costs (M, V, K) at each point's inverse depths `rho` (M, K), their combination
     (M, K), the views' sorted costs and how many voted."""
-    costs = sweep_costs(*sweep, rho, float(half_window + 1))
-    costs[mute] = np.nan
+    costs = sweep_costs(*sweep, rho, float(half_window + 1), mute)
     c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (M, V, K)
     srt = np.sort(c, axis=1)
     seen = np.isfinite(srt).sum(axis=1)  # (M, K)
