@@ -208,10 +208,15 @@ def grid_edges(gx, gy, threshold, border, lines):  # type: ignore[no-untyped-def
     y for column peaks), the axis (0 rows, 1 columns), and the gradient at the pixel."""
     h, w = gx.shape
     n = 0
+    # one test of every pixel: its axis (-1: no edge point) and offset, kept for the fill
+    axis_at = np.full((h, w), -1, np.int8)
+    off_at = np.zeros((h, w), np.float64)
     for y in range(border, h - border):
         for x in range(border, w - border):
             axis, off = _grid_peak(gx, gy, y, x, threshold)
             if axis >= 0:
+                axis_at[y, x] = axis
+                off_at[y, x] = off
                 n += 1
     rows = np.empty(n, np.int64)
     cols = np.empty(n, np.int64)
@@ -222,9 +227,10 @@ def grid_edges(gx, gy, threshold, border, lines):  # type: ignore[no-untyped-def
     n = 0
     for y in range(border, h - border):
         for x in range(border, w - border):
-            axis, off = _grid_peak(gx, gy, y, x, threshold)
+            axis = axis_at[y, x]
             if axis < 0:
                 continue
+            off = off_at[y, x]
             rows[n] = y
             cols[n] = x
             sub[n] = (x if axis == 0 else y) + off
