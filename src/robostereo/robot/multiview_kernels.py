@@ -34,7 +34,7 @@ def _bilinear(img, x, y):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
-def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type: ignore[no-untyped-def]
+def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  # type: ignore[no-untyped-def]
     """``1 - ZNCC`` of each point's reference window in each other view at each depth.
 
     Parameters
@@ -55,12 +55,14 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type
         Each point's inverse depths, 1/mm.
     margin : float
         Least distance of a window sample from the image border, pixels.
+    skip : bool (M, V)
+        Views not to score for a point (NaN at every depth): those that cannot vote.
 
     Returns
     -------
     float32 (M, V, K)
-        ``1 - ZNCC`` (0 best, 2 worst); NaN where the window leaves the image or the
-        point is behind the view.
+        ``1 - ZNCC`` (0 best, 2 worst); NaN where the window leaves the image, the
+        point is behind the view or the view is skipped.
     """
     m, p = ref_patch.shape
     nv = views.shape[0]
@@ -71,6 +73,10 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin):  # type
     buf = np.empty(p, np.float64)
     for i in range(m):
         for v in range(nv):
+            if skip[i, v]:
+                for k in range(nk):
+                    out[i, v, k] = OUTSIDE
+                continue
             img = images[views[v]]
             a00 = aff[i, v, 0, 0]
             a01 = aff[i, v, 0, 1]
@@ -202,10 +208,15 @@ def grid_edges(gx, gy, threshold, border, lines):  # type: ignore[no-untyped-def
     y for column peaks), the axis (0 rows, 1 columns), and the gradient at the pixel."""
     h, w = gx.shape
     n = 0
+    # one test of every pixel: its axis (-1: no edge point) and offset, kept for the fill
+    axis_at = np.full((h, w), -1, np.int8)
+    off_at = np.zeros((h, w), np.float64)
     for y in range(border, h - border):
         for x in range(border, w - border):
             axis, off = _grid_peak(gx, gy, y, x, threshold)
             if axis >= 0:
+                axis_at[y, x] = axis
+                off_at[y, x] = off
                 n += 1
     rows = np.empty(n, np.int64)
     cols = np.empty(n, np.int64)
@@ -216,9 +227,10 @@ def grid_edges(gx, gy, threshold, border, lines):  # type: ignore[no-untyped-def
     n = 0
     for y in range(border, h - border):
         for x in range(border, w - border):
-            axis, off = _grid_peak(gx, gy, y, x, threshold)
+            axis = axis_at[y, x]
             if axis < 0:
                 continue
+            off = off_at[y, x]
             rows[n] = y
             cols[n] = x
             sub[n] = (x if axis == 0 else y) + off

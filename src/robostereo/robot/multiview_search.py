@@ -11,7 +11,9 @@
   view's window scored (:func:`~robostereo.robot.multiview_kernels.sweep_costs`) and
   the views combined robustly (the best half [2]_);
 * :func:`refine_points`: each view's sub-pixel edge point near the best depth, the
-  3-D point refined by least squares over the views that agree, its bound.
+  3-D point refined by least squares over the views that agree, its bound;
+* :func:`contradicted`: whether a view left out of a point's fit finds no edge where
+  the point falls in it (a check of two-view fits, which cannot check themselves).
 
 References
 ----------
@@ -40,6 +42,7 @@ __all__ = [
     "RayMatches",
     "ReferenceEdges",
     "RefinedPoints",
+    "contradicted",
     "epipolar_sines",
     "prepare_views",
     "reference_edges",
@@ -64,6 +67,11 @@ class PreparedViews:
         Undistorted grey levels on the thesis's 0..127 scale, smoothed (figure 3-1).
     gx, gy : float32 (N, H, W)
         ``(S(x + 1) - S(x - 1)) / 2`` and the same along y.
+    fine_gx, fine_gy : float32 (N, H, W)
+        The same of the undistorted grey levels before the thesis's smoothing (blurred
+        by a Gaussian of ``edge_blur_px`` if that is above 0), which place the sub-pixel
+        edge points (:func:`reference_edges`, :func:`refine_points`); `gx`, `gy`
+        themselves when ``edge_blur_px`` is None.
     K, K_inv : (3, 3)
         The pinhole intrinsics the undistorted images share.
     R : (N, 3, 3)
@@ -75,6 +83,8 @@ class PreparedViews:
     smoothed: NDArray[np.float32]
     gx: NDArray[np.float32]
     gy: NDArray[np.float32]
+    fine_gx: NDArray[np.float32]
+    fine_gy: NDArray[np.float32]
     K: _F
     K_inv: _F
     R: _F
@@ -89,8 +99,41 @@ class PreparedViews:
         return uv * np.diag(self.K)[:2] + self.K[:2, 2], z
 
 
-def prepare_views(capture: ViewsCapture) -> PreparedViews:
-    """Undistort, convert, smooth and differentiate every view (see :class:`PreparedViews`)."""
+def _gradient(s: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.float32]
+              ) -> None:
+    """``gx, gy`` (zeroed at the borders) of `s`: central differences, in place."""
+    gx[:, 0] = gx[:, -1] = 0.0
+    gy[0] = gy[-1] = 0.0
+    np.subtract(s[:, 2:], s[:, :-2], out=gx[:, 1:-1])
+    np.subtract(s[2:], s[:-2], out=gy[1:-1])
+    gx *= 0.5
+    gy *= 0.5
+
+
+def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> PreparedViews:
+    """Undistort, convert, smooth and differentiate every view (see :class:`PreparedViews`).
+
+    Parameters
+    ----------
+    capture : ViewsCapture
+    edge_blur_px : float or None
+        Gaussian sigma (pixels) of the images whose gradient places the sub-pixel edge
+        points; 0: the undistorted grey levels as they are; None: the thesis's smoothed
+        images, as the search uses.
+
+    Notes
+    -----
+    The thesis's 5 x 5 filter (figure 3-1) spreads an edge's gradient over about
+    +-2 px.  Where a second edge runs within that distance (a face seen nearly edge-on:
+    the block's side face is a strip of 0.7-4 px in some views) the two gradients merge
+    and the peak moves towards the second edge; the search needs the smoothing, the
+    sub-pixel position does not.  On the simulated block (5 views on a line over 80 mm)
+    the smoothed gradient's peak moved 0.119 px in the view whose side-face strip was
+    2.2 px wide and 0.031 px at 3.6 px; the unsmoothed one's 0.034 and 0.002 px, with
+    the same spread (0.010-0.017 px against 0.008-0.015 px over 40 points of one edge).
+    A light blur (the default, see ``ViewsParameters.edge_blur_px``) trades a little
+    of that back for less noise.
+    """
     cam = capture.camera
     w, h = cam.image_size
     K = cam.K
@@ -102,23 +145,26 @@ def prepare_views(capture: ViewsCapture) -> PreparedViews:
         d = cam.distort(n)
         map_x = (d[:, 0] * cam.fx + cx).reshape(h, w).astype(np.float32)
         map_y = (d[:, 1] * cam.fy + cy).reshape(h, w).astype(np.float32)
-    sm, gxs, gys = [], [], []
-    for img in capture.images:
+    n_views = len(capture.images)
+    sm, gxs, gys = (np.empty((n_views, h, w), np.float32) for _ in range(3))
+    fine = edge_blur_px is not None
+    fxs, fys = (np.empty((n_views, h, w), np.float32) for _ in range(2)) if fine else (gxs, gys)
+    for i, img in enumerate(capture.images):
         g = to_grey(img, bit_depth=int(capture.bit_depth))
         if undistort:
             g = cv2.remap(g, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-        s = smooth(g)
-        gx = np.zeros_like(s)
-        gy = np.zeros_like(s)
-        gx[:, 1:-1] = 0.5 * (s[:, 2:] - s[:, :-2])
-        gy[1:-1, :] = 0.5 * (s[2:, :] - s[:-2, :])
-        sm.append(s)
-        gxs.append(gx)
-        gys.append(gy)
+        sm[i] = smooth(g)
+        _gradient(sm[i], gxs[i], gys[i])
+        if fine:
+            g = np.asarray(g, np.float32)
+            if edge_blur_px > 0:  # type: ignore[operator]
+                g = cv2.GaussianBlur(g, (0, 0), float(edge_blur_px),  # type: ignore[arg-type]
+                                     borderType=cv2.BORDER_REFLECT_101)
+            _gradient(g, fxs[i], fys[i])
     poses = [as_se3(p) for p in capture.poses]
     return PreparedViews(
-        smoothed=np.stack(sm), gx=np.stack(gxs), gy=np.stack(gys), K=K,
-        K_inv=np.linalg.inv(K), R=np.stack([p.rotation for p in poses]),
+        smoothed=sm, gx=gxs, gy=gys, fine_gx=fxs, fine_gy=fys, K=K, K_inv=np.linalg.inv(K),
+        R=np.stack([p.rotation for p in poses]),
         C=np.stack([p.translation for p in poses]))
 
 
@@ -149,17 +195,27 @@ class ReferenceEdges:
 
 def reference_edges(views: PreparedViews, ref: int, threshold: float,
                     border: int, lines: int = 2) -> ReferenceEdges:
-    """Edge points of view `ref` on the pixel grid (``|grad| >= threshold``), each
-    averaged along the edge over `lines` grid lines either side."""
+    """Edge points of view `ref` on the pixel grid (``|grad| >= threshold`` in the
+    smoothed image), each placed on the fine gradient's peak (within a pixel, along the
+    same grid line; :attr:`PreparedViews.fine_gx`) and averaged along the edge over
+    `lines` grid lines either side."""
     rows, cols, sub, axes, gx, gy = grid_edges(views.gx[ref], views.gy[ref],
                                               float(threshold), int(border),
                                               int(lines))
     x = np.where(axes == 0, sub, cols)
     y = np.where(axes == 0, rows, sub)
     mag = np.hypot(gx, gy)
+    nx, ny = gx / mag, gy / mag
+    if views.fine_gx is not views.gx:
+        # the same scan axis as the grid's (the one nearer the normal), a pixel either side
+        ex, ey, _, _, found = edge_near(views.fine_gx[ref], views.fine_gy[ref],
+                                        x.astype(float), y.astype(float), nx, ny, 1,
+                                        float(threshold) / 4.0, int(border), int(lines))
+        x = np.where(found, ex, x)
+        y = np.where(found, ey, y)
     return ReferenceEdges(np.column_stack([x, y]).astype(float),
                           np.column_stack([cols, rows]).astype(np.intp),
-                          np.column_stack([gx / mag, gy / mag]))
+                          np.column_stack([nx, ny]))
 
 
 def _rays(views: PreparedViews, ref: int, pixel: _F) -> _F:
@@ -329,8 +385,7 @@ def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], half_window
            combine: str) -> tuple[_F, _F, _F, NDArray[np.intp]]:
     """Costs (M, V, K) at each point's inverse depths `rho` (M, K), their combination
     (M, K), the views' sorted costs and how many voted."""
-    costs = sweep_costs(*sweep, rho, float(half_window + 1))
-    costs[mute] = np.nan
+    costs = sweep_costs(*sweep, rho, float(half_window + 1), mute)
     c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (M, V, K)
     srt = np.sort(c, axis=1)
     seen = np.isfinite(srt).sum(axis=1)  # (M, K)
@@ -469,7 +524,8 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
         npred /= np.maximum(np.linalg.norm(npred, axis=1, keepdims=True), 1e-12)
         sel = cand[:, v] & (z > 0) & np.isfinite(npred).all(axis=1)
         idx = np.nonzero(sel)[0]
-        ex, ey, gx, gy, found = edge_near(views.gx[j], views.gy[j], uv[idx, 0], uv[idx, 1],
+        ex, ey, gx, gy, found = edge_near(views.fine_gx[j], views.fine_gy[j], uv[idx, 0],
+                                          uv[idx, 1],
                                           npred[idx, 0], npred[idx, 1], 2, threshold / 2.0,
                                           border, lines)
         g = np.column_stack([gx, gy])
@@ -534,3 +590,60 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
                          used_reference=use_ref,
                          edge=edge,
                          residual_rms=rms, rho_std_unit=rho_std, epipolar_sine=sine, ok=ok)
+
+
+def _carried_normals(affine: _F, normal: _F) -> _F:
+    """The reference's edge normals (M, 2) carried into each other view by the depth
+    plane's map `affine` (M, V, 2, 2; gradients map with its inverse transpose), unit,
+    shape (M, V, 2)."""
+    with np.errstate(all="ignore"):
+        inv_t = np.linalg.inv(affine + 1e-12 * np.eye(2)).transpose(0, 1, 3, 2)
+        n = np.einsum("mvij,mj->mvi", inv_t, normal)
+        return n / np.maximum(np.linalg.norm(n, axis=2, keepdims=True), 1e-12)
+
+
+def contradicted(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: RayMatches,
+                 fit: RefinedPoints, check: NDArray[np.bool_], *, threshold: float,
+                 reject_px: float, border: int, lines: int = 2) -> NDArray[np.bool_]:
+    """Whether some other view left out of a point's fit has no edge where it sees the
+    point, for the points in `check`, shape (M,).
+
+    Notes
+    -----
+    A view along whose epipolar line the edge runs does not vote on the depth (its
+    window slides along the edge and fits at every depth, :func:`search_rays`), but it
+    still sees the edge: the fitted point must fall on an edge of the carried-over
+    orientation and polarity in it.  A wrong depth moves the point along the epipolar
+    line, which leaves the edge by the motion times the sine of their angle; on the
+    repeated rings of the hub-pulley a wrong two-view match lies tens of pixels away,
+    several pixels off the edge.  For each view not in the fit in which the point
+    falls `border` pixels or more inside the image: the sub-pixel edge point
+    (:func:`~robostereo.robot.multiview_kernels.edge_near`, within 2 px) nearest the
+    projection; the point is contradicted if there is none or it lies more than
+    `reject_px` away along the normal.
+    """
+    m = len(edges)
+    out = np.zeros(m, bool)
+    idx = np.nonzero(check & fit.ok)[0]
+    if not len(idx):
+        return out
+    h, w = views.smoothed.shape[1:]
+    normals = _carried_normals(rays.affine[idx], edges.normal[idx])
+    for v, j in enumerate(rays.others):
+        uv, z = views.project(fit.world[idx], int(j))
+        nj = normals[:, v]
+        look = (~fit.used[idx, v] & (z > 0) & np.isfinite(uv).all(axis=1)
+                & np.isfinite(nj).all(axis=1))
+        with np.errstate(invalid="ignore"):
+            look &= ((uv[:, 0] >= border) & (uv[:, 1] >= border)
+                     & (uv[:, 0] <= w - 1 - border) & (uv[:, 1] <= h - 1 - border))
+        ii = np.nonzero(look)[0]
+        if not len(ii):
+            continue
+        ex, ey, _, _, found = edge_near(views.fine_gx[j], views.fine_gy[j], uv[ii, 0],
+                                        uv[ii, 1], nj[ii, 0], nj[ii, 1], 2, threshold / 2.0,
+                                        border, lines)
+        with np.errstate(invalid="ignore"):
+            off = np.abs((ex - uv[ii, 0]) * nj[ii, 0] + (ey - uv[ii, 1]) * nj[ii, 1])
+        out[idx[ii]] |= ~found | ~(off <= reject_px)
+    return out
