@@ -530,18 +530,18 @@ def match_stereo(
     t0 = time.perf_counter()
     say("edges")
 
-    def per_image(img: np.ndarray, side: str, threshold: float, valid: ArrayLike | None
-                  ) -> tuple[NDArray[np.float32], EdgeSet]:
-        """Grey levels and edge points of one image."""
-        grey = to_grey(img, bit_depth=p.bit_depth, name=f"{side} image")
-        edges = detect_edges(img, threshold=threshold, row_step=p.row_step,
-                             subpixel=p.subpixel, grey=grey, valid=valid)
-        return grey, edges
+    # grey levels on this thread: the memory they take, freed after the window costs,
+    # is then this thread's to reuse (a worker thread's allocator keeps its own memory)
+    ga = to_grey(a, bit_depth=p.bit_depth, name="left image")
+    gb = to_grey(b, bit_depth=p.bit_depth, name="right image")
 
-    # the two images side by side, on two threads where there are two cores
-    (ga, el), (gb, er) = run_all([
-        lambda: per_image(a, "left", p.threshold, valid_left),
-        lambda: per_image(b, "right", p.threshold * p.right_threshold_ratio, valid_right),
+    # the two images' edge points side by side, on two threads where there are two cores
+    el, er = run_all([
+        lambda: detect_edges(a, threshold=p.threshold, row_step=p.row_step,
+                             subpixel=p.subpixel, grey=ga, valid=valid_left),
+        lambda: detect_edges(b, threshold=p.threshold * p.right_threshold_ratio,
+                             row_step=p.row_step, subpixel=p.subpixel, grey=gb,
+                             valid=valid_right),
     ])
     t1 = time.perf_counter()
     t["edges"] = t1 - t0
