@@ -241,3 +241,16 @@ def test_coarse_range_with_masks_and_odd_sizes():
     hm = _halve(m, mask=True)
     assert not hm[5, 10] and hm.sum() == hm.size - 1
 
+
+
+def test_coarse_range_counts_a_match_only_with_a_matching_neighbour():
+    """A lone edge pixel's half-size match does not narrow the range; the same match
+    with neighbours two pixels around (at half size) does."""
+    rng = np.random.default_rng(3)
+    left = rng.uniform(0, 127, (64, 160)).astype(np.float32)
+    right = np.roll(left, -20, axis=1)
+    lone = coarse_range(left, right, np.array([30]), np.array([100]), (0, 100))
+    r, c = np.repeat(np.arange(26, 36, 2), 5), np.tile(np.arange(92, 102, 2), 5)
+    group = coarse_range(left, right, r, c, (0, 100))
+    assert lone == (0, 100)
+    assert group[0] <= 20 <= group[1] and group[1] - group[0] < 20

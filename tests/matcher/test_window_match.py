@@ -72,3 +72,31 @@ def test_coarse_search_only_for_wide_ranges():
     with pytest.raises(InputError, match="coarse"):
         MatchParameters(coarse=1)  # type: ignore[arg-type]
 
+
+
+def test_costs_made_first_give_the_same_match_and_small_chunks_do_too(monkeypatch):
+    """``window_match(..., costs=search_costs(...))`` (the grey images let go between)
+    answers as the one call, also when the similarity and the confidence are
+    computed a few points at a time; without images or costs it is refused."""
+    import importlib
+
+    from robostereo.matcher.edges import detect_edges, to_grey
+
+    wm_module = importlib.import_module("robostereo.matcher.window_match")
+
+    rng = np.random.default_rng(7)
+    left, right, _ = layered_pair(rng, height=100, width=220)
+    gl, gr = to_grey(left), to_grey(right)
+    el, er = detect_edges(left), detect_edges(right, threshold=6.0)
+    for rng_d in ((0.0, 30.0), (0.0, 100.0)):  # the second through the half-size pass
+        whole = wm_module.window_match(el, er, gl, gr, rng_d)
+        monkeypatch.setattr(wm_module, "SIMILARITY_CHUNK", 7)
+        costs = wm_module.search_costs(el, gl, gr, rng_d)
+        split = wm_module.window_match(el, er, None, None, rng_d, costs=costs)
+        monkeypatch.undo()
+        assert np.isfinite(whole.disparity).sum() > 100
+        for name in ("disparity", "right_edge", "features", "confidence"):
+            assert np.array_equal(getattr(whole, name), getattr(split, name), equal_nan=True)
+        assert whole.costs.d_min == split.costs.d_min
+    with pytest.raises(InputError, match="grey images or the costs"):
+        wm_module.window_match(el, er, None, None, (0.0, 30.0))

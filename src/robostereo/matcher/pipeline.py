@@ -37,7 +37,7 @@ from robostereo.matcher.edges import EdgeSet, detect_edges, to_grey
 from robostereo.matcher.parallel import run_all
 from robostereo.matcher.relaxation import RelaxationParameters, RelaxationResult, relax
 from robostereo.matcher.window_costs import PATH_PENALTIES
-from robostereo.matcher.window_match import WindowMatch, window_match
+from robostereo.matcher.window_match import WindowMatch, search_costs, window_match
 
 __all__ = [
     "DEFAULT_MIN_CONFIDENCE",
@@ -530,32 +530,33 @@ def match_stereo(
     t0 = time.perf_counter()
     say("edges")
 
-    def per_image(img: np.ndarray, side: str, threshold: float, valid: ArrayLike | None
-                  ) -> tuple[NDArray[np.float32], EdgeSet]:
-        """Grey levels and edge points of one image."""
-        grey = to_grey(img, bit_depth=p.bit_depth, name=f"{side} image")
-        edges = detect_edges(img, threshold=threshold, row_step=p.row_step,
-                             subpixel=p.subpixel, grey=grey, valid=valid)
-        return grey, edges
+    # grey levels on this thread: the memory they take, freed after the window costs,
+    # is then this thread's to reuse (a worker thread's allocator keeps its own memory)
+    ga = to_grey(a, bit_depth=p.bit_depth, name="left image")
+    gb = to_grey(b, bit_depth=p.bit_depth, name="right image")
 
-    # the two images side by side, on two threads where there are two cores
-    (ga, el), (gb, er) = run_all([
-        lambda: per_image(a, "left", p.threshold, valid_left),
-        lambda: per_image(b, "right", p.threshold * p.right_threshold_ratio, valid_right),
+    # the two images' edge points side by side, on two threads where there are two cores
+    el, er = run_all([
+        lambda: detect_edges(a, threshold=p.threshold, row_step=p.row_step,
+                             subpixel=p.subpixel, grey=ga, valid=valid_left),
+        lambda: detect_edges(b, threshold=p.threshold * p.right_threshold_ratio,
+                             row_step=p.row_step, subpixel=p.subpixel, grey=gb,
+                             valid=valid_right),
     ])
     t1 = time.perf_counter()
     t["edges"] = t1 - t0
     n = len(el)
     if p.method == "window":
         say("window costs")
-        wm = window_match(el, er, ga, gb, (float(lo), float(hi)),
+        costs = search_costs(
+            el, ga, gb, (float(lo), float(hi)), gradient_truncation=p.gradient_truncation,
+            valid_left=None if valid_left is None else np.asarray(valid_left, bool),
+            valid_right=None if valid_right is None else np.asarray(valid_right, bool),
+            path_penalties=PATH_PENALTIES if p.paths else None, coarse=p.coarse)
+        del ga, gb  # the grey images are done with: not held at the peak of what follows
+        wm = window_match(el, er, None, None, (float(lo), float(hi)),
                           gradient_truncation=p.gradient_truncation, weights=p.weights,
-                          profile_scale=p.profile_scale,
-                          path_penalties=PATH_PENALTIES if p.paths else None,
-                          coarse=p.coarse,
-                          valid_left=None if valid_left is None else np.asarray(valid_left, bool),
-                          valid_right=None if valid_right is None
-                          else np.asarray(valid_right, bool))
+                          profile_scale=p.profile_scale, costs=costs)
         conf = wm.confidence
         accepted = np.nan_to_num(conf, nan=-1.0) >= p.acceptance
         fields = dict(edge_disparity=wm.disparity, edge_confidence=conf,
@@ -564,6 +565,7 @@ def match_stereo(
         t["window"] = time.perf_counter() - t1
     else:
         say("candidates")
+        del ga, gb  # not used by the relaxation
         cands = find_candidates(el, er, (float(lo), float(hi)), weights=p.weights,
                                 profile_scale=p.profile_scale)
         p0, p0_none = initial_probabilities(cands)

@@ -302,14 +302,19 @@ def coarse_range(
     ok = (wc.best >= 0) & (wc.right_best >= 0) & (np.abs(wc.right_best - wc.best) <= 1)
     # an edge is a curve: a match counts where a neighbour within two pixels matches
     # within a pixel of it too, which a lone false match does not
+    # (the matches looked up by pixel in their sorted keys, on a grid with a margin of
+    # two: no image-size array)
     r, c, d = key[ok] // w + 2, key[ok] % w + 2, wc.best[ok].astype(np.int64)
-    held = np.full((h + 4, w + 4), -(1 << 40), np.int64)
-    held[r, c] = d
+    held = r * (w + 4) + c  # sorted, as key is
     backed = np.zeros(d.shape, np.bool_)
-    for dy in range(-2, 3):
-        for dx in range(-2, 3):
-            if dy or dx:
-                backed |= np.abs(held[r + dy, c + dx] - d) <= 1
+    if held.size:
+        for dy in range(-2, 3):
+            for dx in range(-2, 3):
+                if dy or dx:
+                    at = np.minimum(np.searchsorted(held, held + (dy * (w + 4) + dx)),
+                                    held.size - 1)
+                    backed |= (held[at] == held + (dy * (w + 4) + dx)) & (
+                        np.abs(d[at] - d) <= 1)
     if not np.any(backed):
         return d_lo, d_hi
     found = d[backed] + c_lo

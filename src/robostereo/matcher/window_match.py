@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from robostereo.errors import InputError
 from robostereo.matcher.candidates import SimilarityWeights, pair_similarity
 from robostereo.matcher.confidence import DEFAULT_MODEL, FEATURES, ConfidenceModel
 from robostereo.matcher.edges import EdgeSet
@@ -35,8 +36,10 @@ from robostereo.matcher.window_kernels import (
 
 __all__ = [
     "COARSE_MIN_DISPARITIES",
+    "SIMILARITY_CHUNK",
     "SWAP_UNIQUENESS",
     "WindowMatch",
+    "search_costs",
     "window_match",
 ]
 
@@ -54,6 +57,10 @@ SWAP_UNIQUENESS = 0.1
 #: a search range of more whole disparities than this is first narrowed by a pass at
 #: half resolution (:func:`coarse_range`); narrower ones are searched whole
 COARSE_MIN_DISPARITIES = 64
+
+#: the thesis's similarity of the right edge points found is computed this many points
+#: at a time, so that its temporaries stay small whatever the number of edge points
+SIMILARITY_CHUNK = 1 << 14
 
 
 @dataclass(frozen=True)
@@ -98,14 +105,62 @@ def _nearest_right_edge(left: EdgeSet, right: EdgeSet, x_right: NDArray[np.float
         np.ascontiguousarray(x_right, np.float64), np.ascontiguousarray(right.line, np.int64),
         np.ascontiguousarray(right.x, np.float64), np.ascontiguousarray(right.sign, np.int8),
         n_lines)
-    return idx.astype(np.intp), dist
+    return idx.astype(np.intp, copy=False), dist
+
+
+def search_costs(
+    left: EdgeSet,
+    grey_left: NDArray[np.floating],
+    grey_right: NDArray[np.floating],
+    disparity_range: tuple[float, float],
+    *,
+    gradient_truncation: int = 64,
+    valid_left: NDArray[np.bool_] | None = None,
+    valid_right: NDArray[np.bool_] | None = None,
+    vertical: bool = True,
+    path_penalties: tuple[float, float] | None = PATH_PENALTIES,
+    coarse: bool = True,
+) -> WindowCosts:
+    """The window costs that :func:`window_match` reads: its step 1 alone.
+
+    Parameters are those of :func:`window_match`.  A caller that no longer needs the
+    grey images once the costs are made can let them go before the rest of the match
+    (``window_match(..., costs=search_costs(...))``): at the match's peak memory they
+    are then not held.
+
+    Returns
+    -------
+    WindowCosts
+        Over every whole disparity of `disparity_range`, or over the part a pass at
+        half size narrows it to (`coarse` and more than :data:`COARSE_MIN_DISPARITIES`
+        disparities, :func:`coarse_range`).
+
+    Examples
+    --------
+    >>> from robostereo.matcher.edges import detect_edges, to_grey
+    >>> rng = np.random.default_rng(0)
+    >>> row = np.repeat(rng.integers(0, 2, 40) * 200, 6)[:200].astype(np.uint8)
+    >>> left = np.tile(row, (20, 1)); right = np.roll(left, -7, axis=1)
+    >>> wc = search_costs(detect_edges(left), to_grey(left), to_grey(right), (0, 12))
+    >>> wc.d_min, wc.n_disparities
+    (0, 13)
+    """
+    d_lo, d_hi = int(np.floor(disparity_range[0])), int(np.ceil(disparity_range[1]))
+    if coarse and d_hi - d_lo + 1 > COARSE_MIN_DISPARITIES:
+        d_lo, d_hi = coarse_range(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
+                                  gradient_truncation=gradient_truncation,
+                                  valid_left=valid_left, valid_right=valid_right)
+    return window_costs(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
+                        gradient_truncation=gradient_truncation, valid_left=valid_left,
+                        valid_right=valid_right, vertical=vertical,
+                        path_penalties=path_penalties)
 
 
 def window_match(
     left: EdgeSet,
     right: EdgeSet,
-    grey_left: NDArray[np.floating],
-    grey_right: NDArray[np.floating],
+    grey_left: NDArray[np.floating] | None,
+    grey_right: NDArray[np.floating] | None,
     disparity_range: tuple[float, float],
     *,
     gradient_truncation: int = 64,
@@ -117,6 +172,7 @@ def window_match(
     vertical: bool = True,
     path_penalties: tuple[float, float] | None = PATH_PENALTIES,
     coarse: bool = True,
+    costs: WindowCosts | None = None,
 ) -> WindowMatch:
     """Best disparity and calibrated confidence of every left edge point.
 
@@ -124,8 +180,8 @@ def window_match(
     ----------
     left, right : EdgeSet
         Edge points of the two images (:func:`robostereo.matcher.edges.detect_edges`).
-    grey_left, grey_right : ndarray, shape (H, W)
-        The grey images they were found in (0..127 scale).
+    grey_left, grey_right : ndarray, shape (H, W), or None
+        The grey images they were found in (0..127 scale); None with `costs`.
     disparity_range : tuple of float
         ``(min, max)`` disparity; every whole pixel from ``floor(min)`` to ``ceil(max)``
         is scored, and results more than half a pixel outside are dropped.
@@ -146,6 +202,10 @@ def window_match(
         Narrow a range of more than :data:`COARSE_MIN_DISPARITIES` whole disparities
         to the part the scene holds by a pass at half size first
         (:func:`coarse_range`); False: search it all.
+    costs : WindowCosts, optional
+        The costs of step 1 already made by :func:`search_costs` with the same
+        arguments; the grey images, masks, `vertical`, `path_penalties` and `coarse`
+        are then not read.
 
     Returns
     -------
@@ -169,32 +229,43 @@ def window_match(
        (:mod:`robostereo.matcher.confidence`).
     """
     lo, hi = float(disparity_range[0]), float(disparity_range[1])
-    d_lo, d_hi = int(np.floor(lo)), int(np.ceil(hi))
-    if coarse and d_hi - d_lo + 1 > COARSE_MIN_DISPARITIES:
-        d_lo, d_hi = coarse_range(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
-                                  gradient_truncation=gradient_truncation,
-                                  valid_left=valid_left, valid_right=valid_right)
-    wc = window_costs(grey_left, grey_right, left.row, left.column, (d_lo, d_hi),
-                      gradient_truncation=gradient_truncation, valid_left=valid_left,
-                      valid_right=valid_right, vertical=vertical,
-                      path_penalties=path_penalties)
+    if costs is None:
+        if grey_left is None or grey_right is None:
+            raise InputError("window_match needs the grey images or the costs")
+        costs = search_costs(left, grey_left, grey_right, (lo, hi),
+                             gradient_truncation=gradient_truncation, valid_left=valid_left,
+                             valid_right=valid_right, vertical=vertical,
+                             path_penalties=path_penalties, coarse=coarse)
+    wc = costs
+    d_lo = wc.d_min
     n, nd = len(left), wc.n_disparities
     feats = np.zeros((n, len(FEATURES)))
     summary = StreamSummary(*(getattr(wc, name) for name in STREAM_COLUMNS))
     d_par, seen = evidence(summary, d_lo, nd, SWAP_UNIQUENESS, feats, _EVIDENCE_COLUMNS)
     idx, dist = _nearest_right_edge(left, right, left.x - d_par)
-    d_edge = left.x - right.x[np.maximum(idx, 0)] if len(right) else d_par
     use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel
-    disparity = np.where(use_edge, d_edge, d_par)
+    del dist
+    # the sub-pixel disparity, made in place: from the right edge point where there is
+    # one, else the parabola's; NaN outside the range (no full-size temporaries)
+    disparity = d_par
+    if len(right):
+        np.subtract(left.x, right.x[np.maximum(idx, 0)], out=disparity, where=use_edge)
     in_range = (disparity >= lo - 0.5) & (disparity <= hi + 0.5) & seen
-    disparity = np.where(in_range, disparity, np.nan)
-    right_edge = np.where(use_edge & in_range, idx, -1).astype(np.intp)
+    disparity[~in_range] = np.nan
     feats[:, _RIGHT_EDGE] = use_edge
-    if np.any(use_edge):
-        sel = np.nonzero(use_edge)[0]
-        feats[sel, _SIMILARITY] = pair_similarity(left, right, sel, idx[sel], weights=weights,
-                                                  profile_scale=profile_scale)[4]
-    conf = (model or DEFAULT_MODEL)(feats)
-    conf = np.where(np.isfinite(disparity), conf, np.nan)
+    sel = np.flatnonzero(use_edge)
+    for k0 in range(0, sel.shape[0], SIMILARITY_CHUNK):
+        part = sel[k0:k0 + SIMILARITY_CHUNK]
+        feats[part, _SIMILARITY] = pair_similarity(left, right, part, idx[part],
+                                                   weights=weights,
+                                                   profile_scale=profile_scale)[4]
+    del sel
+    right_edge = idx
+    right_edge[~(use_edge & in_range)] = -1
+    score = model or DEFAULT_MODEL
+    conf = np.empty(n)
+    for k0 in range(0, n, SIMILARITY_CHUNK):
+        conf[k0:k0 + SIMILARITY_CHUNK] = score(feats[k0:k0 + SIMILARITY_CHUNK])
+    conf[~np.isfinite(disparity)] = np.nan
     return WindowMatch(disparity=disparity, right_edge=right_edge, features=feats,
                        confidence=conf, costs=wc)
