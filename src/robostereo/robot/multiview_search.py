@@ -52,6 +52,12 @@ __all__ = [
 
 _F = NDArray[np.float64]
 
+SMOOTH_REACH = 2.0
+"""Least distance (pixels) of a window sample from an image's border: the half-width of
+the thesis's 5 x 5 smoothing filter, within which the smoothed grey levels are
+reflections of the image's inside rather than its content.  A reference edge point
+lies ``half_window + 2`` pixels inside, so its own window keeps this margin too."""
+
 KEPT_FLOOR = 0.1
 """Window cost (``1 - ZNCC``) a view may always have to enter the fit: below it a
 window fits well whatever the other views do."""
@@ -324,7 +330,10 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
     2. The reference window (``2 half_window + 1`` square) of each edge point, zero
        mean and unit norm; in each other view the window through the depth plane's
        local affine map at each depth, scored ``1 - ZNCC``
-       (:func:`~robostereo.robot.multiview_kernels.sweep_costs`).
+       (:func:`~robostereo.robot.multiview_kernels.sweep_costs`); a window with a
+       sample within :data:`SMOOTH_REACH` pixels of a view's border is not scored
+       there (the reference's own window keeps that margin: an edge point near the
+       top of an image is measured by views beside it, not only by those below it).
     3. Views in which the edge runs within ``asin(min_sine)`` of the epipolar line
        (:func:`epipolar_sines`) do not vote: their window slides along the edge and
        fits at every depth.
@@ -385,7 +394,7 @@ def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], half_window
            combine: str) -> tuple[_F, _F, _F, NDArray[np.intp]]:
     """Costs (M, V, K) at each point's inverse depths `rho` (M, K), their combination
     (M, K), the views' sorted costs and how many voted."""
-    costs = sweep_costs(*sweep, rho, float(half_window + 1), mute)
+    costs = sweep_costs(*sweep, rho, SMOOTH_REACH, mute)
     c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (M, V, K)
     srt = np.sort(c, axis=1)
     seen = np.isfinite(srt).sum(axis=1)  # (M, K)
