@@ -54,6 +54,7 @@ from robostereo.matcher.parallel import n_threads, run_all
 from robostereo.matcher.window_kernels import (
     HALF_WINDOW,
     PATH_ROW_STEP,
+    SIDE_COLUMNS,
     STREAM_COLUMNS,
     StreamImages,
     StreamSettings,
@@ -168,7 +169,7 @@ class WindowCosts:
         parabola).
 
     With ``sides`` (:func:`window_costs`) also what each placement of the window saw
-    on its own (-1 throughout without):
+    on its own (without: -1 throughout, one read-only array shared by the eight):
 
     placement : ndarray of int
         The window that gives ``cost`` at ``best``: 0 centred, 1 half a window left,
@@ -434,7 +435,10 @@ def window_costs(
     checks = [m.shape == gl.shape and not bool(m.all()) for m in masks]
     nd = d_hi - d_lo + 1
     n = r.shape[0]
-    out = np.full((n, len(STREAM_COLUMNS)), -1, np.int32)  # (N, columns) summary
+    # (N, columns) summary; what each placement saw only when asked for (the matcher
+    # does not read it: eight more int32 a point at its peak memory otherwise)
+    names = STREAM_COLUMNS if sides else STREAM_COLUMNS[:-len(SIDE_COLUMNS)]
+    out = np.full((n, len(names)), -1, np.int32)
     if n:
         row_start = np.searchsorted(r, np.arange(h + 1)).astype(np.int64)  # (H + 1,)
         trunc = int(gradient_truncation)
@@ -463,5 +467,7 @@ def window_costs(
             stream_rows(images, settings, row_start, c, y0, min(h, y0 + step), out)
 
         run_all([lambda y0=y0: band(y0) for y0 in range(0, h, step)])
-    cols = dict(zip(STREAM_COLUMNS, out.T, strict=True))
+    cols = dict(zip(names, out.T, strict=True))
+    none = np.broadcast_to(np.int32(-1), (n,))  # -1 throughout, read-only, no memory
+    cols.update({name: none for name in STREAM_COLUMNS if name not in cols})
     return WindowCosts(d_min=d_lo, n_disparities=nd, **cols)

@@ -35,6 +35,7 @@ __all__ = [
     "PATH_COLUMN_STEP",
     "PATH_MAX_DISPARITIES",
     "PATH_ROW_STEP",
+    "SIDE_COLUMNS",
     "STREAM_COLUMNS",
     "RowPixels",
     "StreamImages",
@@ -82,17 +83,23 @@ PATH_MAX_DISPARITIES = 128
 #: * ``right_best_placement``: the left-right check with the winning window alone: the
 #:   best disparity of the right pixel ``x - d_min - best`` against every left pixel,
 #:   both windows placed as the winner (-1: none).
+#: the last columns of :data:`STREAM_COLUMNS`: what each placement saw on its own, only
+#: with ``StreamSettings.sides`` (without it the summary array stops before them)
+SIDE_COLUMNS: tuple[str, ...] = (
+    "placement", "second_placement", "best_left", "cost_left", "best_right", "cost_right",
+    "second_best", "right_best_placement",
+)
 STREAM_COLUMNS: tuple[str, ...] = (
     "best", "cost", "second", "before", "after",
     "best_row", "cost_row", "second_row",
     "in_view",
     "right_best",
     "best_path", "cost_path", "second_path", "before_path", "after_path",
-    "placement", "second_placement", "best_left", "cost_left", "best_right", "cost_right",
-    "second_best", "right_best_placement",
+    *SIDE_COLUMNS,
 )
-#: the summary as named columns, for the kernels that read it (:func:`evidence`)
-StreamSummary = namedtuple("StreamSummary", STREAM_COLUMNS)
+#: the summary as named columns, for the kernels that read it (:func:`evidence`): all
+#: but :data:`SIDE_COLUMNS`, which the matcher does not read
+StreamSummary = namedtuple("StreamSummary", STREAM_COLUMNS[:-len(SIDE_COLUMNS)])
 _BEST = STREAM_COLUMNS.index("best")
 _COST = STREAM_COLUMNS.index("cost")
 _SECOND = STREAM_COLUMNS.index("second")
@@ -425,7 +432,8 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     out : ndarray of int32, shape (N, len(STREAM_COLUMNS))
         The summary, columns named by :data:`STREAM_COLUMNS` (the fields of
         :class:`~robostereo.matcher.window_costs.WindowCosts`); rows of edge points
-        outside the band are left alone.
+        outside the band are left alone.  Without ``settings.sides`` it may stop before
+        :data:`SIDE_COLUMNS`, which are then not written.
 
     Notes
     -----

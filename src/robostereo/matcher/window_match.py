@@ -28,7 +28,6 @@ from robostereo.matcher.window_costs import (
     window_costs,
 )
 from robostereo.matcher.window_kernels import (
-    STREAM_COLUMNS,
     StreamSummary,
     evidence,
     nearest_on_lines,
@@ -240,7 +239,7 @@ def window_match(
     d_lo = wc.d_min
     n, nd = len(left), wc.n_disparities
     feats = np.zeros((n, len(FEATURES)))
-    summary = StreamSummary(*(getattr(wc, name) for name in STREAM_COLUMNS))
+    summary = StreamSummary(*(getattr(wc, name) for name in StreamSummary._fields))
     d_par, seen = evidence(summary, d_lo, nd, SWAP_UNIQUENESS, feats, _EVIDENCE_COLUMNS)
     idx, dist = _nearest_right_edge(left, right, left.x - d_par)
     use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel
