@@ -524,13 +524,10 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
     # views that fit about as well as the ones that voted (a hidden view fits worse)
     like = np.maximum(2.0 * rays.kept, KEPT_FLOOR)[:, None]
     cand = np.isfinite(rays.costs) & (rays.costs <= np.minimum(like, max_window_cost))
+    carried = _carried_normals(rays.affine, n_ref)  # (M, V, 2)
     for v, j in enumerate(others):
         uv, z = views.project(world, int(j))
-        A = rays.affine[:, v]  # gradients map with the inverse transpose
-        with np.errstate(all="ignore"):
-            inv_t = np.linalg.inv(A + 1e-12 * np.eye(2)).transpose(0, 2, 1)
-        npred = np.einsum("mij,mj->mi", inv_t, n_ref)
-        npred /= np.maximum(np.linalg.norm(npred, axis=1, keepdims=True), 1e-12)
+        npred = carried[:, v]
         sel = cand[:, v] & (z > 0) & np.isfinite(npred).all(axis=1)
         idx = np.nonzero(sel)[0]
         ex, ey, gx, gy, found = edge_near(views.fine_gx[j], views.fine_gy[j], uv[idx, 0],
