@@ -63,11 +63,18 @@ PATH_COLUMN_STEP = 2
 #: growing with the range; the developer scenes (up to 97) are not binned
 PATH_MAX_DISPARITIES = 128
 
+#: the last columns of :data:`STREAM_COLUMNS`: what each placement saw on its own, only
+#: with ``StreamSettings.sides`` (without it the summary array stops before them)
+SIDE_COLUMNS: tuple[str, ...] = (
+    "placement", "second_placement", "best_left", "cost_left", "best_right", "cost_right",
+    "second_best", "right_best_placement",
+)
+
 #: the columns of :func:`stream_rows`' summary of an edge point, in order: the fields of
 #: :class:`~robostereo.matcher.window_costs.WindowCosts` (its docstring says what each
 #: holds): with the five windows, with the three along the row, the disparities in view,
 #: the left-right check, the paths, and what each placement saw on its own (only with
-#: ``StreamSettings.sides``, -1 otherwise; :func:`_sides`).  Those last eight, per edge
+#: ``StreamSettings.sides``, :data:`SIDE_COLUMNS`; :func:`_sides`).  Those last eight, per edge
 #: point, from the per-disparity costs of the five placements at it and at the right
 #: pixel's partners (the pass over all disparities; a sparse pass over a few candidate
 #: disparities reads them among those):
@@ -83,12 +90,6 @@ PATH_MAX_DISPARITIES = 128
 #: * ``right_best_placement``: the left-right check with the winning window alone: the
 #:   best disparity of the right pixel ``x - d_min - best`` against every left pixel,
 #:   both windows placed as the winner (-1: none).
-#: the last columns of :data:`STREAM_COLUMNS`: what each placement saw on its own, only
-#: with ``StreamSettings.sides`` (without it the summary array stops before them)
-SIDE_COLUMNS: tuple[str, ...] = (
-    "placement", "second_placement", "best_left", "cost_left", "best_right", "cost_right",
-    "second_best", "right_best_placement",
-)
 STREAM_COLUMNS: tuple[str, ...] = (
     "best", "cost", "second", "before", "after",
     "best_row", "cost_row", "second_row",
