@@ -15,9 +15,10 @@ through the edge stage's connectivity (:attr:`robostereo.matcher.edges.EdgeSet.u
 * :func:`chain_support`: how far the disparity runs smoothly along the contour, and
   whether it reaches a strong match.
 
-The matcher does not use them: ``benchmarks/bench_contour.py`` measures what they add to
-the confidence (little, near depth steps, where the wrong matches run along contours as
-smoothly as the right ones).  Only numba functions.
+``benchmarks/bench_contour.py`` measures what they add to the confidence: little near
+depth steps, where the wrong matches run along contours as smoothly as the right ones.
+The matcher calls :func:`contour_support` only for its opt-in second acceptance
+(:func:`robostereo.matcher.window_match.contour_accepted`).  Only numba functions.
 
 References
 ----------
