@@ -39,6 +39,7 @@ __all__ = [
     "CONTOUR_MIN_CONFIDENCE",
     "CONTOUR_REACH",
     "CONTOUR_SHARE",
+    "CONTOUR_TOLERANCE",
     "SIMILARITY_CHUNK",
     "SWAP_UNIQUENESS",
     "WindowMatch",
