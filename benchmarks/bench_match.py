@@ -1,7 +1,8 @@
 """Time robostereo's whole matcher against OpenCV's dense matchers, per core and all cores.
 
 Run:  python benchmarks/bench_match.py [--repeat N] [--threads per-core|all|both]
-                                      [--no-memory] [--no-paths] [--no-coarse] [--profile]
+                                      [--no-memory] [--no-paths] [--no-coarse] [--contour]
+                                      [--profile]
 
 For every pair (the six real scenes of ../shared/data/stereo, motorcycle again with
 wider disparity ranges, and synthetic pairs of two sizes) all run in this one process on
@@ -241,13 +242,16 @@ def main() -> None:
     ap.add_argument("--no-paths", action="store_true", help="robostereo without its paths")
     ap.add_argument("--no-coarse", action="store_true",
                     help="robostereo searching wide ranges whole")
+    ap.add_argument("--contour", action="store_true",
+                    help="robostereo accepting with its contours' support (opt-in)")
     ap.add_argument("--pairs", nargs="*", help="only these pairs (names as printed)")
     ap.add_argument("--cpu-time", action="store_true",
                     help="per core: time the calling thread's CPU time (a shared machine)")
     ap.add_argument("--profile", action="store_true",
                     help="where robostereo's time goes, per core, instead of the tables")
     args = ap.parse_args()
-    options = {"paths": not args.no_paths, "coarse": not args.no_coarse}
+    options = {"paths": not args.no_paths, "coarse": not args.no_coarse,
+               "contour": args.contour}
     params = MatchParameters(**options)
     if args.profile:
         profile([n for n in names() if not args.pairs or n in args.pairs], args.repeat,
@@ -259,7 +263,8 @@ def main() -> None:
     pairs = [n for n in names() if not args.pairs or n in args.pairs]
     print(f"OpenCV {cv2.__version__} ({opencv_default} threads by default), "
           f"{os.cpu_count()} cores; median of {args.repeat} rounds; robostereo paths "
-          f"{'on' if params.paths else 'off'}, coarse {'on' if params.coarse else 'off'}")
+          f"{'on' if params.paths else 'off'}, coarse {'on' if params.coarse else 'off'}, "
+          f"contour {'on' if params.contour else 'off'}")
     modes = {"per-core": [True], "all": [False], "both": [True, False]}[args.threads]
     for per_core in modes:
         _threads(per_core, opencv_default)

@@ -176,7 +176,7 @@ def test_min_confidence_and_method_options(pair, tmp_path, capsys):
         assert not (tmp_path / "bad.csv").exists()
 
 
-def test_no_paths_and_no_coarse_reach_the_matcher():
+def test_no_paths_no_coarse_and_contour_reach_the_matcher():
     import argparse
 
     from robostereo.cli._args import add_matcher_args, matcher_params
@@ -185,6 +185,7 @@ def test_no_paths_and_no_coarse_reach_the_matcher():
     ap = argparse.ArgumentParser()
     add_matcher_args(ap)
     default = matcher_params(ap.parse_args([]), MatchParameters())
-    assert default.paths and default.coarse
-    p = matcher_params(ap.parse_args(["--no-paths", "--no-coarse"]), MatchParameters())
-    assert not p.paths and not p.coarse
+    assert default.paths and default.coarse and not default.contour
+    p = matcher_params(ap.parse_args(["--no-paths", "--no-coarse", "--contour"]),
+                       MatchParameters())
+    assert not p.paths and not p.coarse and p.contour

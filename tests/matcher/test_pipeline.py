@@ -167,3 +167,25 @@ def test_seed_is_a_deprecated_alias_of_thesis():
         old = MatchParameters.seed(threshold=6.0)
     assert old == MatchParameters.thesis(threshold=6.0)
     assert old.method == "relaxation" and old.threshold == 6.0
+
+
+def test_contour_changes_only_the_acceptance():
+    """``contour=True`` keeps every disparity and confidence, accepts a superset (the
+    contour's support, :func:`~robostereo.matcher.window_match.contour_accepted`), and
+    ``accepted_disparity`` at the same level redoes that acceptance."""
+    from robostereo.matcher.window_match import contour_accepted
+
+    rng = np.random.default_rng(7)
+    left, right, _ = synthetic_pair(rng, disparities=(7.3, 11.65, 9.05), noise=6.0)
+    base = match_stereo(left, right, (4, 16))
+    res = match_stereo(left, right, (4, 16), params=MatchParameters(contour=True))
+    np.testing.assert_array_equal(res.edge_disparity, base.edge_disparity)
+    np.testing.assert_array_equal(res.edge_confidence, base.edge_confidence)
+    expect = contour_accepted(base.left_edges, base.edge_disparity, base.edge_confidence,
+                              base.parameters.acceptance)
+    np.testing.assert_array_equal(res.accepted, expect)
+    assert np.all(res.accepted[base.accepted]) and res.accepted.sum() > base.accepted.sum()
+    again = res.accepted_disparity(res.parameters.acceptance)
+    np.testing.assert_array_equal(np.isfinite(again), res.accepted)
+    with pytest.raises(InputError, match="contour"):
+        MatchParameters(contour=1)  # type: ignore[arg-type]

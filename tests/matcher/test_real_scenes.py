@@ -28,6 +28,7 @@ from robostereo.evaluation import (
 )
 from robostereo.matcher.confidence import DEFAULT_MODEL, calibration_table, fit_confidence
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
+from robostereo.matcher.window_match import contour_accepted
 
 
 @pytest.fixture(scope="module")
@@ -83,6 +84,37 @@ def test_default_point_is_at_most_one_percent_false_by_the_silhouette_rule(match
     near = near_steps(e.row, e.x, depth_step_mask(scene.gt_disparity))
     assert score_matches(e.row, e.x, d, scene.gt_disparity, rule="silhouette",
                          subset=near).false_fraction <= 0.05
+
+
+def test_the_contour_accepts_more_outline_points_and_few_wrong(matched):
+    """``MatchParameters(contour=True)``'s acceptance (figural continuity, thesis 3.4):
+    on every scene a superset of the default's, at least as many points near depth
+    steps, the default point still at most 1 % false by the silhouette rule; pooled,
+    near-step coverage at least a point higher and the added matches at most 5 % false."""
+    if not matched:
+        pytest.skip("no scene in the data folder")
+    near_counted = near_added = added = wrong = 0
+    for m in matched.values():
+        res = m["res"]
+        e, gt = res.left_edges, m["scene"].gt_disparity
+        acc = contour_accepted(e, res.edge_disparity, res.edge_confidence,
+                               res.parameters.acceptance)
+        assert np.all(acc[res.accepted])
+        d = np.where(acc, res.edge_disparity, np.nan)
+        assert score_matches(e.row, e.x, d, gt, rule="silhouette").false_fraction <= 0.01
+        near = near_steps(e.row, e.x, depth_step_mask(gt))
+        before = score_matches(e.row, e.x, res.accepted_disparity(), gt, rule="silhouette",
+                               subset=near)
+        after = score_matches(e.row, e.x, d, gt, rule="silhouette", subset=near)
+        assert after.matched >= before.matched
+        near_counted += before.counted
+        near_added += after.matched - before.matched
+        known, err = rule_errors(e.row, e.x, res.edge_disparity, gt, rule="silhouette")
+        new = acc & ~res.accepted & known
+        added += int(new.sum())
+        wrong += int((new & ~(np.nan_to_num(err, nan=np.inf) <= 1.0)).sum())
+    assert near_added >= 0.01 * near_counted
+    assert wrong <= 0.05 * added
 
 
 @pytest.mark.parametrize("name", SCENES)

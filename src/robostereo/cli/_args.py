@@ -82,8 +82,8 @@ def unit_interval(name: str) -> Callable[[str], float]:
 
 
 def add_matcher_args(p: Any) -> None:
-    """``--method``, ``--min-confidence``, ``--no-paths`` and ``--no-coarse``, shared by
-    the commands that match."""
+    """``--method``, ``--min-confidence``, ``--no-paths``, ``--no-coarse`` and
+    ``--contour``, shared by the commands that match."""
     from robostereo.matcher.pipeline import DEFAULT_MIN_CONFIDENCE, METHODS
 
     p.add_argument("--method", choices=METHODS, default=None,
@@ -100,11 +100,15 @@ def add_matcher_args(p: Any) -> None:
     p.add_argument("--no-coarse", dest="coarse", action="store_false", default=None,
                    help="window method: search a wide disparity range (over 64) whole, "
                         "without first narrowing it by a pass at half size")
+    p.add_argument("--contour", action="store_true", default=None,
+                   help="window method: also accept a match of confidence >= 0.8 that its "
+                        "edge contour supports (neighbours up and down with its disparity, "
+                        "accepted on their own): more points, most near depth steps")
 
 
 def matcher_params(args: argparse.Namespace, base: Any) -> Any:
     """``base`` (MatchParameters) with the ``--method``, ``--min-confidence``,
-    ``--no-paths`` and ``--no-coarse`` given."""
+    ``--no-paths``, ``--no-coarse`` and ``--contour`` given."""
     changes: dict[str, Any] = {}
     if getattr(args, "method", None) is not None:
         changes["method"] = args.method
@@ -114,6 +118,8 @@ def matcher_params(args: argparse.Namespace, base: Any) -> Any:
         changes["paths"] = False
     if getattr(args, "coarse", None) is False:
         changes["coarse"] = False
+    if getattr(args, "contour", None):
+        changes["contour"] = True
     return replace(base, **changes)
 
 
