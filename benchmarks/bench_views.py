@@ -1,11 +1,12 @@
 """N-view locating on the simulated robots: errors, coverage, pulley figures and times.
 
 Run:  python benchmarks/bench_views.py [--robot scara|six-axis|both] [--counts 2,3,5,9]
-      [--patterns line,cross,arc] [--span 80] [--repeat 3]
+      [--patterns line,cross,arc] [--span 80] [--repeat 3] [--seeds 0]
 
 For each robot, pattern and view count it runs
 :func:`robostereo.experiments.run_views_demo` (the block at two heights and the
-hub-pulley, SCARA or six-axis with its estimated hand-eye) and prints one row: the
+hub-pulley, SCARA or six-axis with its estimated hand-eye) for each seed of the
+sensor noise (and, six-axis, of the hand-eye views) and prints one row: the
 lift, the largest depth error of the block's top outline (all of it, and its long
 edges), whether every point lies within its bound, the median bound, the outline
 coverage, the pulley's matched and false shares (of the points reported: those whose
@@ -30,10 +31,10 @@ from robostereo.robot.multiview import locate_views
 from robostereo.robot.simulated_views import simulate_views
 
 
-def _times(count: int, pattern: str, span: float, robot: str, repeat: int
+def _times(count: int, pattern: str, span: float, robot: str, repeat: int, seed: int
            ) -> tuple[float, float]:
     sim = simulate_views("block", count=count, pattern=pattern,  # type: ignore[arg-type]
-                         span_mm=span, robot=robot)  # type: ignore[arg-type]
+                         span_mm=span, robot=robot, seed=seed)  # type: ignore[arg-type]
     pair = sim.capture.pair(0, count - 1) if pattern != "cross" else sim.capture.pair(1, 2)
     locate_views(sim.capture)
     locate(pair)
@@ -55,29 +56,31 @@ def main() -> int:
     ap.add_argument("--patterns", default="line,cross,arc")
     ap.add_argument("--span", type=float, default=80.0)
     ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--seeds", default="0", help="comma-separated noise seeds")
     args = ap.parse_args()
     robots = ("scara", "six-axis") if args.robot == "both" else (args.robot,)
     rows: list[dict[str, Any]] = []
     for robot in robots:
         for pattern in args.patterns.split(","):
             for count in (int(c) for c in args.counts.split(",")):
-                try:
-                    r = run_views_demo(count=count, pattern=pattern, span_mm=args.span,
-                                       robot=robot)
-                except InputError as e:  # e.g. a cross of two views
-                    print(f"{robot} {pattern} {count}: {e}", flush=True)
-                    continue
-                tv, t2 = _times(count, pattern, args.span, robot, args.repeat)
-                r.update(t_views=tv, t_two=t2)
-                rows.append(r)
-                print(f"done {robot} {pattern} {count}", flush=True)
-    head = ("robot", "pattern", "N", "lift", "max|err|", "long", "bound@max", "within",
+                for seed in (int(s) for s in args.seeds.split(",")):
+                    try:
+                        r = run_views_demo(count=count, pattern=pattern, span_mm=args.span,
+                                           robot=robot, seed=seed)
+                    except InputError as e:  # e.g. a cross of two views
+                        print(f"{robot} {pattern} {count}: {e}", flush=True)
+                        break
+                    tv, t2 = _times(count, pattern, args.span, robot, args.repeat, seed)
+                    r.update(t_views=tv, t_two=t2, seed=seed)
+                    rows.append(r)
+                    print(f"done {robot} {pattern} {count} seed {seed}", flush=True)
+    head = ("robot", "pattern", "N", "seed", "lift", "max|err|", "long", "bound@max", "within",
             "med bound", "outline", "pul.match", "pul.false", "t views",
             "t two", "ratio", "(N-1)")
     print(" | ".join(head))
     for r in sorted(rows, key=lambda r: -r["max_abs_error_mm"]):
         print(" | ".join(str(v) for v in (
-            r["robot"], r["pattern"], r["views"], f"{r['lift_mm']:.2f}",
+            r["robot"], r["pattern"], r["views"], r["seed"], f"{r['lift_mm']:.2f}",
             f"{r['max_abs_error_mm']:.2f}", f"{r['max_abs_error_long_edges_mm']:.2f}",
             f"{r['bound_at_max_error_mm']:.2f}", r["all_within_bound"],
             f"{r['median_bound_mm']:.2f}", f"{100 * r['outline_coverage']:.1f}%",
