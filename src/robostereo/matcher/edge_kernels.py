@@ -237,8 +237,36 @@ def mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
+def fine_offset(f, c, sg):  # type: ignore[no-untyped-def]
+    """Sub-pixel position, relative to column ``c``, of the peak of ``sg * g`` along
+    row ``f`` (``g(x) = (f(x + 1) - f(x - 1)) / 2``, ``sg`` the edge's contrast sign)
+    nearest ``c`` within a pixel: column ``c`` first, then ``c - 1``, then ``c + 1``;
+    a peak is positive, strictly above its left neighbour and at least its right one,
+    and is placed by the vertex of the parabola through it and its neighbours (within
+    half a pixel).  NaN where there is none (or too near the row's ends)."""
+    w = f.shape[0]
+    half = np.float32(0.5)
+    for k in range(3):
+        o = (0, -1, 1)[k]
+        x = c + o
+        if x < 2 or x > w - 3:
+            continue
+        g0 = sg * (f[x + 1] - f[x - 1]) * half
+        gm = sg * (f[x] - f[x - 2]) * half
+        gp = sg * (f[x + 2] - f[x]) * half
+        if not (g0 > 0 and g0 > gm and g0 >= gp):
+            continue
+        den = gm - np.float32(2.0) * g0 + gp
+        v = np.float32(0.0)
+        if den < 0:
+            v = min(max(half * (gm - gp) / den, -half), half)
+        return o + np.float64(v)
+    return np.nan
+
+
+@kernel(nogil=True)
 def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
-                  n_lines):  # type: ignore[no-untyped-def]
+                  n_lines, fine, use_fine):  # type: ignore[no-untyped-def]
     """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
     the grey levels before and after of the peaks of :func:`gradient_peaks` (float32
     arithmetic where NumPy's on the same arrays is float32)."""
@@ -270,6 +298,11 @@ def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
         else:
             mag[i] = mag_peak
         x[i] = c + np.float64(offset)
+        if use_fine and subpixel:  # the position from the lightly blurred row instead
+            sg = np.float32(1.0) if gradient > 0 else np.float32(-1.0)
+            fo = fine_offset(fine[line[i]], c, sg)
+            if fo == fo:
+                x[i] = c + fo
         # -- contrast sign, grey levels before and after
         sign[i] = 1 if gradient > 0 else (-1 if gradient < 0 else 0)
         before[i] = smoothed[line[i], min(max(column[i] - SIDE_OFFSET, 0), w - 1)]
@@ -285,7 +318,7 @@ def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
 
 @kernel(nogil=True)
 def edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_lines,
-                usable, check):  # type: ignore[no-untyped-def]
+                usable, check, fine, use_fine):  # type: ignore[no-untyped-def]
     """:func:`gradient_peaks`, with ``check`` only those on ``usable`` pixels, then
     :func:`peak_features`, in one call (one release of the interpreter lock for the
     image, not one per step); also the rows."""
@@ -297,6 +330,6 @@ def edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_
             keep[i] = usable[row[i], column[i]]
         line, column, row = line[keep], column[keep], row[keep]
     x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = peak_features(
-        line, column, smoothed, grey, row_offset, row_step, subpixel, n_lines)
+        line, column, smoothed, grey, row_offset, row_step, subpixel, n_lines, fine, use_fine)
     return (line, column, row, x, sign, mag, up, down, up_off, down_off, pattern, mean5,
             before, after)
