@@ -174,8 +174,8 @@ def test_outlines_between_textured_surfaces_are_located_without_bias(held_out_oc
     """On held-out occluder pairs (exact sub-pixel outlines, texture on both sides), the
     edge points within 1.5 px of an outline lie a signed median within 0.1 px of it
     and a median within 0.4 px: the texture beside a step scatters the gradient's peak
-    but does not pull it into the object or out of it.  Placed on the lightly blurred
-    image (the matcher's default), the scatter is smaller (0.31 -> 0.25 px measured)."""
+    but does not pull it into the object or out of it.  Placed towards the lightly
+    blurred image's peak (the matcher's default), the scatter is smaller."""
     scatter = {}
     for blur in (None, 0.85):
         offsets = []
@@ -195,8 +195,9 @@ def test_outlines_between_textured_surfaces_are_located_without_bias(held_out_oc
 def test_an_edge_beside_another_is_pulled_less_on_the_lightly_blurred_image(gap) -> None:
     """A step with a second edge of the other sign ``gap`` px beside it: the 5 x 5
     smoothed gradient's peak is pulled away from the second edge (0.17-0.28 px
-    measured), the peak on the image blurred by 0.85 px much less (0.06-0.13 px); the
-    edge points found are the same."""
+    measured), the edge placed towards the peak on the image blurred by 0.85 px less
+    (0.11-0.18 px: that peak's 0.06-0.13 px plus the dead zone's 0.05); the edge points
+    found are the same."""
     pulls = {None: [], 0.85: []}
     for x0 in np.linspace(30.0, 31.0, 11):
         row = render_profile(np.array([x0, x0 + gap]), np.array([30.0, 110.0, 70.0]), 80, 0.0)
@@ -210,7 +211,7 @@ def test_an_edge_beside_another_is_pulled_less_on_the_lightly_blurred_image(gap)
         assert found[None] == found[0.85]
     smoothed, fine = np.abs(pulls[None]), np.abs(pulls[0.85])
     assert np.mean(smoothed) >= 0.12
-    assert np.mean(fine) <= 0.6 * np.mean(smoothed) and np.max(fine) <= 0.2
+    assert np.mean(fine) <= np.mean(smoothed) - 0.04 and np.max(fine) <= 0.2
 
 
 def test_a_lone_step_is_placed_alike_on_either_image() -> None:
@@ -226,14 +227,15 @@ def test_a_lone_step_is_placed_alike_on_either_image() -> None:
 
 def test_the_edge_blur_moves_only_the_positions() -> None:
     """The same edge points with the same features, each moved by at most a pixel and
-    a half (the peak within a pixel of its column, its vertex within half a pixel)."""
+    a half (the peak within a pixel of its column, its vertex within half a pixel), many
+    not at all (a move within the dead zone is not taken)."""
     p = occluder_pair(7, height=60, width=160)
     a, b = detect_edges(p.left), detect_edges(p.left, edge_blur_px=0.85)
     for name in ("column", "row", "sign", "magnitude", "pattern", "up", "down",
                  "mean_grey", "grey_before", "grey_after"):
         assert np.array_equal(getattr(a, name), getattr(b, name)), name
     moved = np.abs(a.x - b.x)
-    assert moved.max() <= 1.5 and 0 < np.median(moved) < 0.5
+    assert moved.max() <= 1.5 and 0.2 < np.mean(moved > 0) < 0.9
     assert np.array_equal(detect_edges(p.left, subpixel=False, edge_blur_px=0.85).x,
                           a.column.astype(float))
 

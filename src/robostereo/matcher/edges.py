@@ -25,7 +25,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError, require_int, require_positive
-from robostereo.matcher.edge_kernels import SIDE_OFFSET, connect, edge_points, patterns
+from robostereo.matcher.edge_kernels import (
+    FINE_DEAD_ZONE_PX,
+    SIDE_OFFSET,
+    connect,
+    edge_points,
+    patterns,
+)
 
 __all__ = [
     "SEED_KERNEL",
@@ -460,10 +466,11 @@ def detect_edges(
     edge_blur_px : float or None
         None (the default here, the thesis's way): the sub-pixel position is the
         smoothed gradient's peak.  A number: the edge points are still found on the
-        smoothed image, but each is placed on the peak of the gradient of the grey
+        smoothed image, but each is moved towards the peak of the gradient of the grey
         levels blurred by a Gaussian of this sigma (pixels; 0: not blurred), the peak
-        of the same sign nearest its column within a pixel (its smoothed position
-        where there is none).  The 5 x 5 filter spreads an edge's gradient about 2 px
+        of the same sign nearest its column within a pixel, by the part of the move
+        beyond :data:`~robostereo.matcher.edge_kernels.FINE_DEAD_ZONE_PX` (0.05 px;
+        none where there is no such peak).  The 5 x 5 filter spreads an edge's gradient about 2 px
         either side, so texture beside the edge pulls the peak; at an object's
         outline the texture behind differs between the two views and the pull does
         not cancel in the disparity.  :class:`~robostereo.matcher.pipeline.MatchParameters`
@@ -492,8 +499,9 @@ def detect_edges(
        ``BORDER`` (5) pixels inside the left and right borders.
     4. Sub-pixel position: the vertex of the parabola through ``|g|`` at the peak and
        its two neighbours; the magnitude is the parabola's peak value.  With
-       `edge_blur_px`, the position is the vertex of the same parabola on the lightly
-       blurred image's gradient instead (the magnitude stays the smoothed one's).
+       `edge_blur_px`, the position then moves towards the vertex of the same parabola
+       on the lightly blurred image's gradient, less the dead zone (the magnitude
+       stays the smoothed one's).
     5. Features: contrast sign ``sign(g)``, connectivity to the lines above and below
        (:func:`connectivity`) and pattern type (:func:`pattern_type`), the 5 x 5 mean
        grey level of the unsmoothed image, and the smoothed grey levels four pixels
@@ -537,7 +545,8 @@ def detect_edges(
     k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = (
         edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step), bool(subpixel),
                      int(n_lines), usable, valid is not None,
-                     _NO_ROWS if fine is None else fine, fine is not None))
+                     _NO_ROWS if fine is None else fine, fine is not None,
+                     FINE_DEAD_ZONE_PX))
     return EdgeSet(
         line=k.astype(np.intp, copy=False), row=r.astype(np.intp, copy=False), x=x,
         column=j.astype(np.intp, copy=False), sign=sign, magnitude=mag, pattern=pattern,

@@ -123,20 +123,22 @@ class MatchParameters:
     bit_depth : int or None
         Bit depth of the input grey levels; None: from the dtype.
     edge_blur_px : float or None
-        Sub-pixel edge positions (both images) from the gradient of the grey levels
-        blurred by a Gaussian of this sigma (pixels), not from the thesis's 5 x 5
-        smoothed image, on which the edge points are still found (see
-        :func:`~robostereo.matcher.edges.detect_edges`); None: the smoothed image's.
-        The 5 x 5 filter lets texture within about 2 px pull an edge's peak; at an
-        outline the texture behind differs between the views, so the pull moves the
-        outline.  The default 0.85 was chosen leave-one-scene-out among None, 0, 0.3,
-        0.5, 0.7, 0.85, 1.0, 1.2 and 1.5 over the synthetic occluder pairs (seeds 0-7,
-        one scene) and the six developer scenes, by the mean of two ratios to None:
-        the silhouette edges' median offset from the boundary and the disparity RMS
-        error away from depth steps (less blur places outlines better but is noisier
-        on texture).  On the occluder pairs the median offset of matched silhouette
-        edges fell from 0.28 to 0.19 px, the disparity RMS away from steps rose at
-        most 2 % on any scene (see ``docs/guide/accuracy.md``).
+        Sub-pixel edge positions (both images) moved towards the gradient's peak on the
+        grey levels blurred by a Gaussian of this sigma (pixels), beyond a dead zone of
+        :data:`~robostereo.matcher.edge_kernels.FINE_DEAD_ZONE_PX`; the edge points are
+        still found on the thesis's 5 x 5 smoothed image (see
+        :func:`~robostereo.matcher.edges.detect_edges`).  None: the smoothed image's
+        positions.  The 5 x 5 filter lets texture within about 2 px pull an edge's peak;
+        at an outline the texture behind differs between the views, so the pull moves
+        the outline and does not cancel in the disparity.  The default 0.85 (with the
+        0.05 px dead zone) was chosen leave-one-scene-out over the synthetic occluder
+        pairs (seeds 0-7, one scene) and the six developer scenes among None, 0-1.5
+        without a dead zone and 0.5-1.0 with one of 0.05 or 0.1 px: of those that left
+        the simulated robot's block (the demo) as it was, the one with the least mean
+        ratio of the silhouette edges' median offset from the boundary to today's, with
+        the disparity RMS away from steps at most 3 % above today's on every other
+        scene; it won every fold.  On the occluder pairs the matched silhouette edges'
+        median offset fell from 0.28 to 0.22 px (see ``docs/guide/accuracy.md``).
     """
 
     method: str = "window"
