@@ -24,6 +24,7 @@ from robostereo.matcher.jit import kernel
 __all__ = [
     "FINE_DEAD_ZONE_PX",
     "SIDE_OFFSET",
+    "blurred_span",
     "connect",
     "connect_sorted",
     "edge_points",
@@ -275,8 +276,41 @@ def fine_offset(f, c, sg):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
+def _reflect(i, n):  # type: ignore[no-untyped-def]
+    """Index ``i`` reflected into ``0..n-1`` (``cv2.BORDER_REFLECT_101``), then clamped."""
+    if i < 0:
+        i = -i
+    if i > n - 1:
+        i = 2 * (n - 1) - i
+    return min(max(i, 0), n - 1)
+
+
+@kernel(nogil=True)
+def blurred_span(vert, c, weights, out):  # type: ignore[no-untyped-def]
+    """One row ``vert`` ``(W,)`` of the grey levels already blurred down the columns,
+    blurred along the row by ``weights`` ``(2 R + 1,)`` (borders reflected,
+    ``cv2.BORDER_REFLECT_101``) at columns ``c - 3 .. c + 3`` into ``out`` ``(7,)``
+    float32: what :func:`fine_offset` reads about column ``c``, without blurring the
+    whole row."""
+    w = vert.shape[0]
+    nt = weights.shape[0]
+    rad = nt // 2
+    x0 = c - 3 - rad
+    inside = x0 >= 0 and x0 + out.shape[0] + 2 * rad <= w
+    for j in range(out.shape[0]):
+        acc = np.float32(0.0)
+        if inside:
+            for t in range(nt):
+                acc += weights[t] * vert[x0 + j + t]
+        else:
+            for t in range(nt):
+                acc += weights[t] * vert[_reflect(x0 + j + t, w)]
+        out[j] = acc
+
+
+@kernel(nogil=True)
 def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
-                  n_lines, fine, use_fine, dead_zone):  # type: ignore[no-untyped-def]
+                  n_lines, vert, weights, use_fine, dead_zone):  # type: ignore[no-untyped-def]
     """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
     the grey levels before and after of the peaks of :func:`gradient_peaks` (float32
     arithmetic where NumPy's on the same arrays is float32)."""
@@ -290,6 +324,7 @@ def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
     half = np.float32(0.5)
     quarter = np.float32(0.25)
     two = np.float32(2.0)
+    span = np.empty(7, np.float32)
     for i in range(n):
         s = smoothed[line[i]]
         c = column[i]
@@ -310,7 +345,8 @@ def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
         x[i] = c + np.float64(offset)
         if use_fine and subpixel:  # -- towards the peak on the lightly blurred row
             sg = np.float32(1.0) if gradient > 0 else np.float32(-1.0)
-            fo = fine_offset(fine[line[i]], c, sg)
+            blurred_span(vert[line[i]], c, weights, span)
+            fo = fine_offset(span, 3, sg)
             if fo == fo:  # moved towards it by the part of the move beyond the dead zone
                 move = c + fo - x[i]
                 if move > dead_zone:
@@ -332,7 +368,7 @@ def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
 
 @kernel(nogil=True)
 def edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_lines,
-                usable, check, fine, use_fine, dead_zone):  # type: ignore[no-untyped-def]
+                usable, check, vert, weights, use_fine, dead_zone):  # type: ignore[no-untyped-def]
     """:func:`gradient_peaks`, with ``check`` only those on ``usable`` pixels, then
     :func:`peak_features`, in one call (one release of the interpreter lock for the
     image, not one per step); also the rows."""
@@ -344,7 +380,7 @@ def edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_
             keep[i] = usable[row[i], column[i]]
         line, column, row = line[keep], column[keep], row[keep]
     x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = peak_features(
-        line, column, smoothed, grey, row_offset, row_step, subpixel, n_lines, fine, use_fine,
-        dead_zone)
+        line, column, smoothed, grey, row_offset, row_step, subpixel, n_lines, vert,
+        weights, use_fine, dead_zone)
     return (line, column, row, x, sign, mag, up, down, up_off, down_off, pattern, mean5,
             before, after)
