@@ -97,7 +97,9 @@ def test_edge_table_without_candidates(tmp_path: Path, capsys) -> None:
 
 
 def test_relaxation_without_neighbour_links() -> None:
-    img = np.random.default_rng(6).integers(0, 256, (6, 40)).astype(np.uint8)
+    # a noise image against itself at a wrong disparity: one chance pairing (seed 11
+    # gives one whether the edges are placed on the smoothed or the blurred image)
+    img = np.random.default_rng(11).integers(0, 256, (6, 40)).astype(np.uint8)
     res = match_stereo(img, img, (3.0, 3.0), params=MatchParameters(method="relaxation"))
     assert len(res.candidates) > 0
     assert len(match_stereo(img, img, (3.0, 3.0)).left_edges) == len(res.left_edges)

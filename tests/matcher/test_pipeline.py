@@ -76,6 +76,8 @@ def test_min_confidence_trades_coverage_for_accuracy(rng):
         MatchParameters(min_confidence=1.5)
     with pytest.raises(InputError, match="method"):
         MatchParameters(method="sgm")
+    with pytest.raises(InputError, match="edge_blur_px"):
+        MatchParameters(edge_blur_px=-1.0)
     with pytest.raises(InputError, match="relaxation"):
         res.matches_after(1)
 

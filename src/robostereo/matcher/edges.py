@@ -25,13 +25,21 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError, require_int, require_positive
-from robostereo.matcher.edge_kernels import SIDE_OFFSET, connect, edge_points, patterns
+from robostereo.matcher.edge_kernels import (
+    FINE_DEAD_ZONE_PX,
+    SIDE_OFFSET,
+    connect,
+    edge_points,
+    patterns,
+)
 
 __all__ = [
     "SEED_KERNEL",
     "EdgeSet",
+    "check_edge_blur",
     "connectivity",
     "detect_edges",
+    "fine_weights",
     "pattern_difference",
     "pattern_type",
     "smooth",
@@ -366,6 +374,58 @@ def connectivity(
     return up.astype(np.intp), down.astype(np.intp), up_off, down_off
 
 
+#: placeholders of the kernel's blurred rows and blur weights when the smoothed image
+#: places the edges (and the 1-tap kernel of a blur down the columns only)
+_NO_ROWS = np.zeros((1, 1), np.float32)
+_ONE = np.ones(1, np.float32)
+
+
+def check_edge_blur(edge_blur_px: float | None) -> None:
+    """Refuse an `edge_blur_px` that is not None or a number in 0..10 (pixels).
+
+    >>> check_edge_blur(0.85); check_edge_blur(None)
+    >>> check_edge_blur(-1.0)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: edge_blur_px must be None or a number in 0..10 (pixels), got -1.0
+    """
+    ok = edge_blur_px is None or (
+        isinstance(edge_blur_px, (int, float, np.floating, np.integer))
+        and not isinstance(edge_blur_px, bool) and 0.0 <= float(edge_blur_px) <= 10.0)
+    if not ok:
+        raise InputError(f"edge_blur_px must be None or a number in 0..10 (pixels), got "
+                         f"{edge_blur_px!r}")
+
+
+def fine_weights(edge_blur_px: float | None) -> NDArray[np.float32] | None:
+    """The 1-D Gaussian whose separable blur places the sub-pixel edge points, or None
+    for the thesis's smoothed image (see ``edge_blur_px`` of :func:`detect_edges`).
+
+    Parameters
+    ----------
+    edge_blur_px : float or None
+        Gaussian sigma, pixels; 0: the grey levels as they are.
+
+    Returns
+    -------
+    ndarray of float32, shape (2 R + 1,), or None
+        ``cv2.getGaussianKernel`` cut at ``R = ceil(3 sigma)`` (at 0.85 px what the
+        edge points read differs from ``cv2.GaussianBlur``'s, cut at ``4 sigma``, by
+        about 1e-5 of the full scale).
+
+    Examples
+    --------
+    >>> fine_weights(None), fine_weights(0.0).tolist(), fine_weights(0.85).shape
+    (None, [1.0], (7,))
+    """
+    if edge_blur_px is None:
+        return None
+    if edge_blur_px == 0:
+        return np.ones(1, np.float32)
+    size = 2 * int(np.ceil(3.0 * float(edge_blur_px))) + 1
+    return cv2.getGaussianKernel(size, float(edge_blur_px), cv2.CV_32F).ravel()
+
+
 def detect_edges(
     image: ArrayLike,
     *,
@@ -376,6 +436,7 @@ def detect_edges(
     subpixel: bool = True,
     grey: NDArray[np.float32] | None = None,
     valid: ArrayLike | None = None,
+    edge_blur_px: float | None = None,
 ) -> EdgeSet:
     """Find edge points along the rows (epipolar lines) of an image (thesis 3.1-3.2).
 
@@ -400,6 +461,18 @@ def detect_edges(
         Pixels that hold image data (e.g. the part of a rectified image that has a
         source).  Invalid pixels may hold anything; edge points whose features would
         see them are not reported (:func:`usable_pixels`).
+    edge_blur_px : float or None
+        None (the default here, the thesis's way): the sub-pixel position is the
+        smoothed gradient's peak.  A number: the edge points are still found on the
+        smoothed image, but each is moved towards the peak of the gradient of the grey
+        levels blurred by a Gaussian of this sigma (pixels; 0: not blurred), the peak
+        of the same sign nearest its column within a pixel, by the part of the move
+        beyond :data:`~robostereo.matcher.edge_kernels.FINE_DEAD_ZONE_PX` (0.05 px;
+        none where there is no such peak).  The 5 x 5 filter spreads an edge's gradient about 2 px
+        either side, so texture beside the edge pulls the peak; at an object's
+        outline the texture behind differs between the two views and the pull does
+        not cancel in the disparity.  :class:`~robostereo.matcher.pipeline.MatchParameters`
+        passes its own (0.85 by default).
 
     Returns
     -------
@@ -410,7 +483,8 @@ def detect_edges(
     InputError
         An image :func:`to_grey` refuses or smaller than 5 x 5 pixels, a threshold that
         is not a finite number > 0, a `row_step` or `row_offset` that is not an integer
-        (>= 1, in ``0..H-1``), a `valid` mask of another shape.
+        (>= 1, in ``0..H-1``), a `valid` mask of another shape, an `edge_blur_px`
+        that is not None or in 0..10.
 
     Notes
     -----
@@ -422,7 +496,10 @@ def detect_edges(
        left neighbour, at least the right one) with ``|g| >= threshold``, at least
        ``BORDER`` (5) pixels inside the left and right borders.
     4. Sub-pixel position: the vertex of the parabola through ``|g|`` at the peak and
-       its two neighbours; the magnitude is the parabola's peak value.
+       its two neighbours; the magnitude is the parabola's peak value.  With
+       `edge_blur_px`, the position then moves towards the vertex of the same parabola
+       on the lightly blurred image's gradient, less the dead zone (the magnitude
+       stays the smoothed one's).
     5. Features: contrast sign ``sign(g)``, connectivity to the lines above and below
        (:func:`connectivity`) and pattern type (:func:`pattern_type`), the 5 x 5 mean
        grey level of the unsmoothed image, and the smoothed grey levels four pixels
@@ -443,6 +520,7 @@ def detect_edges(
     require_positive("threshold", threshold)
     row_step = require_int("row_step", row_step, minimum=1)
     row_offset = require_int("row_offset", row_offset, minimum=0)
+    check_edge_blur(edge_blur_px)
     g0 = to_grey(image, bit_depth=bit_depth) if grey is None else grey
     h, w = g0.shape
     if h < 5 or w < 5:
@@ -461,9 +539,18 @@ def detect_edges(
         if vm.shape != (h, w):
             raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
         usable = usable_pixels(vm)
+    weights = fine_weights(edge_blur_px) if subpixel else None
+    vert = _NO_ROWS
+    if weights is not None:  # the lines used, blurred down the columns (cv2: fast)
+        vert = (np.ascontiguousarray(g0[row_offset::row_step], np.float32) if weights.size == 1
+                else cv2.sepFilter2D(np.asarray(g0, np.float32), -1, _ONE, weights,
+                                     borderType=cv2.BORDER_REFLECT_101)[row_offset::row_step])
+        vert = np.ascontiguousarray(vert)
     k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = (
         edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step), bool(subpixel),
-                     int(n_lines), usable, valid is not None))
+                     int(n_lines), usable, valid is not None,
+                     vert, _ONE if weights is None else weights, weights is not None,
+                     FINE_DEAD_ZONE_PX))
     return EdgeSet(
         line=k.astype(np.intp, copy=False), row=r.astype(np.intp, copy=False), x=x,
         column=j.astype(np.intp, copy=False), sign=sign, magnitude=mag, pattern=pattern,
