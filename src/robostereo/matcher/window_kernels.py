@@ -175,7 +175,7 @@ def _popcount(typingctx, x):  # type: ignore[no-untyped-def]
     return sig, codegen
 
 
-@kernel(fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True, inline="always")
 def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, sobel_right,
                   truncation, hamming):  # type: ignore[no-untyped-def]
     """Replace one ring row of pixel costs and update the column sums, for 1-D rows:
@@ -194,14 +194,14 @@ def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, 
         ring_row[x] = pixel
 
 
-@kernel(fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True, inline="always")
 def _constant_update(column_sums, ring_row, value):  # type: ignore[no-untyped-def]
     for x in range(column_sums.shape[0]):
         column_sums[x] += value - ring_row[x]
         ring_row[x] = value
 
 
-@kernel(fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True, inline="always")
 def _row_update(pixels, settings, margin, column_sums, ring_slot,
                 fill):  # type: ignore[no-untyped-def]
     """Pixel costs of one row for every disparity into a ring slot, with the column
@@ -229,7 +229,7 @@ def _row_update(pixels, settings, margin, column_sums, ring_slot,
                           sobel_right[x0 - d:x1 - d], settings.truncation, pixels.hamming)
 
 
-@kernel(fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True, inline="always")
 def _box(col, out, pair_sums, quad_sums):  # type: ignore[no-untyped-def]
     """``out[x] = col[x - 4] + ... + col[x + 4]`` (nine columns) by pair sums."""
     n = col.shape[0]
