@@ -356,11 +356,10 @@ def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left, from_rig
     q = np.uint16(p2 - p1)
     p1 = np.uint16(p1)
     # the row's window sums on every PATH_COLUMN_STEP-th column, disparity fastest
-    if bin_size == 1:
-        for k in range(nd_fine):
-            src = boxes[k]
-            for x in range(n_columns):
-                costs[x, k] = np.uint16(src[margin + PATH_COLUMN_STEP * x])
+    if bin_size == 1:  # a column at a time: the writes run on, the reads stay in cache
+        for x in range(n_columns):
+            for k in range(nd_fine):
+                costs[x, k] = np.uint16(boxes[k, margin + PATH_COLUMN_STEP * x])
     else:
         for x in range(n_columns):
             for j in range(nd):
