@@ -175,7 +175,7 @@ def _popcount(typingctx, x):  # type: ignore[no-untyped-def]
     return sig, codegen
 
 
-@kernel(fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True, inline="always")
 def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, sobel_right,
                   truncation, hamming):  # type: ignore[no-untyped-def]
     """Replace one ring row of pixel costs and update the column sums, for 1-D rows:
@@ -194,14 +194,14 @@ def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, 
         ring_row[x] = pixel
 
 
-@kernel(fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True, inline="always")
 def _constant_update(column_sums, ring_row, value):  # type: ignore[no-untyped-def]
     for x in range(column_sums.shape[0]):
         column_sums[x] += value - ring_row[x]
         ring_row[x] = value
 
 
-@kernel(fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True, inline="always")
 def _row_update(pixels, settings, margin, column_sums, ring_slot,
                 fill):  # type: ignore[no-untyped-def]
     """Pixel costs of one row for every disparity into a ring slot, with the column
@@ -229,7 +229,7 @@ def _row_update(pixels, settings, margin, column_sums, ring_slot,
                           sobel_right[x0 - d:x1 - d], settings.truncation, pixels.hamming)
 
 
-@kernel(fastmath=True, nogil=True)
+@kernel(fastmath=True, nogil=True, inline="always")
 def _box(col, out, pair_sums, quad_sums):  # type: ignore[no-untyped-def]
     """``out[x] = col[x - 4] + ... + col[x + 4]`` (nine columns) by pair sums."""
     n = col.shape[0]
@@ -317,31 +317,26 @@ def _sides(boxes_up, boxes_mid, boxes_down, cost_all, best, best_cost, second, c
 
 
 @kernel(fastmath=True, nogil=True, inline="always")
-def _path_step(cost, prev, cur, p1, p2):  # type: ignore[no-untyped-def]
+def _path_step(cost, prev, cur, p1, q):  # type: ignore[no-untyped-def]
     """One step of a scanline path (semi-global matching, [2]_ eq. 13):
     ``cur[k] = cost[k] + min(prev[k], prev[k -/+ 1] + p1, min(prev) + p2) - min(prev)``
-    (``prev`` and ``cur`` distinct, ``nd >= 2``).  The path costs are whole numbers
-    (window sums and penalties) held exactly in float32, so ``min(prev)`` is taken in
-    int32: a reduction that runs in vector lanes, which a float one does not."""
+    (``prev`` and ``cur`` distinct, ``nd >= 2``), as
+    ``cost[k] + min(prev[k] - least, min(prev[k -/+ 1] - least, q) + p1)`` with
+    ``least = min(prev)`` and ``q = p2 - p1``: every term stays within 0 ..
+    ``max(cost) + p2``, so the whole numbers run in uint16 vector lanes (see
+    :func:`_scanline`)."""
     nd = prev.shape[0]
-    least_whole = np.int32(prev[0])
+    least = prev[0]
     for k in range(1, nd):
-        least_whole = min(least_whole, np.int32(prev[k]))
-    least = np.float32(least_whole)
-    jump = least + p2
+        least = min(least, prev[k])
     for k in range(1, nd - 1):
-        lo = prev[k - 1]
-        hi = prev[k + 1]
-        c = (lo if lo < hi else hi) + p1
-        v = prev[k]
-        c = v if v < c else c
-        cur[k] = cost[k] + (jump if jump < c else c) - least
-    c = prev[1] + p1
-    c = prev[0] if prev[0] < c else c
-    cur[0] = cost[0] + (jump if jump < c else c) - least
-    c = prev[nd - 2] + p1
-    c = prev[nd - 1] if prev[nd - 1] < c else c
-    cur[nd - 1] = cost[nd - 1] + (jump if jump < c else c) - least
+        near = np.uint16(min(prev[k - 1], prev[k + 1]) - least)
+        near = np.uint16(min(near, q) + p1)
+        cur[k] = np.uint16(cost[k] + min(np.uint16(prev[k] - least), near))
+    near = np.uint16(min(np.uint16(prev[1] - least), q) + p1)
+    cur[0] = np.uint16(cost[0] + min(np.uint16(prev[0] - least), near))
+    near = np.uint16(min(np.uint16(prev[nd - 2] - least), q) + p1)
+    cur[nd - 1] = np.uint16(cost[nd - 1] + min(np.uint16(prev[nd - 1] - least), near))
 
 
 @kernel(fastmath=True, nogil=True)
@@ -349,29 +344,31 @@ def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left, from_rig
               a, b, c, d):  # type: ignore[no-untyped-def]
     """Window costs of one row aggregated along it, both ways (two paths of
     semi-global matching): ``L_left`` into ``from_left`` and ``L_right`` into
-    ``from_right``, both (W, nd).  The two paths are stepped in one loop (independent
-    chains), in float32 (exact for these sums).  With ``bin_size > 1`` a path
-    disparity is a bin of ``bin_size`` whole ones, its cost the least of theirs (wide
-    ranges).  ``costs`` (W, nd) receives the row's costs, ``a`` ... ``d`` (nd,) are the
-    steps' buffers."""
+    ``from_right``, both (W, nd) uint16.  The two paths are stepped in one loop
+    (independent chains), in uint16: a path cost is at most the largest window sum
+    (int16) plus ``p2`` (``0 <= p1 <= p2 <= 32768``), below 65536.  With ``bin_size > 1``
+    a path disparity is a bin of ``bin_size`` whole ones, its cost the least of theirs
+    (wide ranges).  ``costs`` (W, nd) uint16 receives the row's costs, ``a`` ... ``d``
+    (nd,) uint16 are the steps' buffers."""
     nd_fine = boxes.shape[0]
     nd = a.shape[0]
     n_columns = (width + PATH_COLUMN_STEP - 1) // PATH_COLUMN_STEP
+    q = np.uint16(p2 - p1)
+    p1 = np.uint16(p1)
     # the row's window sums on every PATH_COLUMN_STEP-th column, disparity fastest
-    if bin_size == 1:
-        for k in range(nd_fine):
-            src = boxes[k]
-            for x in range(n_columns):
-                costs[x, k] = np.float32(src[margin + PATH_COLUMN_STEP * x])
+    if bin_size == 1:  # a column at a time: the writes run on, the reads stay in cache
+        for x in range(n_columns):
+            for k in range(nd_fine):
+                costs[x, k] = np.uint16(boxes[k, margin + PATH_COLUMN_STEP * x])
     else:
         for x in range(n_columns):
             for j in range(nd):
-                costs[x, j] = np.float32(np.inf)
+                costs[x, j] = np.uint16(65535)
         for k in range(nd_fine):
             src = boxes[k]
             j = k // bin_size
             for x in range(n_columns):
-                costs[x, j] = min(costs[x, j], np.float32(src[margin + PATH_COLUMN_STEP * x]))
+                costs[x, j] = min(costs[x, j], np.uint16(src[margin + PATH_COLUMN_STEP * x]))
     # the paths start at the row's two ends with the costs there
     for k in range(nd):
         a[k] = costs[0, k]
@@ -383,13 +380,13 @@ def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left, from_rig
         for x in range(1, n_columns):
             xb = n_columns - 1 - x
             if x % 2:
-                _path_step(costs[x], a, b, p1, p2)
-                _path_step(costs[xb], c, d, p1, p2)
+                _path_step(costs[x], a, b, p1, q)
+                _path_step(costs[xb], c, d, p1, q)
                 from_left[x] = b
                 from_right[xb] = d
             else:
-                _path_step(costs[x], b, a, p1, p2)
-                _path_step(costs[xb], d, c, p1, p2)
+                _path_step(costs[x], b, a, p1, q)
+                _path_step(costs[xb], d, c, p1, q)
                 from_left[x] = a
                 from_right[xb] = c
     else:
@@ -480,13 +477,13 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     path_width = w if paths else 1
     bin_size = max(1, (nd + PATH_MAX_DISPARITIES - 1) // PATH_MAX_DISPARITIES)
     n_bins = (nd + bin_size - 1) // bin_size
-    path_costs = np.empty((path_width, n_bins), np.float32)
-    from_left = np.empty((path_width, n_bins), np.float32)
-    from_right = np.empty((path_width, n_bins), np.float32)
-    step_a = np.empty(n_bins, np.float32)
-    step_b = np.empty(n_bins, np.float32)
-    step_c = np.empty(n_bins, np.float32)
-    step_d = np.empty(n_bins, np.float32)
+    path_costs = np.empty((path_width, n_bins), np.uint16)
+    from_left = np.empty((path_width, n_bins), np.uint16)
+    from_right = np.empty((path_width, n_bins), np.uint16)
+    step_a = np.empty(n_bins, np.uint16)
+    step_b = np.empty(n_bins, np.uint16)
+    step_c = np.empty(n_bins, np.uint16)
+    step_d = np.empty(n_bins, np.uint16)
     path_sum = np.empty(n_bins, np.int32)
     path_row = -1  # the row whose paths are in from_left, from_right
     column_sums[:, :m] = n_ring * pixel_cost_max
@@ -539,7 +536,7 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
                 y_path = min((y + path_step // 2) // path_step * path_step, h - 1)
             if y_path != path_row:
                 _scanline(boxes[(y_path + ring_base) % n_ring], m, w, bin_size,
-                          np.float32(p1), np.float32(p2), path_costs, from_left, from_right,
+                          p1, p2, path_costs, from_left, from_right,
                           step_a, step_b, step_c, step_d)
                 path_row = y_path
 
@@ -613,8 +610,8 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
                 #    one bin off
                 path_column = column // PATH_COLUMN_STEP
                 for j in range(n_bins):
-                    path_sum[j] = np.int32(from_left[path_column, j]
-                                           + from_right[path_column, j])
+                    path_sum[j] = (np.int32(from_left[path_column, j])
+                                   + np.int32(from_right[path_column, j]))
                 # a bin is in view where one of its disparities is: k in k_lo .. k_hi
                 k_lo = max(column - d_min - w + 1, 0)
                 k_hi = min(column - d_min, nd - 1)
