@@ -324,20 +324,8 @@ def folds(data: dict[str, dict], variant: str, reach: int, weights: tuple[float,
                                                        for k in train], keep)
                 part = s["take"] & ((sup[held] >= classes) == cls)
                 conf[part] = model(as_features(base[held][part]))
-        cells = []
-        for sub in (s["near"], ~s["near"], np.ones(len(s["d"]), bool)):
-            t = sub & s["take"]
-            e = expected_calibration_error(conf[t], s["correct"][t])
-            acc = t & (conf >= ACCEPT)
-            counted = int((sub & s["known"]).sum())
-            mt, fl = int(acc.sum()), int((acc & ~s["correct"]).sum())
-            cell = f"{e:5.3f} {100 * mt / max(counted, 1):6.1f}/{100 * fl / max(mt, 1):5.2f}"
-            if sub is not None and not sub.all():
-                c = coverage_curve(s["rows"], s["x"], s["d"], conf, s["gt"], rule=RULE,
-                                   subset=sub)
-                cell += " " + " ".join(f"{100 * c.coverage_at(f):6.1f}"
-                                       for f in OUTLINE_LEVELS)
-            cells.append(cell)
+        cells = [point_cells(s, conf, sub)
+                 for sub in (s["near"], ~s["near"], np.ones(len(s["d"]), bool))]
         print(f"{held:<11} {w_best:4.1f}        " + "         ".join(cells))
 
 
