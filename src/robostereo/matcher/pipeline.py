@@ -235,6 +235,17 @@ class MatchParameters:
         return cls.thesis(**changes)
 
 
+def _window_accepted(params: MatchParameters, left: EdgeSet, disparity: NDArray[np.float64],
+                     confidence: NDArray[np.float64], level: float) -> NDArray[np.bool_]:
+    """The window method's acceptance at confidence `level`, ``(N,)`` bool: with the
+    edge contour's support where ``params.contour``
+    (:func:`~robostereo.matcher.window_match.contour_accepted`), else the confidence
+    alone (NaN: not accepted)."""
+    if params.contour:
+        return contour_accepted(left, disparity, confidence, level)
+    return np.nan_to_num(confidence, nan=-1.0) >= level
+
+
 @dataclass(frozen=True)
 class MatchResult:
     """Everything :func:`match_stereo` found, stage by stage.
@@ -345,11 +356,8 @@ class MatchResult:
                                self.relaxation.no_match, len(self.left_edges),
                                min_probability=min_confidence)
             return self.disparity_of(m)
-        if self.parameters.contour:
-            ok = contour_accepted(self.left_edges, self.edge_disparity, self.edge_confidence,
-                                  min_confidence)
-        else:
-            ok = np.nan_to_num(self.edge_confidence, nan=-1.0) >= min_confidence
+        ok = _window_accepted(self.parameters, self.left_edges, self.edge_disparity,
+                             self.edge_confidence, min_confidence)
         return np.where(ok, self.edge_disparity, np.nan)
 
     def triangulated(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
@@ -599,10 +607,7 @@ def match_stereo(
                           gradient_truncation=p.gradient_truncation, weights=p.weights,
                           profile_scale=p.profile_scale, costs=costs)
         conf = wm.confidence
-        if p.contour:
-            accepted = contour_accepted(el, wm.disparity, conf, p.acceptance)
-        else:
-            accepted = np.nan_to_num(conf, nan=-1.0) >= p.acceptance
+        accepted = _window_accepted(p, el, wm.disparity, conf, p.acceptance)
         fields = dict(edge_disparity=wm.disparity, edge_confidence=conf,
                       edge_right=wm.right_edge, accepted=accepted, window=wm,
                       candidates=None, relaxation=None, match=None)

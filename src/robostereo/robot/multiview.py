@@ -40,6 +40,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError, require_positive
+from robostereo.matcher.edges import check_edge_blur
 from robostereo.robot.multiview_search import (
     contradicted,
     prepare_views,
@@ -222,9 +223,7 @@ class ViewsParameters:
             require_positive("drop_sigmas", self.drop_sigmas)
         if self.range_step_px is not None:
             require_positive("range_step_px", self.range_step_px)
-        if self.edge_blur_px is not None and not 0 <= self.edge_blur_px <= 10:
-            raise InputError(f"edge_blur_px must be in 0..10 or None, got "
-                             f"{self.edge_blur_px!r}")
+        check_edge_blur(self.edge_blur_px)
         if not 0 <= self.min_epipolar_angle_deg < 90:
             raise InputError(f"min_epipolar_angle_deg must be in [0, 90), got "
                              f"{self.min_epipolar_angle_deg!r}")
