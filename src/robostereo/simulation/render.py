@@ -128,21 +128,25 @@ def _undistorted_grid(camera: Camera, offsets_bytes: bytes) -> _Arr:
 
 
 def _cast(
-    scene: Scene, camera: Camera, pose: Pose, offsets: _Arr
+    scene: Scene, camera: Camera, pose: Pose, offsets: _Arr, layer: int
 ) -> tuple[_Arr, NDArray[np.int32], _Arr]:
-    """Cast one ray per pixel and offset: nearest t, label and radiance, shape (S, H, W)."""
+    """Cast the rays of one offset, ``offsets[layer]``, through every pixel.
+
+    Returns the nearest t, label and radiance, each of shape (1, H, W).
+    """
+    rays = offsets[layer:layer + 1]
     w, h = camera.width, camera.height
     k_inv = np.linalg.inv(camera.K)
     r = pose.rotation
     o = pose.position
-    x = np.arange(w)[None, None, :] + offsets[:, 0, None, None]
-    y = np.arange(h)[None, :, None] + offsets[:, 1, None, None]
+    x = np.arange(w)[None, None, :] + rays[:, 0, None, None]
+    y = np.arange(h)[None, :, None] + rays[:, 1, None, None]
     # camera-frame direction K^-1 (x, y, 1); K's last row is (0, 0, 1), so its z is 1
     u = k_inv[0, 0] * x + k_inv[0, 1] * y + k_inv[0, 2]
     v = k_inv[1, 0] * x + k_inv[1, 1] * y + k_inv[1, 2]
-    shape = (len(offsets), h, w)
+    shape = (1, h, w)
     if camera.distortion:  # the ray of a distorted pixel: undistort its normalised position
-        n = _undistorted_grid(camera, offsets.tobytes())
+        n = _undistorted_grid(camera, offsets.tobytes())[layer:layer + 1]
         u, v = n[..., 0], n[..., 1]
     # world direction R @ (u, v, 1): its camera-z component is 1, so t is the depth
     dx = np.broadcast_to(r[0, 0] * u + r[0, 1] * v + r[0, 2], shape)
@@ -269,14 +273,19 @@ def render(
         raise InputError(f"camera.grey_levels must be in [2, 256] for uint8, got {levels}")
 
     offsets = sample_offsets(supersample)
-    t, labels, radiance = _cast(scene, camera, pose, offsets)
-    if supersample % 2 == 1:
-        centre = (supersample * supersample) // 2
-        depth, label_map = t[centre], labels[centre]
-    else:
-        t0, l0, _ = _cast(scene, camera, pose, np.zeros((1, 2)))
+    # one layer of rays (one offset, every pixel) at a time: the temporaries stay the size
+    # of an image rather than s*s images, and the sum runs in the order a mean would
+    centre = (supersample * supersample) // 2 if supersample % 2 == 1 else None
+    total = np.zeros((camera.height, camera.width))
+    for k in range(len(offsets)):
+        t, labels, radiance = _cast(scene, camera, pose, offsets, k)
+        total += np.clip(radiance[0], 0.0, 1.0)
+        if k == centre:
+            depth, label_map = t[0], labels[0]
+    if centre is None:
+        t0, l0, _ = _cast(scene, camera, pose, np.zeros((1, 2)), 0)
         depth, label_map = t0[0], l0[0]
-    intensity = np.clip(radiance, 0.0, 1.0).mean(axis=0) * (levels - 1)
+    intensity = total / len(offsets) * (levels - 1)
     if vignetting > 0:
         cx, cy = camera.principal_point
         xs = (np.arange(camera.width) - cx)[None, :]
