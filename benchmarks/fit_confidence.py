@@ -2,6 +2,7 @@
 
 Run:  python benchmarks/fit_confidence.py [--synthetic N] [--occluders M]
                                           [--rule {project,silhouette}] [--weights W W W W W]
+                                          [--swap-curve]
 
 Every developer scene of ../shared/data/stereo (or $ROBOSTEREO_DATA), N synthetic
 layered pairs (tests/synthetic.py: a slanted plane and boxes, occlusions, noise) and M
@@ -27,7 +28,8 @@ the row within 2 px of the edge, :mod:`robostereo.evaluation_rules`).  Then
    one of them is at most :data:`MAX_FALSE` (1 %) false; the held-out scene's operating
    point at it is printed, near depth steps and away;
    ``--weights`` keeps the score's five weights instead of choosing them (the curve
-   and the threshold are still fitted held out);
+   and the threshold are still fitted held out); ``--swap-curve`` also fits the
+   matches whose disparity is the paths' a curve of their own (held out too);
 3. the weights chosen and the curve fitted on all scenes are printed as the literal
    for ``robostereo.matcher.confidence.DEFAULT_MODEL``, and the threshold chosen on all
    real scenes as the window method's ``DEFAULT_MIN_CONFIDENCE``.
@@ -142,11 +144,13 @@ def fit(sets: list[dict], weights: tuple[float, ...]) -> ConfidenceModel:
     y = np.concatenate([s["correct"] for s in sets])
     w = np.concatenate([np.full(len(s["correct"]), per_real / n_syn if s["synthetic"] else 1.0)
                         for s in sets])
-    return fit_confidence(x, y, weights=weights, sample_weight=w)
+    return fit_confidence(x, y, weights=weights, sample_weight=w, swap_curve=SWAP_CURVE)
 
 
 #: the score's weights when given (--weights): only the curve and threshold are fitted
 WEIGHTS: tuple[float, ...] | None = None
+#: the swapped matches get a curve of their own (--swap-curve)
+SWAP_CURVE = False
 
 
 def choose(sets: list[dict]) -> ConfidenceModel:
@@ -203,10 +207,13 @@ def main(argv: list[str] | None = None) -> int:
                          "path uniqueness, path taken): fit only the curve and threshold")
     ap.add_argument("--rule", choices=RULES, default="project",
                     help="scoring rule of the labels and curves (default: the project's)")
+    ap.add_argument("--swap-curve", action="store_true",
+                    help="a curve of their own for the matches whose disparity is the paths'")
     args = ap.parse_args(argv)
-    global RULE, WEIGHTS
+    global RULE, WEIGHTS, SWAP_CURVE
     RULE = args.rule
     WEIGHTS = tuple(args.weights) if args.weights else None
+    SWAP_CURVE = args.swap_curve
     data = dataset(args.synthetic, args.occluders)
     real = [k for k, v in data.items() if not v["synthetic"]]
     print(f"{len(data)} scenes: {', '.join(k for k in data if not k.startswith('occ'))}"
@@ -253,7 +260,11 @@ def main(argv: list[str] | None = None) -> int:
     print(f"    right_edge_weight={model.right_edge_weight}, "
           f"similarity_weight={model.similarity_weight}, "
           f"row_agree_weight={model.row_agree_weight}, path_weight={model.path_weight}, "
-          f"swap_weight={model.swap_weight})")
+          f"swap_weight={model.swap_weight}{',' if model.swap_knots_score else ')'}")
+    if model.swap_knots_score:
+        print(f"    swap_knots_score=({', '.join(f'{v:.4f}' for v in model.swap_knots_score)}),")
+        print("    swap_knots_probability=("
+              f"{', '.join(f'{v:.4f}' for v in model.swap_knots_probability)}))")
     t_all = choose_threshold(model, list(data.values()))
     print(f"min_confidence chosen on all real scenes: {t_all:.3f}")
     return 0
