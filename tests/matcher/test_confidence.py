@@ -59,7 +59,6 @@ def test_confidence_on_synthetic_occlusions_is_calibrated_and_informative():
     assert curve.false_rate[len(curve.false_rate) // 2] < curve.false_rate[-1]
 
 
-
 def _swap_model(**swap):
     return ConfidenceModel((-1.0, 0.0, 1.0), (0.1, 0.5, 0.9), **swap)
 
