@@ -2,6 +2,7 @@
 
 Run:  python benchmarks/fit_confidence.py [--synthetic N] [--occluders M]
                                           [--rule {project,silhouette}] [--weights W W W W W]
+                                          [--swap-curve]
 
 Every developer scene of ../shared/data/stereo (or $ROBOSTEREO_DATA), N synthetic
 layered pairs (tests/synthetic.py: a slanted plane and boxes, occlusions, noise) and M
@@ -25,9 +26,11 @@ the row within 2 px of the edge, :mod:`robostereo.evaluation_rules`).  Then
 2. the acceptance threshold is chosen on the other real scenes too: the lowest
    ``min_confidence`` of a fine grid (0.80 .. 0.995 by 0.005, and 20/21) at which every
    one of them is at most :data:`MAX_FALSE` (1 %) false; the held-out scene's operating
-   point at it is printed, near depth steps and away;
+   point at it and at the shipped acceptance (20/21) is printed, near depth steps and
+   away;
    ``--weights`` keeps the score's five weights instead of choosing them (the curve
-   and the threshold are still fitted held out);
+   and the threshold are still fitted held out); ``--swap-curve`` also fits the
+   matches whose disparity is the paths' a curve of their own (held out too);
 3. the weights chosen and the curve fitted on all scenes are printed as the literal
    for ``robostereo.matcher.confidence.DEFAULT_MODEL``, and the threshold chosen on all
    real scenes as the window method's ``DEFAULT_MIN_CONFIDENCE``.
@@ -70,6 +73,8 @@ MAX_FALSE = 0.01
 THRESHOLDS = sorted({*np.round(np.arange(0.80, 0.9951, 0.005), 3).tolist(), 20 / 21})
 #: the first occluder pair's seed (benchmarks and tests use seeds below 100)
 OCCLUDER_SEED = 1000
+#: the shipped acceptance, whose held-out operating point is printed too
+ACCEPTANCE = MatchParameters().acceptance
 
 
 def samples(left, right, gt, disparity_range, bit_depth=None) -> dict:
@@ -142,11 +147,13 @@ def fit(sets: list[dict], weights: tuple[float, ...]) -> ConfidenceModel:
     y = np.concatenate([s["correct"] for s in sets])
     w = np.concatenate([np.full(len(s["correct"]), per_real / n_syn if s["synthetic"] else 1.0)
                         for s in sets])
-    return fit_confidence(x, y, weights=weights, sample_weight=w)
+    return fit_confidence(x, y, weights=weights, sample_weight=w, swap_curve=SWAP_CURVE)
 
 
 #: the score's weights when given (--weights): only the curve and threshold are fitted
 WEIGHTS: tuple[float, ...] | None = None
+#: the swapped matches get a curve of their own (--swap-curve)
+SWAP_CURVE = False
 
 
 def choose(sets: list[dict]) -> ConfidenceModel:
@@ -203,10 +210,13 @@ def main(argv: list[str] | None = None) -> int:
                          "path uniqueness, path taken): fit only the curve and threshold")
     ap.add_argument("--rule", choices=RULES, default="project",
                     help="scoring rule of the labels and curves (default: the project's)")
+    ap.add_argument("--swap-curve", action="store_true",
+                    help="a curve of their own for the matches whose disparity is the paths'")
     args = ap.parse_args(argv)
-    global RULE, WEIGHTS
+    global RULE, WEIGHTS, SWAP_CURVE
     RULE = args.rule
     WEIGHTS = tuple(args.weights) if args.weights else None
+    SWAP_CURVE = args.swap_curve
     data = dataset(args.synthetic, args.occluders)
     real = [k for k, v in data.items() if not v["synthetic"]]
     print(f"{len(data)} scenes: {', '.join(k for k in data if not k.startswith('occ'))}"
@@ -237,15 +247,15 @@ def main(argv: list[str] | None = None) -> int:
         print(f"{name:11s}       {split(model, data[name])}")
     print(f"\n{'held out':11s} {'min_confidence':>14s}   matched / false %: {'all':>11s} "
           f"{'near steps':>11s} {'away':>11s}   (chosen on the other real scenes: the "
-          f"lowest with each <= {100 * MAX_FALSE:g} % false)")
+          f"lowest with each <= {100 * MAX_FALSE:g} % false; then at the shipped 20/21)")
     for name, model in held.items():
         others = [v for k, v in data.items() if k != name]
-        t = choose_threshold(model, others)
         s = data[name]
-        pts = [operating_point(model, s, t, sub)
-               for sub in (None, s["near"], ~s["near"])]
-        print(f"{name:11s} {t:14.3f}                      "
-              + " ".join(f"{m:5.1f}/{f:4.2f}" for m, f in pts))
+        for t in (choose_threshold(model, others), ACCEPTANCE):
+            pts = [operating_point(model, s, t, sub)
+                   for sub in (None, s["near"], ~s["near"])]
+            print(f"{name:11s} {t:14.3f}                      "
+                  + " ".join(f"{m:5.1f}/{f:4.2f}" for m, f in pts))
     model = choose(list(data.values()))
     print("\nall scenes: ConfidenceModel(")
     print(f"    knots_score=({', '.join(f'{v:.4f}' for v in model.knots_score)}),")
@@ -253,7 +263,11 @@ def main(argv: list[str] | None = None) -> int:
     print(f"    right_edge_weight={model.right_edge_weight}, "
           f"similarity_weight={model.similarity_weight}, "
           f"row_agree_weight={model.row_agree_weight}, path_weight={model.path_weight}, "
-          f"swap_weight={model.swap_weight})")
+          f"swap_weight={model.swap_weight}{',' if model.swap_knots_score else ')'}")
+    if model.swap_knots_score:
+        print(f"    swap_knots_score=({', '.join(f'{v:.4f}' for v in model.swap_knots_score)}),")
+        print("    swap_knots_probability=("
+              f"{', '.join(f'{v:.4f}' for v in model.swap_knots_probability)}))")
     t_all = choose_threshold(model, list(data.values()))
     print(f"min_confidence chosen on all real scenes: {t_all:.3f}")
     return 0

@@ -15,6 +15,7 @@ from robostereo.matcher.confidence import (
     calibration_table,
     fit_confidence,
     isotonic,
+    swapped_matches,
 )
 from robostereo.matcher.pipeline import match_stereo
 
@@ -57,3 +58,71 @@ def test_confidence_on_synthetic_occlusions_is_calibrated_and_informative():
     curve = coverage_curve(e.row, e.x, res.edge_disparity, res.edge_confidence, gt)
     assert curve.false_rate[len(curve.false_rate) // 2] < curve.false_rate[-1]
 
+
+def _swap_model(**swap):
+    return ConfidenceModel((-1.0, 0.0, 1.0), (0.1, 0.5, 0.9), **swap)
+
+
+def test_swapped_matches_read_their_own_curve():
+    """Only the matches whose disparity is the paths' read the swap curve; the others
+    keep the main curve's confidence, and a malformed swap curve is refused by name."""
+    rng = np.random.default_rng(3)
+    f = np.zeros((300, len(FEATURES)))
+    f[:, 0] = f[:, 1] = rng.uniform(0, 1, 300)
+    f[:, FEATURES.index("path_uniqueness")] = rng.uniform(0, 1, 300)
+    f[:, FEATURES.index("left_right")] = 1
+    kind = rng.integers(0, 3, 300)  # 0 paths agree, 1 paths taken, 2 windows kept
+    f[:, FEATURES.index("path_agree")] = kind == 0
+    f[:, FEATURES.index("path_swapped")] = kind == 1
+    plain = _swap_model()
+    own = _swap_model(swap_knots_score=(-1.0, 1.0), swap_knots_probability=(0.7, 1.0))
+    swapped = swapped_matches(f)
+    assert np.array_equal(swapped, kind == 1)
+    assert np.array_equal(own(f)[~swapped], plain(f)[~swapped])
+    s = own.score(f)[swapped]
+    assert np.allclose(own(f)[swapped], np.interp(s, (-1.0, 1.0), (0.7, 1.0)))
+    assert np.all(own(f)[swapped] > plain(f)[swapped])
+    for bad in (dict(swap_knots_score=(0.0, 1.0), swap_knots_probability=(0.5,)),
+                dict(swap_knots_score=(0.0, 1.0), swap_knots_probability=(0.9, 0.1)),
+                dict(swap_knots_score=(0.0,), swap_knots_probability=(1.5,))):
+        with pytest.raises(InputError, match="swap_knots"):
+            _swap_model(**bad)
+
+
+def _branches_sample(rng, n):
+    """Evidence where the swapped matches are right more often than the others at the
+    same score, as on the scenes where the paths see through ambiguous windows."""
+    f = np.zeros((n, len(FEATURES)))
+    u = rng.uniform(0, 1, n)
+    swapped = rng.uniform(0, 1, n) < 0.3
+    f[:, 0] = f[:, 1] = f[:, FEATURES.index("path_uniqueness")] = u
+    f[:, FEATURES.index("left_right")] = 1
+    f[:, FEATURES.index("path_agree")] = ~swapped
+    f[:, FEATURES.index("path_swapped")] = swapped
+    p = np.where(swapped, 0.6 + 0.4 * u, 0.2 + 0.8 * u)
+    return f, rng.uniform(0, 1, n) < p
+
+
+def test_fitted_swap_curve_calibrates_the_swapped_matches():
+    """Fitted on one sample, the swap curve is calibrated on the swapped matches of a
+    fresh one (the main curve alone is not), and the other matches' confidences are
+    those of the fit without it."""
+    rng = np.random.default_rng(5)
+    f, ok = _branches_sample(rng, 20000)
+    both = fit_confidence(f, ok, weights=(0.0, 0.0, 0.0, 0.5, 0.6), swap_curve=True)
+    main = fit_confidence(f, ok, weights=(0.0, 0.0, 0.0, 0.5, 0.6))
+    assert both.swap_knots_score and not main.swap_knots_score
+    assert both.knots_score == main.knots_score
+    g, ok2 = _branches_sample(rng, 20000)
+    sw = swapped_matches(g)
+    assert np.array_equal(both(g)[~sw], main(g)[~sw])
+
+    def ece(conf, right):
+        c, fr, n = calibration_table(conf, right)
+        return np.sum(n[n > 0] * np.abs(c[n > 0] - fr[n > 0])) / n.sum()
+
+    assert ece(both(g)[sw], ok2[sw]) < 0.03
+    assert ece(main(g)[sw], ok2[sw]) > 0.06
+    with pytest.raises(InputError, match="swapped"):
+        fit_confidence(f, ok | swapped_matches(f), weights=(0.0, 0.0, 0.0, 0.5, 0.6),
+                       swap_curve=True)
