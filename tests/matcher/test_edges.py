@@ -240,6 +240,31 @@ def test_the_edge_blur_moves_only_the_positions() -> None:
                           a.column.astype(float))
 
 
+@pytest.mark.parametrize(("blur", "row_step", "row_offset"),
+                         [(0.85, 1, 0), (0.85, 3, 2), (1.7, 1, 0), (0.0, 1, 0)])
+def test_the_blur_made_strip_by_strip_places_edges_as_the_whole_image_would(
+        blur, row_step, row_offset) -> None:
+    """The fine placement blurs strips of rows in turn (no blurred image is held):
+    on an image of several strips, the last partial, every point lands where the
+    blur of the whole image at once puts it."""
+    from robostereo.matcher.edge_kernels import FINE_DEAD_ZONE_PX, fine_positions
+    from robostereo.matcher.edges import fine_weights
+
+    img = np.random.default_rng(8).integers(0, 256, (203, 90)).astype(np.uint8)
+    plain = detect_edges(img, row_step=row_step, row_offset=row_offset)
+    fine = detect_edges(img, row_step=row_step, row_offset=row_offset, edge_blur_px=blur)
+    assert len(plain) > 300 and np.all(np.diff(plain.row) >= 0)
+    w = fine_weights(blur)
+    whole = cv2.sepFilter2D(to_grey(img), -1, np.ones(1, np.float32), w,
+                            borderType=cv2.BORDER_REFLECT_101)
+    x = plain.x.copy()
+    fine_positions(x, plain.row, plain.column, plain.sign, whole, 0, w, FINE_DEAD_ZONE_PX,
+                   0, len(x))
+    assert np.array_equal(fine.x, x)
+    if blur > 0:
+        assert np.mean(fine.x != plain.x) > 0.2  # it moved points: the check has teeth
+
+
 @pytest.mark.parametrize("blur", [-0.1, 10.5, float("nan"), "1", True])
 def test_an_edge_blur_outside_0_10_is_refused(blur) -> None:
     with pytest.raises(InputError, match="edge_blur_px"):

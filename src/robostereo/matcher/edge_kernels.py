@@ -29,6 +29,7 @@ __all__ = [
     "connect_sorted",
     "edge_points",
     "fine_offset",
+    "fine_positions",
     "gradient_peaks",
     "mean5_at",
     "pattern_of",
@@ -310,7 +311,7 @@ def blurred_span(vert, c, weights, out):  # type: ignore[no-untyped-def]
 
 @kernel(nogil=True)
 def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
-                  n_lines, vert, weights, use_fine, dead_zone):  # type: ignore[no-untyped-def]
+                  n_lines):  # type: ignore[no-untyped-def]
     """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
     the grey levels before and after of the peaks of :func:`gradient_peaks` (float32
     arithmetic where NumPy's on the same arrays is float32)."""
@@ -324,7 +325,6 @@ def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
     half = np.float32(0.5)
     quarter = np.float32(0.25)
     two = np.float32(2.0)
-    span = np.empty(7, np.float32)
     for i in range(n):
         s = smoothed[line[i]]
         c = column[i]
@@ -343,16 +343,6 @@ def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
         else:
             mag[i] = mag_peak
         x[i] = c + np.float64(offset)
-        if use_fine and subpixel:  # -- towards the peak on the lightly blurred row
-            sg = np.float32(1.0) if gradient > 0 else np.float32(-1.0)
-            blurred_span(vert[line[i]], c, weights, span)
-            fo = fine_offset(span, 3, sg)
-            if fo == fo:  # moved towards it by the part of the move beyond the dead zone
-                move = c + fo - x[i]
-                if move > dead_zone:
-                    x[i] += move - dead_zone
-                elif move < -dead_zone:
-                    x[i] += move + dead_zone
         # -- contrast sign, grey levels before and after
         sign[i] = 1 if gradient > 0 else (-1 if gradient < 0 else 0)
         before[i] = smoothed[line[i], min(max(column[i] - SIDE_OFFSET, 0), w - 1)]
@@ -367,8 +357,30 @@ def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
 
 
 @kernel(nogil=True)
+def fine_positions(x, row, column, sign, vert, first_row, weights, dead_zone, lo,
+                   hi):  # type: ignore[no-untyped-def]
+    """Move the sub-pixel positions ``x[lo:hi]`` (in place) towards the peak of the
+    gradient on the lightly blurred grey levels, by the part of the move beyond
+    ``dead_zone``.  ``vert`` holds image rows ``first_row ..`` already blurred down the
+    columns (those of the points' ``row``); ``weights`` blur them along the row
+    (:func:`blurred_span`), ``sign`` is each point's contrast sign."""
+    span = np.empty(7, np.float32)
+    for i in range(lo, hi):
+        c = column[i]
+        sg = np.float32(1.0) if sign[i] > 0 else np.float32(-1.0)
+        blurred_span(vert[row[i] - first_row], c, weights, span)
+        fo = fine_offset(span, 3, sg)
+        if fo == fo:  # moved towards it by the part of the move beyond the dead zone
+            move = c + fo - x[i]
+            if move > dead_zone:
+                x[i] += move - dead_zone
+            elif move < -dead_zone:
+                x[i] += move + dead_zone
+
+
+@kernel(nogil=True)
 def edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_lines,
-                usable, check, vert, weights, use_fine, dead_zone):  # type: ignore[no-untyped-def]
+                usable, check):  # type: ignore[no-untyped-def]
     """:func:`gradient_peaks`, with ``check`` only those on ``usable`` pixels, then
     :func:`peak_features`, in one call (one release of the interpreter lock for the
     image, not one per step); also the rows."""
@@ -380,7 +392,6 @@ def edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_
             keep[i] = usable[row[i], column[i]]
         line, column, row = line[keep], column[keep], row[keep]
     x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = peak_features(
-        line, column, smoothed, grey, row_offset, row_step, subpixel, n_lines, vert,
-        weights, use_fine, dead_zone)
+        line, column, smoothed, grey, row_offset, row_step, subpixel, n_lines)
     return (line, column, row, x, sign, mag, up, down, up_off, down_off, pattern, mean5,
             before, after)

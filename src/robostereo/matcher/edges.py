@@ -30,6 +30,7 @@ from robostereo.matcher.edge_kernels import (
     SIDE_OFFSET,
     connect,
     edge_points,
+    fine_positions,
     patterns,
 )
 
@@ -374,10 +375,10 @@ def connectivity(
     return up.astype(np.intp), down.astype(np.intp), up_off, down_off
 
 
-#: placeholders of the kernel's blurred rows and blur weights when the smoothed image
-#: places the edges (and the 1-tap kernel of a blur down the columns only)
-_NO_ROWS = np.zeros((1, 1), np.float32)
+#: the 1-tap kernel of a blur down the columns only
 _ONE = np.ones(1, np.float32)
+#: image rows blurred at a time for the fine placement: no blurred image is held whole
+_FINE_STRIP_ROWS = 64
 
 
 def check_edge_blur(edge_blur_px: float | None) -> None:
@@ -424,6 +425,33 @@ def fine_weights(edge_blur_px: float | None) -> NDArray[np.float32] | None:
         return np.ones(1, np.float32)
     size = 2 * int(np.ceil(3.0 * float(edge_blur_px))) + 1
     return cv2.getGaussianKernel(size, float(edge_blur_px), cv2.CV_32F).ravel()
+
+
+def _place_finely(x: NDArray[np.float64], row: NDArray[np.integer],
+                  column: NDArray[np.integer], sign: NDArray[np.int8],
+                  grey: NDArray[np.floating], weights: NDArray[np.float32]) -> None:
+    """Move the edge points' ``x`` ``(N,)`` in place towards the gradient's peak on the
+    grey levels blurred by `weights` (``edge_blur_px`` of :func:`detect_edges`).
+
+    The blur down the columns (OpenCV, fast) is made for strips of rows in turn, each
+    with the rows its blur reads beyond it, so no blurred image is held whole; a
+    strip's rows come out as they would from the whole image.  The points come row
+    by row (``row`` non-decreasing).
+    """
+    h = grey.shape[0]
+    rad = weights.size // 2
+    starts = np.arange(0, h, _FINE_STRIP_ROWS)
+    bounds = np.searchsorted(row, np.append(starts, h))
+    for a, lo, hi in zip(starts.tolist(), bounds[:-1].tolist(), bounds[1:].tolist(),
+                         strict=True):
+        if lo == hi:
+            continue
+        s0, s1 = max(a - rad, 0), min(a + _FINE_STRIP_ROWS + rad, h)
+        strip = np.ascontiguousarray(grey[s0:s1], np.float32)
+        if weights.size > 1:
+            strip = cv2.sepFilter2D(strip, -1, _ONE, weights,
+                                    borderType=cv2.BORDER_REFLECT_101)
+        fine_positions(x, row, column, sign, strip, s0, weights, FINE_DEAD_ZONE_PX, lo, hi)
 
 
 def detect_edges(
@@ -539,18 +567,12 @@ def detect_edges(
         if vm.shape != (h, w):
             raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
         usable = usable_pixels(vm)
-    weights = fine_weights(edge_blur_px) if subpixel else None
-    vert = _NO_ROWS
-    if weights is not None:  # the lines used, blurred down the columns (cv2: fast)
-        vert = (np.ascontiguousarray(g0[row_offset::row_step], np.float32) if weights.size == 1
-                else cv2.sepFilter2D(np.asarray(g0, np.float32), -1, _ONE, weights,
-                                     borderType=cv2.BORDER_REFLECT_101)[row_offset::row_step])
-        vert = np.ascontiguousarray(vert)
     k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = (
         edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step), bool(subpixel),
-                     int(n_lines), usable, valid is not None,
-                     vert, _ONE if weights is None else weights, weights is not None,
-                     FINE_DEAD_ZONE_PX))
+                     int(n_lines), usable, valid is not None))
+    weights = fine_weights(edge_blur_px) if subpixel else None
+    if weights is not None:
+        _place_finely(x, r, j, sign, g0, weights)
     return EdgeSet(
         line=k.astype(np.intp, copy=False), row=r.astype(np.intp, copy=False), x=x,
         column=j.astype(np.intp, copy=False), sign=sign, magnitude=mag, pattern=pattern,
