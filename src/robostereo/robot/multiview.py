@@ -198,6 +198,7 @@ class ViewsParameters:
     min_views: int = 3
     min_confidence: float = 0.79
     range_step_px: float | None = 3.0
+    opposite_edge_px: float | None = 3.0
 
     def __post_init__(self) -> None:
         require_positive("threshold", self.threshold)
@@ -224,6 +225,8 @@ class ViewsParameters:
         if self.range_step_px is not None:
             require_positive("range_step_px", self.range_step_px)
         check_edge_blur(self.edge_blur_px)
+        if self.opposite_edge_px is not None:
+            require_positive("opposite_edge_px", self.opposite_edge_px)
         if not 0 <= self.min_epipolar_angle_deg < 90:
             raise InputError(f"min_epipolar_angle_deg must be in [0, 90), got "
                              f"{self.min_epipolar_angle_deg!r}")
@@ -446,7 +449,7 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     if not isinstance(p, ViewsParameters):
         raise InputError(f"params must be a ViewsParameters, got {type(p).__name__}")
     n = len(capture)
-    views = prepare_views(capture, p.edge_blur_px)
+    views = prepare_views(capture, p.edge_blur_px, p.opposite_edge_px, p.threshold)
     h, w = views.smoothed.shape[1:]
     border = p.half_window + 2
     claimed = np.zeros((n, h, w), bool)

@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 
 from robostereo.geometry.poses import as_se3
 from robostereo.matcher.edges import smooth, to_grey
+from robostereo.robot.edge_profiles import estimate_blur, two_step_edges
 from robostereo.robot.multiview_kernels import edge_near, grid_edges, sweep_costs
 from robostereo.robot.views import ViewsCapture
 
@@ -84,6 +85,16 @@ class PreparedViews:
         Camera-to-world rotations.
     C : (N, 3)
         Optical centres, world mm.
+    grey : float32 (N, H, W) or None
+        The undistorted grey levels before any smoothing, where edge points beside an
+        edge of opposite polarity are placed by a fit of two blurred steps
+        (:func:`~robostereo.robot.edge_profiles.two_step_edges`); None: they are not.
+    blur : (N,) or None
+        Each view's blur (sigma, pixels) estimated from its isolated edges
+        (:func:`~robostereo.robot.edge_profiles.estimate_blur`; NaN: too few).
+    opposite_px : float
+        Farthest opposite edge (pixels along the normal) for which the two-step fit is
+        used.
     """
 
     smoothed: NDArray[np.float32]
@@ -95,6 +106,9 @@ class PreparedViews:
     K_inv: _F
     R: _F
     C: _F
+    grey: NDArray[np.float32] | None = None
+    blur: _F | None = None
+    opposite_px: float = 3.0
 
     def project(self, world: _F, view: int) -> tuple[_F, _F]:
         """Pinhole pixels ``(M, 2)`` and depths ``(M,)`` of world points in `view`."""
@@ -116,7 +130,9 @@ def _gradient(s: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.fl
     gy *= 0.5
 
 
-def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> PreparedViews:
+def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
+                  opposite_px: float | None = None, threshold: float = 8.0
+                  ) -> PreparedViews:
     """Undistort, convert, smooth and differentiate every view (see :class:`PreparedViews`).
 
     Parameters
@@ -126,6 +142,13 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> Pr
         Gaussian sigma (pixels) of the images whose gradient places the sub-pixel edge
         points; 0: the undistorted grey levels as they are; None: the thesis's smoothed
         images, as the search uses.
+    opposite_px : float or None
+        If given, the grey levels are kept and each view's blur estimated, so that edge
+        points with an edge of opposite polarity within this many pixels along their
+        normal are placed by a fit of two blurred steps
+        (:func:`~robostereo.robot.edge_profiles.two_step_edges`); None: not.
+    threshold : float
+        Least gradient magnitude of the edge points whose profiles give the blur.
 
     Notes
     -----
@@ -154,6 +177,7 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> Pr
     n_views = len(capture.images)
     sm, gxs, gys = (np.empty((n_views, h, w), np.float32) for _ in range(3))
     fine = edge_blur_px is not None
+    greys = np.empty((n_views, h, w), np.float32) if opposite_px is not None else None
     fxs, fys = (np.empty((n_views, h, w), np.float32) for _ in range(2)) if fine else (gxs, gys)
     for i, img in enumerate(capture.images):
         g = to_grey(img, bit_depth=int(capture.bit_depth))
@@ -161,17 +185,37 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> Pr
             g = cv2.remap(g, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
         sm[i] = smooth(g)
         _gradient(sm[i], gxs[i], gys[i])
+        g = np.asarray(g, np.float32)
+        if greys is not None:
+            greys[i] = g
         if fine:
-            g = np.asarray(g, np.float32)
             if edge_blur_px > 0:  # type: ignore[operator]
                 g = cv2.GaussianBlur(g, (0, 0), float(edge_blur_px),  # type: ignore[arg-type]
                                      borderType=cv2.BORDER_REFLECT_101)
             _gradient(g, fxs[i], fys[i])
     poses = [as_se3(p) for p in capture.poses]
+    blur = None
+    if opposite_px is not None:
+        blur = np.array([_view_blur(greys[i], gxs[i], gys[i], threshold)
+                         for i in range(n_views)])
+        # a view with too few isolated edges takes the others' (one camera)
+        if np.isfinite(blur).any():
+            blur = np.where(np.isfinite(blur), blur, np.nanmedian(blur))
     return PreparedViews(
         smoothed=sm, gx=gxs, gy=gys, fine_gx=fxs, fine_gy=fys, K=K, K_inv=np.linalg.inv(K),
         R=np.stack([p.rotation for p in poses]),
-        C=np.stack([p.translation for p in poses]))
+        C=np.stack([p.translation for p in poses]),
+        grey=greys if opposite_px is not None else None, blur=blur,
+        opposite_px=float(opposite_px) if opposite_px is not None else 3.0)
+
+
+def _view_blur(grey: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.float32],
+               threshold: float) -> float:
+    """A view's blur from its edge points (:func:`estimate_blur`)."""
+    rows, cols, sub, axes, ex, ey = grid_edges(gx, gy, float(threshold), 8, 0)
+    pts = np.column_stack([np.where(axes == 0, sub, cols), np.where(axes == 0, rows, sub)])
+    mag = np.maximum(np.hypot(ex, ey), 1e-12)
+    return estimate_blur(grey, pts.astype(float), np.column_stack([ex / mag, ey / mag]))
 
 
 @dataclass(frozen=True, eq=False)
@@ -219,7 +263,12 @@ def reference_edges(views: PreparedViews, ref: int, threshold: float,
                                         float(threshold) / 4.0, int(border), int(lines))
         x = np.where(found, ex, x)
         y = np.where(found, ey, y)
-    return ReferenceEdges(np.column_stack([x, y]).astype(float),
+    pixel = np.column_stack([x, y]).astype(float)
+    if views.grey is not None and views.blur is not None:
+        pixel = two_step_edges(views.grey[ref], pixel, np.column_stack([nx, ny]),
+                               float(views.blur[ref]), reach_px=views.opposite_px,
+                               threshold=float(threshold))[0]
+    return ReferenceEdges(pixel,
                           np.column_stack([cols, rows]).astype(np.intp),
                           np.column_stack([nx, ny]))
 
@@ -538,7 +587,11 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
         gn = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-12)
         agree = found & (np.einsum("mi,mi->m", gn, npred[idx]) >= math.cos(math.radians(30)))
         ii = idx[agree]
-        edge[ii, v] = np.column_stack([ex, ey])[agree]
+        pts = np.column_stack([ex, ey])[agree]
+        if views.grey is not None and views.blur is not None and len(ii):
+            pts = two_step_edges(views.grey[j], pts, gn[agree], float(views.blur[j]),
+                                 reach_px=views.opposite_px, threshold=threshold)[0]
+        edge[ii, v] = pts
         normal[ii, v] = gn[agree]
     used = np.isfinite(edge[:, :, 0])
     use_ref = np.ones(m, bool)
