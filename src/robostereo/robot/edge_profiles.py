@@ -25,6 +25,7 @@ from numpy.typing import NDArray
 
 from robostereo.errors import InputError
 from robostereo.robot.edge_profile_kernels import fit_two_steps_kernel
+from robostereo.robot.multiview_kernels import grid_edges
 
 __all__ = [
     "PROFILE_HALF_PX",
@@ -34,6 +35,7 @@ __all__ = [
     "fit_two_steps",
     "profiles",
     "two_step_edges",
+    "view_blurs",
 ]
 
 _F = NDArray[np.float64]
@@ -326,3 +328,33 @@ def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F, sigma: fl
     out[ii] = p[ii] + fit.own[good, None] * np.asarray(normals, float)[ii]
     moved[ii] = True
     return out, moved
+
+
+def view_blurs(greys: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.float32],
+               threshold: float) -> _F:
+    """Each view's blur from its edge points (:func:`estimate_blur`).
+
+    Parameters
+    ----------
+    greys : ndarray, shape (N, H, W)
+        The views' grey levels, not smoothed.
+    gx, gy : ndarray, shape (N, H, W)
+        The gradients whose peaks of magnitude at least `threshold` are the edge points
+        (the thesis's smoothed images: an isolated edge's peak lies on it).
+    threshold : float
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        A view with too few isolated edges takes the median of the others (one camera);
+        NaN if no view has enough.
+    """
+    out = np.full(len(greys), np.nan)
+    for i in range(len(greys)):
+        rows, cols, sub, axes, ex, ey = grid_edges(gx[i], gy[i], float(threshold), 8, 0)
+        pts = np.column_stack([np.where(axes == 0, sub, cols), np.where(axes == 0, rows, sub)])
+        mag = np.maximum(np.hypot(ex, ey), 1e-12)
+        out[i] = estimate_blur(greys[i], pts.astype(float), np.column_stack([ex / mag, ey / mag]))
+    if np.isfinite(out).any():
+        out = np.where(np.isfinite(out), out, np.nanmedian(out))
+    return out

@@ -34,7 +34,7 @@ from numpy.typing import NDArray
 
 from robostereo.geometry.poses import as_se3
 from robostereo.matcher.edges import smooth, to_grey
-from robostereo.robot.edge_profiles import estimate_blur, two_step_edges
+from robostereo.robot.edge_profiles import two_step_edges, view_blurs
 from robostereo.robot.multiview_kernels import edge_near, grid_edges, sweep_costs
 from robostereo.robot.views import ViewsCapture
 
@@ -196,26 +196,13 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
     poses = [as_se3(p) for p in capture.poses]
     blur = None
     if opposite_px is not None:
-        blur = np.array([_view_blur(greys[i], gxs[i], gys[i], threshold)
-                         for i in range(n_views)])
-        # a view with too few isolated edges takes the others' (one camera)
-        if np.isfinite(blur).any():
-            blur = np.where(np.isfinite(blur), blur, np.nanmedian(blur))
+        blur = view_blurs(greys, gxs, gys, threshold)  # type: ignore[arg-type]
     return PreparedViews(
         smoothed=sm, gx=gxs, gy=gys, fine_gx=fxs, fine_gy=fys, K=K, K_inv=np.linalg.inv(K),
         R=np.stack([p.rotation for p in poses]),
         C=np.stack([p.translation for p in poses]),
         grey=greys if opposite_px is not None else None, blur=blur,
         opposite_px=float(opposite_px) if opposite_px is not None else 3.0)
-
-
-def _view_blur(grey: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.float32],
-               threshold: float) -> float:
-    """A view's blur from its edge points (:func:`estimate_blur`)."""
-    rows, cols, sub, axes, ex, ey = grid_edges(gx, gy, float(threshold), 8, 0)
-    pts = np.column_stack([np.where(axes == 0, sub, cols), np.where(axes == 0, rows, sub)])
-    mag = np.maximum(np.hypot(ex, ey), 1e-12)
-    return estimate_blur(grey, pts.astype(float), np.column_stack([ex / mag, ey / mag]))
 
 
 @dataclass(frozen=True, eq=False)
