@@ -18,6 +18,7 @@ own step where the fit is good.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -277,7 +278,8 @@ def estimate_blur(grey: NDArray[np.float32], points: _F, normals: _F, *,
     return float(np.median(sig[good]))
 
 
-def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F, sigma: float, *,
+def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F,
+                   sigma: float | Callable[[], float], *,
                    reach_px: float = 3.0, threshold: float = 8.0) -> tuple[_F, NDArray[np.bool_]]:
     """Edge points moved to their step in a fit of two blurred steps, where an edge of
     opposite polarity lies within `reach_px` along the normal.
@@ -288,8 +290,9 @@ def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F, sigma: fl
         The image (not smoothed) on the thesis's 0..127 scale.
     points, normals : ndarray, shape (M, 2)
         Sub-pixel edge points ``(x, y)`` and unit normals (dark to bright).
-    sigma : float
-        The image's blur (:func:`estimate_blur`); NaN: nothing is moved.
+    sigma : float or callable
+        The image's blur (:func:`estimate_blur`), or a function giving it, called only
+        if some point has an opposite edge; NaN: nothing is moved.
     reach_px : float
         Farthest opposite edge that counts, pixels.
     threshold : float
@@ -312,12 +315,15 @@ def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F, sigma: fl
     p = np.asarray(points, float)
     out = p.copy()
     moved = np.zeros(len(p), bool)
-    if not len(p) or not np.isfinite(sigma):
+    if not len(p):
         return out, moved
     s, prof = profiles(grey, p, normals)
     opp = _opposite_peak(s, prof, reach_px, threshold / 2.0)
     idx = np.nonzero(np.isfinite(opp))[0]
     if not len(idx):
+        return out, moved
+    sigma = sigma() if callable(sigma) else sigma
+    if not np.isfinite(sigma):
         return out, moved
     fit = fit_two_steps(s[idx], prof[idx], float(sigma), np.zeros(len(idx)), opp[idx])
     small = np.minimum(fit.own_height, -fit.other_height)

@@ -468,7 +468,7 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     if not isinstance(p, ViewsParameters):
         raise InputError(f"params must be a ViewsParameters, got {type(p).__name__}")
     n = len(capture)
-    views = prepare_views(capture, p.edge_blur_px, p.opposite_edge_px, p.threshold)
+    views = prepare_views(capture, p.edge_blur_px, p.opposite_edge_px)
     h, w = views.smoothed.shape[1:]
     border = p.half_window + 2
     claimed = np.zeros((n, h, w), bool)

@@ -91,7 +91,8 @@ class PreparedViews:
         (:func:`~robostereo.robot.edge_profiles.two_step_edges`); None: they are not.
     blur : (N,) or None
         Each view's blur (sigma, pixels) estimated from its isolated edges
-        (:func:`~robostereo.robot.edge_profiles.estimate_blur`; NaN: too few).
+        (:func:`~robostereo.robot.edge_profiles.view_blurs`; NaN: too few), filled in
+        when a first edge point needs it (:meth:`blurs`): -1 until then.
     opposite_px : float
         Farthest opposite edge (pixels along the normal) for which the two-step fit is
         used.
@@ -109,6 +110,13 @@ class PreparedViews:
     grey: NDArray[np.float32] | None = None
     blur: _F | None = None
     opposite_px: float = 3.0
+
+    def blurs(self, threshold: float) -> _F:
+        """:attr:`blur`, estimated on the first call (edges of `threshold`)."""
+        assert self.blur is not None and self.grey is not None
+        if self.blur[0] < 0:
+            self.blur[:] = view_blurs(self.grey, self.gx, self.gy, threshold)
+        return self.blur
 
     def project(self, world: _F, view: int) -> tuple[_F, _F]:
         """Pinhole pixels ``(M, 2)`` and depths ``(M,)`` of world points in `view`."""
@@ -131,8 +139,7 @@ def _gradient(s: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.fl
 
 
 def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
-                  opposite_px: float | None = None, threshold: float = 8.0
-                  ) -> PreparedViews:
+                  opposite_px: float | None = None) -> PreparedViews:
     """Undistort, convert, smooth and differentiate every view (see :class:`PreparedViews`).
 
     Parameters
@@ -143,12 +150,10 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
         points; 0: the undistorted grey levels as they are; None: the thesis's smoothed
         images, as the search uses.
     opposite_px : float or None
-        If given, the grey levels are kept and each view's blur estimated, so that edge
-        points with an edge of opposite polarity within this many pixels along their
-        normal are placed by a fit of two blurred steps
-        (:func:`~robostereo.robot.edge_profiles.two_step_edges`); None: not.
-    threshold : float
-        Least gradient magnitude of the edge points whose profiles give the blur.
+        If given, the grey levels are kept, so that edge points with an edge of opposite
+        polarity within this many pixels along their normal are placed by a fit of two
+        blurred steps (:func:`~robostereo.robot.edge_profiles.two_step_edges`) with the
+        views' blurs (:meth:`PreparedViews.blurs`); None: not.
 
     Notes
     -----
@@ -194,9 +199,7 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
                                      borderType=cv2.BORDER_REFLECT_101)
             _gradient(g, fxs[i], fys[i])
     poses = [as_se3(p) for p in capture.poses]
-    blur = None
-    if opposite_px is not None:
-        blur = view_blurs(greys, gxs, gys, threshold)  # type: ignore[arg-type]
+    blur = np.full(n_views, -1.0) if opposite_px is not None else None
     return PreparedViews(
         smoothed=sm, gx=gxs, gy=gys, fine_gx=fxs, fine_gy=fys, K=K, K_inv=np.linalg.inv(K),
         R=np.stack([p.rotation for p in poses]),
@@ -253,7 +256,8 @@ def reference_edges(views: PreparedViews, ref: int, threshold: float,
     pixel = np.column_stack([x, y]).astype(float)
     if views.grey is not None and views.blur is not None:
         pixel = two_step_edges(views.grey[ref], pixel, np.column_stack([nx, ny]),
-                               float(views.blur[ref]), reach_px=views.opposite_px,
+                               lambda: float(views.blurs(threshold)[ref]),
+                               reach_px=views.opposite_px,
                                threshold=float(threshold))[0]
     return ReferenceEdges(pixel,
                           np.column_stack([cols, rows]).astype(np.intp),
@@ -576,7 +580,8 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
         ii = idx[agree]
         pts = np.column_stack([ex, ey])[agree]
         if views.grey is not None and views.blur is not None and len(ii):
-            pts = two_step_edges(views.grey[j], pts, gn[agree], float(views.blur[j]),
+            pts = two_step_edges(views.grey[j], pts, gn[agree],
+                                 lambda j=j: float(views.blurs(threshold)[j]),
                                  reach_px=views.opposite_px, threshold=threshold)[0]
         edge[ii, v] = pts
         normal[ii, v] = gn[agree]
