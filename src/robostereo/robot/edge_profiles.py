@@ -236,7 +236,7 @@ def _opposite_peak(s: _F, prof: _F, reach: float, least: float,
 
 
 def estimate_blur(grey: NDArray[np.float32], points: _F, normals: _F, *,
-                  least_height: float = 20.0, max_points: int = 400) -> float:
+                  least_height: float = 20.0, max_points: int = 100) -> float:
     """The camera's blur (sigma, pixels) from its isolated straight edges.
 
     Parameters
@@ -307,8 +307,9 @@ def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F,
     Notes
     -----
     A point is moved only if the fit is good: both steps keep their polarity, the own
-    step stays within a pixel of the gradient's peak and the other within `reach_px`
-    + 1 of it, and the residual RMS is at most a twentieth of the smaller step height.
+    step stays within 1.5 px of the gradient's peak and the other within `reach_px`
+    + 1 of it, at least 0.3 px apart, and the residual RMS is at most a twentieth of the
+    smaller step height.
     """
     if not (isinstance(reach_px, int | float) and reach_px > 0):
         raise InputError(f"reach_px must be positive, got {reach_px!r}")
@@ -317,7 +318,9 @@ def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F,
     moved = np.zeros(len(p), bool)
     if not len(p):
         return out, moved
-    s, prof = profiles(grey, p, normals)
+    n = np.asarray(normals, float)
+    # the opposite edge on the central line first; the whole profile where there is one
+    s, prof = profiles(grey, p, n, along=0)
     opp = _opposite_peak(s, prof, reach_px, threshold / 2.0)
     idx = np.nonzero(np.isfinite(opp))[0]
     if not len(idx):
@@ -325,7 +328,8 @@ def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F,
     sigma = sigma() if callable(sigma) else sigma
     if not np.isfinite(sigma):
         return out, moved
-    fit = fit_two_steps(s[idx], prof[idx], float(sigma), np.zeros(len(idx)), opp[idx])
+    s, prof = profiles(grey, p[idx], n[idx])
+    fit = fit_two_steps(s, prof, float(sigma), np.zeros(len(idx)), opp[idx])
     small = np.minimum(fit.own_height, -fit.other_height)
     good = ((fit.own_height > 0) & (fit.other_height < 0) & (np.abs(fit.own) <= 1.5)
             & (np.abs(fit.other) <= reach_px + 1.0) & (np.abs(fit.other - fit.own) >= 0.3)
@@ -357,10 +361,23 @@ def view_blurs(greys: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[
     """
     out = np.full(len(greys), np.nan)
     for i in range(len(greys)):
-        rows, cols, sub, axes, ex, ey = grid_edges(gx[i], gy[i], float(threshold), 8, 0)
-        pts = np.column_stack([np.where(axes == 0, sub, cols), np.where(axes == 0, rows, sub)])
-        mag = np.maximum(np.hypot(ex, ey), 1e-12)
-        out[i] = estimate_blur(greys[i], pts.astype(float), np.column_stack([ex / mag, ey / mag]))
+        pts, nrm = [], []
+        # every 6th row's peaks along it, and every 6th column's along it: enough edges
+        for flip in (False, True):
+            a, b = (gy[i].T, gx[i].T) if flip else (gx[i], gy[i])
+            rows, _, sub, axes, ea, eb = grid_edges(np.ascontiguousarray(a[::6]),
+                                                    np.ascontiguousarray(b[::6]),
+                                                    float(threshold), 1, 0)
+            k = axes == 0  # a peak along the line (the other axis is not sampled)
+            q = np.column_stack([sub[k], 6.0 * rows[k]])
+            g = np.column_stack([ea[k], eb[k]])
+            pts.append(q[:, ::-1] if flip else q)
+            nrm.append(g[:, ::-1] if flip else g)
+        p, g = np.concatenate(pts), np.concatenate(nrm)
+        inside = ((p[:, 0] >= 8) & (p[:, 1] >= 8) & (p[:, 0] <= greys.shape[2] - 9)
+                  & (p[:, 1] <= greys.shape[1] - 9))
+        g = g[inside] / np.maximum(np.hypot(g[inside, 0], g[inside, 1]), 1e-12)[:, None]
+        out[i] = estimate_blur(greys[i], p[inside], g)
     if np.isfinite(out).any():
         out = np.where(np.isfinite(out), out, np.nanmedian(out))
     return out
