@@ -171,11 +171,12 @@ class ViewsParameters:
         default 4 was chosen leave-one-capture-out among None, 2, 3 and 4 over the
         hub-pulley from 5 views (both robots, a line and a cross, seeds 0-3), by the
         share of edge points without a right point plus the false share: 4 in every
-        fold (3 within 0.02 points of it, 2 and None far behind).  On the six-axis arm
-        it took the false share from 0.88-1.19 % to 0.43-0.80 % on a line and from
-        0.83-1.02 % to 0.54-0.69 % on a cross; the matched share fell by up to 0.34
+        fold (3 within 0.02 points of it, 2 and None far behind; with a slower blur
+        estimate, which differed from today's by up to 0.03 px).  On the six-axis arm
+        it took the false share from 0.88-1.19 % to 0.41-0.73 % on a line and from
+        0.83-1.02 % to 0.54-0.68 % on a cross; the matched share fell by up to 0.36
         points on the cross, where wrong points near an occluding rim no longer pass
-        (the share of edge points with a *right* point rose by 0.14-0.22 points).  The
+        (the share of edge points with a *right* point rose by 0.10-0.26 points).  The
         SCARA's pulley kept its figures within 0.04 points (its cross's false share
         0.09-0.13 % fell to 0.01 %).
     combine : {'best-half', 'all'}
