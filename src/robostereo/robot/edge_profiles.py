@@ -57,18 +57,6 @@ def _pdf(z: _F) -> _F:
     return np.exp(-0.5 * z * z) / math.sqrt(2.0 * math.pi)
 
 
-def _bilinear(img: NDArray[np.float32], x: _F, y: _F) -> _F:
-    h, w = img.shape
-    x = np.clip(x, 0, w - 1.001)
-    y = np.clip(y, 0, h - 1.001)
-    x0 = np.floor(x).astype(np.intp)
-    y0 = np.floor(y).astype(np.intp)
-    fx, fy = x - x0, y - y0
-    a = img[y0, x0] * (1 - fx) + img[y0, x0 + 1] * fx
-    b = img[y0 + 1, x0] * (1 - fx) + img[y0 + 1, x0 + 1] * fx
-    return a * (1 - fy) + b * fy
-
-
 def profiles(grey: NDArray[np.float32], points: _F, normals: _F, *,
              half_px: int = PROFILE_HALF_PX, along: int = 2) -> tuple[_F, _F]:
     """Grey levels across edges: the pixels themselves, by their distance along the normal.
