@@ -174,7 +174,7 @@ class ViewsParameters:
         fold (3 within 0.02 points of it, 2 and None far behind; with a slower blur
         estimate, which differed from today's by up to 0.03 px).  On the six-axis arm
         it took the false share from 0.88-1.19 % to 0.41-0.73 % on a line and from
-        0.83-1.02 % to 0.54-0.68 % on a cross; the matched share fell by up to 0.36
+        0.83-1.02 % to 0.54-0.69 % on a cross; the matched share fell by up to 0.38
         points on the cross, where wrong points near an occluding rim no longer pass
         (the share of edge points with a *right* point rose by 0.10-0.26 points).  The
         SCARA's pulley kept its figures within 0.04 points (its cross's false share
