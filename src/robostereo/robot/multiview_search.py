@@ -34,6 +34,7 @@ from numpy.typing import NDArray
 
 from robostereo.geometry.poses import as_se3
 from robostereo.matcher.edges import smooth, to_grey
+from robostereo.robot.edge_profiles import two_step_edges, view_blurs
 from robostereo.robot.multiview_kernels import edge_near, grid_edges, sweep_costs
 from robostereo.robot.views import ViewsCapture
 
@@ -84,6 +85,13 @@ class PreparedViews:
         Camera-to-world rotations.
     C : (N, 3)
         Optical centres, world mm.
+    grey : float32 (N, H, W) or None
+        Undistorted grey levels, not smoothed, for the two-step fit (None: no such fit;
+        :func:`~robostereo.robot.edge_profiles.two_step_edges`).
+    blur : (N,) or None
+        Each view's blur, px (:meth:`blurs`; -1 until a first edge point needs it).
+    opposite_px : float
+        Farthest opposite edge of the two-step fit, px.
     """
 
     smoothed: NDArray[np.float32]
@@ -95,6 +103,16 @@ class PreparedViews:
     K_inv: _F
     R: _F
     C: _F
+    grey: NDArray[np.float32] | None = None
+    blur: _F | None = None
+    opposite_px: float = 3.0
+
+    def blurs(self, threshold: float) -> _F:
+        """:attr:`blur`, estimated at the first call (edges of `threshold`)."""
+        assert self.blur is not None and self.grey is not None
+        if self.blur[0] < 0:
+            self.blur[:] = view_blurs(self.grey, self.gx, self.gy, threshold)
+        return self.blur
 
     def project(self, world: _F, view: int) -> tuple[_F, _F]:
         """Pinhole pixels ``(M, 2)`` and depths ``(M,)`` of world points in `view`."""
@@ -116,7 +134,8 @@ def _gradient(s: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.fl
     gy *= 0.5
 
 
-def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> PreparedViews:
+def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
+                  opposite_px: float | None = None) -> PreparedViews:
     """Undistort, convert, smooth and differentiate every view (see :class:`PreparedViews`).
 
     Parameters
@@ -126,19 +145,16 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> Pr
         Gaussian sigma (pixels) of the images whose gradient places the sub-pixel edge
         points; 0: the undistorted grey levels as they are; None: the thesis's smoothed
         images, as the search uses.
+    opposite_px : float or None
+        :attr:`PreparedViews.opposite_px`; None: no two-step fit.
 
     Notes
     -----
-    The thesis's 5 x 5 filter (figure 3-1) spreads an edge's gradient over about
-    +-2 px.  Where a second edge runs within that distance (a face seen nearly edge-on:
-    the block's side face is a strip of 0.7-4 px in some views) the two gradients merge
-    and the peak moves towards the second edge; the search needs the smoothing, the
-    sub-pixel position does not.  On the simulated block (5 views on a line over 80 mm)
-    the smoothed gradient's peak moved 0.119 px in the view whose side-face strip was
-    2.2 px wide and 0.031 px at 3.6 px; the unsmoothed one's 0.034 and 0.002 px, with
-    the same spread (0.010-0.017 px against 0.008-0.015 px over 40 points of one edge).
-    A light blur (the default, see ``ViewsParameters.edge_blur_px``) trades a little
-    of that back for less noise.
+    The thesis's 5 x 5 filter (figure 3-1) spreads an edge's gradient over about +-2 px;
+    beside a second edge that close (a face seen nearly edge-on) the peak moves towards
+    it; the search needs the smoothing, the sub-pixel position does not: on the simulated
+    block the smoothed peak moved 0.119 px beside a 2.2 px strip, the unsmoothed 0.034 px
+    (same spread).  A light blur (``ViewsParameters.edge_blur_px``) trades a little back.
     """
     cam = capture.camera
     w, h = cam.image_size
@@ -154,6 +170,7 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> Pr
     n_views = len(capture.images)
     sm, gxs, gys = (np.empty((n_views, h, w), np.float32) for _ in range(3))
     fine = edge_blur_px is not None
+    greys = np.empty((n_views, h, w), np.float32) if opposite_px is not None else None
     fxs, fys = (np.empty((n_views, h, w), np.float32) for _ in range(2)) if fine else (gxs, gys)
     for i, img in enumerate(capture.images):
         g = to_grey(img, bit_depth=int(capture.bit_depth))
@@ -161,17 +178,22 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7) -> Pr
             g = cv2.remap(g, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
         sm[i] = smooth(g)
         _gradient(sm[i], gxs[i], gys[i])
+        g = np.asarray(g, np.float32)
+        if greys is not None:
+            greys[i] = g
         if fine:
-            g = np.asarray(g, np.float32)
             if edge_blur_px > 0:  # type: ignore[operator]
                 g = cv2.GaussianBlur(g, (0, 0), float(edge_blur_px),  # type: ignore[arg-type]
                                      borderType=cv2.BORDER_REFLECT_101)
             _gradient(g, fxs[i], fys[i])
     poses = [as_se3(p) for p in capture.poses]
+    blur = np.full(n_views, -1.0) if opposite_px is not None else None
     return PreparedViews(
         smoothed=sm, gx=gxs, gy=gys, fine_gx=fxs, fine_gy=fys, K=K, K_inv=np.linalg.inv(K),
         R=np.stack([p.rotation for p in poses]),
-        C=np.stack([p.translation for p in poses]))
+        C=np.stack([p.translation for p in poses]),
+        grey=greys if opposite_px is not None else None, blur=blur,
+        opposite_px=float(opposite_px) if opposite_px is not None else 3.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -186,17 +208,21 @@ class ReferenceEdges:
         The pixel ``(x, y)`` each was found at.
     normal : (M, 2)
         Unit gradient direction (dark to bright).
+    peak : (M, 2) or None
+        The gradient's peaks, if a two-step fit moved `pixel` (for fits of two views).
     """
 
     pixel: _F
     grid: NDArray[np.intp]
     normal: _F
+    peak: _F | None = None
 
     def __len__(self) -> int:
         return int(self.pixel.shape[0])
 
     def subset(self, keep: NDArray[np.bool_]) -> ReferenceEdges:
-        return ReferenceEdges(self.pixel[keep], self.grid[keep], self.normal[keep])
+        return ReferenceEdges(self.pixel[keep], self.grid[keep], self.normal[keep],
+                              None if self.peak is None else self.peak[keep])
 
 
 def reference_edges(views: PreparedViews, ref: int, threshold: float,
@@ -219,9 +245,14 @@ def reference_edges(views: PreparedViews, ref: int, threshold: float,
                                         float(threshold) / 4.0, int(border), int(lines))
         x = np.where(found, ex, x)
         y = np.where(found, ey, y)
-    return ReferenceEdges(np.column_stack([x, y]).astype(float),
-                          np.column_stack([cols, rows]).astype(np.intp),
-                          np.column_stack([nx, ny]))
+    pixel = peak = np.column_stack([x, y]).astype(float)
+    if views.grey is not None and views.blur is not None:
+        pixel = two_step_edges(views.grey[ref], pixel, np.column_stack([nx, ny]),
+                               lambda: float(views.blurs(threshold)[ref]),
+                               reach_px=views.opposite_px,
+                               threshold=float(threshold))[0]
+    return ReferenceEdges(pixel, np.column_stack([cols, rows]).astype(np.intp),
+                          np.column_stack([nx, ny]), peak if pixel is not peak else None)
 
 
 def _rays(views: PreparedViews, ref: int, pixel: _F) -> _F:
@@ -259,10 +290,8 @@ def _affine(views: PreparedViews, ref: int, others: NDArray[np.intp], pixel: _F,
 
 def _bilinear(img: NDArray[np.float32], x: _F, y: _F) -> _F:
     h, w = img.shape
-    x = np.clip(x, 0, w - 1.001)
-    y = np.clip(y, 0, h - 1.001)
-    x0 = np.floor(x).astype(np.intp)
-    y0 = np.floor(y).astype(np.intp)
+    x, y = np.clip(x, 0, w - 1.001), np.clip(y, 0, h - 1.001)
+    x0, y0 = np.floor(x).astype(np.intp), np.floor(y).astype(np.intp)
     fx, fy = x - x0, y - y0
     a = img[y0, x0] * (1 - fx) + img[y0, x0 + 1] * fx
     b = img[y0 + 1, x0] * (1 - fx) + img[y0 + 1, x0 + 1] * fx
@@ -520,6 +549,7 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
     rho = rays.rho.copy()
     world = views.C[ref] + _rays(views, ref, e_ref) / rho[:, None]
     edge = np.full((m, nv, 2), np.nan)
+    peak = edge.copy()  # the gradient's peaks, before any two-step fit
     normal = np.zeros((m, nv, 2))
     # views that fit about as well as the ones that voted (a hidden view fits worse)
     like = np.maximum(2.0 * rays.kept, KEPT_FLOOR)[:, None]
@@ -538,7 +568,12 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
         gn = g / np.maximum(np.linalg.norm(g, axis=1, keepdims=True), 1e-12)
         agree = found & (np.einsum("mi,mi->m", gn, npred[idx]) >= math.cos(math.radians(30)))
         ii = idx[agree]
-        edge[ii, v] = np.column_stack([ex, ey])[agree]
+        pts = peak[ii, v] = np.column_stack([ex, ey])[agree]
+        if views.grey is not None and views.blur is not None and len(ii):
+            pts = two_step_edges(views.grey[j], pts, gn[agree],
+                                 lambda j=j: float(views.blurs(threshold)[j]),
+                                 reach_px=views.opposite_px, threshold=threshold)[0]
+        edge[ii, v] = pts
         normal[ii, v] = gn[agree]
     used = np.isfinite(edge[:, :, 0])
     use_ref = np.ones(m, bool)
@@ -569,6 +604,16 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
         use_ref[rows[col == 0]] = False
         used[rows[col > 0], col[col > 0] - 1] = False
         fit.solve(used, use_ref, 2)
+    # a fit of two views has no residual to reveal a wrong two-step model: the peaks
+    ref_peak = edges.peak if edges.peak is not None else e_ref
+    two = (used.sum(axis=1) + use_ref <= 2) & ((np.nansum(np.abs(peak - edge), axis=(1, 2)) > 0)
+                                               | np.any(ref_peak != e_ref, axis=1))
+    if two.any():
+        e_ref = np.where(two[:, None], ref_peak, e_ref)
+        sub = _Fit(views, ref, others, e_ref[two], n_ref[two], np.nan_to_num(peak[two]),
+                   normal[two], fit.t[two], fit.rho[two])
+        sub.solve(used[two], use_ref[two], iterations)
+        fit.t[two], fit.rho[two], fit.r[two], fit.J[two] = sub.t, sub.rho, sub.r, sub.J
     t, rho, r, J = fit.t, fit.rho, fit.r, fit.J
     w = used.astype(float)
     JtJ = np.einsum("mv,mvi,mvj->mij", w, J, J)

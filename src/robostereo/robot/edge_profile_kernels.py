@@ -1,0 +1,151 @@
+"""numba kernels of :mod:`robostereo.robot.edge_profiles`: blurred steps fitted to grey
+profiles across edges, one edge point at a time (Levenberg-Marquardt)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from robostereo.matcher.jit import kernel
+
+__all__ = ["fit_two_steps_kernel"]
+
+
+@kernel(nogil=True)
+def _cost(s, g, sigma, s1, s2, c):  # type: ignore[no-untyped-def]
+    """Least squares of ``a + b1 Phi((s - s1)/sigma) + b2 Phi((s - s2)/sigma)`` for fixed
+    ``s1, s2``: the linear coefficients into `c` (3,), the sum of squared residuals."""
+    k = s.shape[0]
+    A = np.zeros((3, 3))
+    r = np.zeros(3)
+    f = np.empty(3)
+    f[0] = 1.0
+    q = 1.0 / (sigma * math.sqrt(2.0))
+    e1 = np.empty(k)
+    e2 = np.empty(k)
+    for i in range(k):
+        e1[i] = 0.5 * math.erfc(-(s[i] - s1) * q)
+        e2[i] = 0.5 * math.erfc(-(s[i] - s2) * q)
+        f[1] = e1[i]
+        f[2] = e2[i]
+        for a in range(3):
+            r[a] += f[a] * g[i]
+            for b in range(3):
+                A[a, b] += f[a] * f[b]
+    for a in range(3):
+        A[a, a] += 1e-9
+    x = _solve(A, r, 3)
+    for a in range(3):
+        c[a] = x[a]
+    ss = 0.0
+    for i in range(k):
+        ss += (g[i] - (c[0] + c[1] * e1[i] + c[2] * e2[i])) ** 2
+    return ss
+
+
+@kernel(nogil=True)
+def _solve(A, b, n):  # type: ignore[no-untyped-def]
+    """``A x = b`` by Gaussian elimination with partial pivoting (A, b copied)."""
+    M = A.copy()
+    x = b.copy()
+    for col in range(n):
+        piv = col
+        for row in range(col + 1, n):
+            if abs(M[row, col]) > abs(M[piv, col]):
+                piv = row
+        if piv != col:
+            for j in range(n):
+                t = M[col, j]
+                M[col, j] = M[piv, j]
+                M[piv, j] = t
+            t = x[col]
+            x[col] = x[piv]
+            x[piv] = t
+        d = M[col, col]
+        if abs(d) < 1e-300:
+            d = 1e-300
+        for row in range(col + 1, n):
+            f = M[row, col] / d
+            for j in range(col, n):
+                M[row, j] -= f * M[col, j]
+            x[row] -= f * x[col]
+    for col in range(n - 1, -1, -1):
+        t = x[col]
+        for j in range(col + 1, n):
+            t -= M[col, j] * x[j]
+        d = M[col, col]
+        x[col] = t / (d if abs(d) >= 1e-300 else 1e-300)
+    return x
+
+
+@kernel(nogil=True)
+def fit_two_steps_kernel(s, prof, sigma, own, other, iterations):  # type: ignore[no-untyped-def]
+    """Two blurred steps fitted to each profile (see
+    :func:`robostereo.robot.edge_profiles.fit_two_steps`).
+
+    `s`, `prof` (M, S); `own`, `other` (M,) starting positions.  Returns the fitted
+    positions of the own and other steps, their heights and the residual RMS (M,) each."""
+    m, k = s.shape
+    o_own = np.empty(m)
+    o_oth = np.empty(m)
+    h_own = np.empty(m)
+    h_oth = np.empty(m)
+    rms = np.empty(m)
+    norm = 1.0 / (sigma * math.sqrt(2.0 * math.pi))
+    c = np.zeros(3)
+    cn = np.zeros(3)
+    J = np.zeros(5)
+    for p in range(m):
+        si = s[p]
+        gi = prof[p]
+        lo = si.min()
+        hi = si.max()
+        s1 = other[p]
+        s2 = own[p]
+        cost = _cost(si, gi, sigma, s1, s2, c)
+        lam = 1e-2
+        # Levenberg-Marquardt on (a, b1, b2, s1, s2); the heights then solved again at
+        # the new positions (variable projection)
+        for _ in range(iterations):
+            H = np.zeros((5, 5))
+            gvec = np.zeros(5)
+            for i in range(k):
+                z1 = (si[i] - s1) / sigma
+                z2 = (si[i] - s2) / sigma
+                p1 = 0.5 * math.erfc(-z1 / math.sqrt(2.0))
+                p2 = 0.5 * math.erfc(-z2 / math.sqrt(2.0))
+                r = gi[i] - (c[0] + c[1] * p1 + c[2] * p2)
+                J[0] = 1.0
+                J[1] = p1
+                J[2] = p2
+                J[3] = -c[1] * norm * math.exp(-0.5 * z1 * z1)
+                J[4] = -c[2] * norm * math.exp(-0.5 * z2 * z2)
+                for a in range(5):
+                    gvec[a] += J[a] * r
+                    for b in range(5):
+                        H[a, b] += J[a] * J[b]
+            for a in range(5):
+                H[a, a] += lam * H[a, a] + 1e-9
+            d = _solve(H, gvec, 5)
+            n1 = min(max(s1 + d[3], lo), hi)
+            n2 = min(max(s2 + d[4], lo), hi)
+            new = _cost(si, gi, sigma, n1, n2, cn)
+            if new < cost:
+                step = max(abs(n1 - s1), abs(n2 - s2))
+                s1 = n1
+                s2 = n2
+                cost = new
+                for a in range(3):
+                    c[a] = cn[a]
+                lam *= 0.3
+                if step < 1e-4:
+                    break
+            else:
+                lam *= 10.0
+        o_own[p] = s2
+        o_oth[p] = s1
+        h_own[p] = c[2]
+        h_oth[p] = c[1]
+        rms[p] = math.sqrt(cost / k)
+    return o_own, o_oth, h_own, h_oth, rms

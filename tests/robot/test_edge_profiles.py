@@ -1,0 +1,132 @@
+"""Edge points beside an edge of opposite polarity, placed by two blurred steps: on
+profiles and views this file renders itself (not the project's simulator)."""
+
+import numpy as np
+import pytest
+from scipy.ndimage import gaussian_filter
+
+from robostereo.errors import InputError
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import se3_from_scara
+from robostereo.robot.edge_profiles import estimate_blur, two_step_edges
+from robostereo.robot.multiview import ViewsParameters, locate_views
+from robostereo.robot.views import ViewsCapture
+
+SUB = 3  # rays a pixel across: edges at multiples of 1/3 px are where the renderer puts them
+BLUR = 0.9
+
+
+def _rows(levels: np.ndarray, rng: np.random.Generator, h: int = 40) -> np.ndarray:
+    """An image of `h` equal rows from grey levels given every 1/SUB px, blurred, noisy."""
+    img = np.tile(levels.reshape(-1, SUB).mean(axis=1), (h, 1))
+    return (gaussian_filter(img, BLUR) + rng.normal(0.0, 0.75, img.shape)).astype(np.float32)
+
+
+def _gap(gap: float, rng: np.random.Generator, edge: float = 60.5) -> np.ndarray:
+    """Bright (90) | a dark gap (30) `gap` px wide | bright (80) from `edge` on."""
+    x = (np.arange(120 * SUB) + 0.5) / SUB - 0.5
+    return _rows(30.0 + 60.0 * (x < edge - gap) + 50.0 * (x >= edge), rng)
+
+
+def _peak(img: np.ndarray) -> float:
+    """The thesis's edge position on row 20 (the gradient's peak and a parabola), on the
+    image lightly blurred as the N-view locate places its edges."""
+    g = gaussian_filter(img, (0, 0.7))
+    d = np.zeros_like(g)
+    d[:, 1:-1] = (g[:, 2:] - g[:, :-2]) / 2
+    row = d[20]
+    k = 55 + int(np.argmax(row[55:66]))
+    return k + 0.5 * (row[k - 1] - row[k + 1]) / (row[k - 1] - 2 * row[k] + row[k + 1])
+
+
+@pytest.fixture(scope="module")
+def blur() -> float:
+    # a lonely edge at 8 degrees: every sub-pixel phase
+    rng = np.random.default_rng(0)
+    a = np.radians(8.0)
+    yy, xx = np.mgrid[0:40 * SUB, 0:120 * SUB]
+    d = ((xx + 0.5) / SUB - 0.5 - 60.0) * np.cos(a) + ((yy + 0.5) / SUB - 0.5 - 20.0) * np.sin(a)
+    img = (30.0 + 50.0 * (d >= 0)).reshape(40, SUB, 120, SUB).mean(axis=(1, 3))
+    img = (gaussian_filter(img, BLUR) + rng.normal(0.0, 0.75, img.shape)).astype(np.float32)
+    y = np.arange(5, 35, dtype=float)
+    pts = np.column_stack([60.0 - (y - 20.0) * np.tan(a), y])
+    return estimate_blur(img, pts, np.tile([np.cos(a), np.sin(a)], (len(y), 1)))
+
+
+def test_the_blur_is_estimated_from_isolated_edges(blur):
+    # the renderer's blur and the pixels' own width: sqrt(0.9^2 + 1/12) = 0.945
+    assert abs(blur - np.hypot(BLUR, np.sqrt(1 / 12))) < 0.1
+
+
+def test_an_edge_beside_a_narrow_gap_is_placed_at_its_step(blur):
+    rng = np.random.default_rng(1)
+    normal = np.tile([1.0, 0.0], (20, 1))
+    peak_err, fit_err = [], []
+    for gap in (4 / 3, 5 / 3, 2.0):
+        img = _gap(gap, rng)
+        p = _peak(img)
+        pts, moved = two_step_edges(img, np.column_stack([np.full(20, p), np.arange(10.0, 30.0)]),
+                                    normal, blur)
+        assert moved.all()
+        peak_err.append(abs(p - 60.5))
+        fit_err.append(abs(float(np.median(pts[:, 0])) - 60.5))
+    # the gap pushes the peak 0.6-0.8 px away from it; the fit takes most of that back
+    assert min(peak_err) > 0.4
+    assert np.mean(fit_err) < 0.4 * np.mean(peak_err)
+
+
+def test_an_edge_without_an_opposite_one_nearby_is_left_where_it_is(blur):
+    img = _gap(20.0, np.random.default_rng(2))
+    pts = np.column_stack([np.full(10, 60.5), np.arange(10.0, 20.0)])
+    out, moved = two_step_edges(img, pts, np.tile([1.0, 0.0], (10, 1)), blur)
+    assert not moved.any() and np.array_equal(out, pts)
+
+
+def test_bad_reach_is_refused():
+    with pytest.raises(InputError, match="reach_px"):
+        two_step_edges(np.zeros((9, 9), np.float32), np.zeros((1, 2)), np.ones((1, 2)), 1.0,
+                       reach_px=0)
+    with pytest.raises(InputError, match="opposite_edge_px"):
+        ViewsParameters(opposite_edge_px=-1.0)
+
+
+CAMERA = Camera(image_size=(240, 160))
+PLATE = 100.0  # the height (mm) of a plate over x < 0; the camera is 1000 mm up
+BAND = (5.8, 25.0)  # a bright band on the table beyond the plate's edge, x in mm
+
+
+def _render(x_cam: float, rng: np.random.Generator) -> np.ndarray:
+    """Ray-cast grey levels: the plate (80) occludes the dark table (30) and its bright
+    band (100); the dark strip between the plate's edge and the band is 2 px wide from
+    the view at x = -40 mm and wider from the others (parallax)."""
+    w, h = CAMERA.image_size
+    cx, cy = CAMERA.principal_point
+    u = (np.arange(w)[:, None] + (np.arange(12) + 0.5) / 12 - 0.5).ravel()
+    v = (np.arange(h)[:, None] + (np.arange(2) + 0.5) / 2 - 0.5).ravel()
+    uu, vv = np.meshgrid(u, v)
+    dx, dy = (uu - cx) / CAMERA.fx, -(vv - cy) / CAMERA.fy
+    xt, yt = x_cam + dx * 1000.0, dy * 1000.0
+    grey = np.where((xt >= BAND[0]) & (xt <= BAND[1]), 100.0, 30.0 + 3.0 * np.sin(yt / 3.0))
+    grey = np.where(x_cam + dx * (1000.0 - PLATE) < 0.0, 80.0, grey)
+    img = grey.reshape(h, 2, w, 12).mean(axis=(1, 3))
+    img = gaussian_filter(img, BLUR) + rng.normal(0.0, 0.75, img.shape)
+    return np.clip(np.rint(img), 0, 127).astype(np.uint8)
+
+
+def test_a_band_seen_through_a_narrowing_gap_is_located_within_its_bounds():
+    rng = np.random.default_rng(5)
+    xs = (-40.0, -20.0, 0.0, 20.0, 40.0)
+    cap = ViewsCapture(tuple(_render(x, rng) for x in xs), CAMERA,
+                       tuple(se3_from_scara(x, 0.0, 1000.0) for x in xs),
+                       depth_range_mm=(850.0, 1050.0))
+    err = {}
+    for reach in (None, ViewsParameters().opposite_edge_px):
+        loc = locate_views(cap, params=ViewsParameters(opposite_edge_px=reach))
+        on = (np.abs(loc.world[:, 0] - BAND[0]) < 1.0) & (np.abs(loc.world[:, 2]) < 10.0)
+        assert on.sum() > 100
+        err[reach] = (np.abs(loc.world[on, 2]), loc.bound_mm[on])
+    assert reach is not None
+    # the narrow view's peak is pushed off the band: several mm, beyond the bounds
+    assert np.median(err[None][0]) > 2.0
+    assert np.median(err[reach][0]) < 0.5 * np.median(err[None][0])
+    assert np.mean(err[reach][0] <= err[reach][1]) > 0.95
