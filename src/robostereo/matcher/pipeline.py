@@ -133,9 +133,9 @@ class MatchParameters:
         disparity (within 1 px) accepted on its own: the thesis's figural continuity
         (3.4; :func:`robostereo.matcher.window_match.contour_accepted`).  The
         confidences are unchanged.  Off by default: on the six developer scenes it
-        raises coverage near depth steps by 0.3-3.9 points and away by 0.2-2.5, 266
+        raises coverage near depth steps by 0.6-4.0 points and away by 0.4-2.9, 271
         more matches of which 5 are false by the silhouette rule (4 on motorcycle,
-        whose default point goes from 0.51 to 0.57 % false).
+        whose default point goes from 0.58 to 0.63 % false).
     edge_blur_px : float or None
         Sub-pixel edge positions (both images) moved towards the gradient's peak on the
         grey levels blurred by a Gaussian of this sigma (pixels), beyond a dead zone of
