@@ -178,10 +178,8 @@ class ConfidenceModel:
                    - (1.0 - f[:, _F["left_right"]]) + edge
                    + self.row_agree_weight * f[:, _F["row_agree"]])
         u_path = f[:, _F["path_uniqueness"]]
-        agree = f[:, _F["path_agree"]] > 0
-        swapped = f[:, _F["path_swapped"]] > 0
-        return np.where(agree, windows + self.path_weight * u_path,
-                        np.where(swapped, u_path - 1.0 + self.swap_weight + edge,
+        return np.where(f[:, _F["path_agree"]] > 0, windows + self.path_weight * u_path,
+                        np.where(swapped_matches(f), u_path - 1.0 + self.swap_weight + edge,
                                  windows - 1.0))
 
     def __call__(self, features: ArrayLike) -> NDArray[np.float64]:

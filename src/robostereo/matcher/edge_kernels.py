@@ -219,6 +219,16 @@ def gradient_peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
+def _reflect(i, n):  # type: ignore[no-untyped-def]
+    """Index ``i`` reflected into ``0..n-1`` (``cv2.BORDER_REFLECT_101``), then clamped."""
+    if i < 0:
+        i = -i
+    if i > n - 1:
+        i = 2 * (n - 1) - i
+    return min(max(i, 0), n - 1)
+
+
+@kernel(nogil=True)
 def mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
     """Mean of the 5 x 5 grey levels of ``g`` ``(H, W)`` around each pixel
     ``(rows[i], cols[i])``, the border reflected (``cv2.BORDER_REFLECT_101``), summed in
@@ -236,14 +246,9 @@ def mean5_at(g, rows, cols):  # type: ignore[no-untyped-def]
             out[i] = acc / 25.0
             continue
         for dy in range(-2, 3):
-            y = r0 + dy
-            y = -y if y < 0 else (2 * (h - 1) - y if y > h - 1 else y)
-            y = min(max(y, 0), h - 1)  # images under 3 rows: reflect once, then clamp
+            y = _reflect(r0 + dy, h)
             for dx in range(-2, 3):
-                x = c0 + dx
-                x = -x if x < 0 else (2 * (w - 1) - x if x > w - 1 else x)
-                x = min(max(x, 0), w - 1)
-                acc += g[y, x]
+                acc += g[y, _reflect(c0 + dx, w)]
         out[i] = acc / 25.0
     return out
 
@@ -274,16 +279,6 @@ def fine_offset(f, c, sg):  # type: ignore[no-untyped-def]
             v = min(max(half * (gm - gp) / den, -half), half)
         return o + np.float64(v)
     return np.nan
-
-
-@kernel(nogil=True)
-def _reflect(i, n):  # type: ignore[no-untyped-def]
-    """Index ``i`` reflected into ``0..n-1`` (``cv2.BORDER_REFLECT_101``), then clamped."""
-    if i < 0:
-        i = -i
-    if i > n - 1:
-        i = 2 * (n - 1) - i
-    return min(max(i, 0), n - 1)
 
 
 @kernel(nogil=True)

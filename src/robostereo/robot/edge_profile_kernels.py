@@ -35,48 +35,13 @@ def _cost(s, g, sigma, s1, s2, c):  # type: ignore[no-untyped-def]
                 A[a, b] += f[a] * f[b]
     for a in range(3):
         A[a, a] += 1e-9
-    x = _solve(A, r, 3)
+    x = np.linalg.solve(A, r)  # A: positive definite (the 1e-9 above)
     for a in range(3):
         c[a] = x[a]
     ss = 0.0
     for i in range(k):
         ss += (g[i] - (c[0] + c[1] * e1[i] + c[2] * e2[i])) ** 2
     return ss
-
-
-@kernel(nogil=True)
-def _solve(A, b, n):  # type: ignore[no-untyped-def]
-    """``A x = b`` by Gaussian elimination with partial pivoting (A, b copied)."""
-    M = A.copy()
-    x = b.copy()
-    for col in range(n):
-        piv = col
-        for row in range(col + 1, n):
-            if abs(M[row, col]) > abs(M[piv, col]):
-                piv = row
-        if piv != col:
-            for j in range(n):
-                t = M[col, j]
-                M[col, j] = M[piv, j]
-                M[piv, j] = t
-            t = x[col]
-            x[col] = x[piv]
-            x[piv] = t
-        d = M[col, col]
-        if abs(d) < 1e-300:
-            d = 1e-300
-        for row in range(col + 1, n):
-            f = M[row, col] / d
-            for j in range(col, n):
-                M[row, j] -= f * M[col, j]
-            x[row] -= f * x[col]
-    for col in range(n - 1, -1, -1):
-        t = x[col]
-        for j in range(col + 1, n):
-            t -= M[col, j] * x[j]
-        d = M[col, col]
-        x[col] = t / (d if abs(d) >= 1e-300 else 1e-300)
-    return x
 
 
 @kernel(nogil=True)
@@ -127,7 +92,7 @@ def fit_two_steps_kernel(s, prof, sigma, own, other, iterations):  # type: ignor
                         H[a, b] += J[a] * J[b]
             for a in range(5):
                 H[a, a] += lam * H[a, a] + 1e-9
-            d = _solve(H, gvec, 5)
+            d = np.linalg.solve(H, gvec)
             n1 = min(max(s1 + d[3], lo), hi)
             n2 = min(max(s2 + d[4], lo), hi)
             new = _cost(si, gi, sigma, n1, n2, cn)
