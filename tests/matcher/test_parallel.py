@@ -122,3 +122,16 @@ def test_interrupt_taken_by_another_thread_still_waits_for_every_started_call(mo
         signal.signal(signal.SIGTERM, previous)
         stop.set()
     assert lost == 0
+
+
+def test_pool_workers_never_take_the_interrupt_signals(monkeypatch):
+    # Were a worker to take SIGINT, Python would run the handler on the main thread even
+    # inside signals_held() there, and cut the renames of a command's outputs in two.
+    import signal
+
+    if not hasattr(signal, "pthread_sigmask"):
+        pytest.skip("no signal masks on this platform")
+    monkeypatch.setenv("ROBOSTEREO_THREADS", "5")  # a pool of its own, made now
+    masks = run_all([lambda: signal.pthread_sigmask(signal.SIG_BLOCK, [])] * 10)
+    for mask in masks:
+        assert {signal.SIGINT, signal.SIGTERM} <= set(mask)

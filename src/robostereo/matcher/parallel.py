@@ -26,7 +26,9 @@ on the main thread at once.  So nothing here depends on bookkeeping the main thr
 could be cut off in the middle of: each batch counts its running calls itself, under
 its own lock, on the worker threads; and the workers are daemon threads started once,
 which the interpreter never waits for at exit (a worker started but not yet recorded
-when an interrupt came would otherwise keep the process alive for ever).
+when an interrupt came would otherwise keep the process alive for ever).  The workers
+themselves hold SIGINT and SIGTERM back for good, so the pool adds no thread that could
+take them.
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ from collections.abc import Callable, Sequence
 from typing import Any, Generic, TypeVar
 
 from robostereo.errors import InputError
+from robostereo.io.files import signals_held
 
 __all__ = ["n_threads", "run_all"]
 
@@ -78,8 +81,13 @@ class _Pool:
     def __init__(self, workers: int) -> None:
         self.workers = workers
         self.queue: queue.SimpleQueue[tuple[_Batch[Any], int] | None] = queue.SimpleQueue()
-        for k in range(workers):
-            threading.Thread(target=self._work, name=f"robostereo-{k}", daemon=True).start()
+        # started with the signals held, so the workers inherit the mask and never take
+        # SIGINT or SIGTERM: otherwise Python would run the handler on the main thread
+        # inside any block that holds them back there (an output's renames)
+        with signals_held():
+            for k in range(workers):
+                threading.Thread(target=self._work, name=f"robostereo-{k}",
+                                 daemon=True).start()
 
     def _work(self) -> None:
         while True:
