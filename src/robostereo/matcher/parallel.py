@@ -207,10 +207,10 @@ def run_all(calls: Sequence[Callable[[], T]]) -> list[T]:
     [1, 2, 3]
     """
     calls = list(calls)
-    n = min(n_threads(), len(calls))
-    if n <= 1:
+    workers = n_threads()
+    if min(workers, len(calls)) <= 1:
         return [c() for c in calls]
-    pool = _the_pool(n_threads())
+    pool = _the_pool(workers)
     batch = _Batch(calls)
     if threading.current_thread() is threading.main_thread():
         # every call on the pool; the main thread only waits, interruptibly
