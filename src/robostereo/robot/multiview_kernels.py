@@ -3,6 +3,8 @@
 * :func:`sweep_costs`: each reference edge point's window scored in every other view at
   every inverse depth of its ray (zero-mean normalised cross-correlation, bilinear
   sampling through the local affine map of the depth plane);
+* :func:`normal_residuals`: the least-squares fit's residuals, each view's edge normal
+  distance to the projection of a point on a reference ray;
 * :func:`row_peaks` / :func:`edge_near`: sub-pixel edge points on the pixel grid, as
   the matcher's (thesis 3.1-3.2: the peak of the gradient magnitude along a row, a
   parabola through it and its neighbours), along rows for edges whose normal is nearer
@@ -15,7 +17,7 @@ import numpy as np
 
 from robostereo.matcher.jit import kernel
 
-__all__ = ["edge_near", "grid_edges", "sweep_costs"]
+__all__ = ["edge_near", "grid_edges", "normal_residuals", "sweep_costs"]
 
 #: cost of a view where the window falls outside the image (not a vote)
 OUTSIDE = np.float32(np.nan)
@@ -323,3 +325,60 @@ def edge_near(gx, gy, ux, uy, nx, ny, reach, threshold, border, lines):  # type:
             ex[i], ey[i] = _along(gx, gy, ex[i], ey[i], nxi, nyi, abs(nxi) >= abs(nyi), lines,
                                   border)
     return ex, ey, gxe, gye, found
+
+
+@kernel(nogil=True, error_model="numpy")
+def normal_residuals(e_ref, n_ref, t, rho, k_inv, r_ref, c_ref, rs, cs, kk,  # type: ignore[no-untyped-def]
+                     edge, normal):
+    """Normal distances of each view's edge point to the projection of a point on a
+    reference ray (the residuals of :class:`robostereo.robot.multiview_search._Fit`).
+
+    Parameters
+    ----------
+    e_ref, n_ref : float64 (M, 2)
+        Reference edge points and unit normals; the ray is through ``e_ref + t n_ref``.
+    t, rho : float64 (M,)
+        Offsets along the normals, pixels, and inverse depths along the reference's
+        optical axis, 1/mm.
+    k_inv : float64 (3, 3)
+        The inverse of the camera matrix.
+    r_ref, c_ref : float64 (3, 3), (3,)
+        The reference's rotation (camera to world) and centre, mm.
+    rs, cs : float64 (V, 3, 3), (V, 3)
+        The same of the other views.
+    kk : float64 (3, 3)
+        The camera matrix (pinhole, undistorted).
+    edge, normal : float64 (M, V, 2)
+        Each view's edge point ``(x, y)`` and unit normal (zeros where none).
+
+    Returns
+    -------
+    float64 (M, V)
+        ``normal . (pi_v(P) - edge)``, pixels (inf or NaN behind a view's centre).
+    """
+    m = e_ref.shape[0]
+    nv = cs.shape[0]
+    out = np.empty((m, nv))
+    hom = np.empty(3)
+    d = np.empty(3)
+    wp = np.empty(3)
+    for i in range(m):
+        px = e_ref[i, 0] + t[i] * n_ref[i, 0]
+        py = e_ref[i, 1] + t[i] * n_ref[i, 1]
+        for a in range(3):
+            hom[a] = px * k_inv[a, 0] + py * k_inv[a, 1] + k_inv[a, 2]
+        for a in range(3):
+            d[a] = hom[0] * r_ref[a, 0] + hom[1] * r_ref[a, 1] + hom[2] * r_ref[a, 2]
+            wp[a] = c_ref[a] + d[a] / rho[i]
+        for v in range(nv):
+            x0 = wp[0] - cs[v, 0]
+            x1 = wp[1] - cs[v, 1]
+            x2 = wp[2] - cs[v, 2]
+            pc0 = x0 * rs[v, 0, 0] + x1 * rs[v, 1, 0] + x2 * rs[v, 2, 0]
+            pc1 = x0 * rs[v, 0, 1] + x1 * rs[v, 1, 1] + x2 * rs[v, 2, 1]
+            pc2 = x0 * rs[v, 0, 2] + x1 * rs[v, 1, 2] + x2 * rs[v, 2, 2]
+            u = pc0 / pc2 * kk[0, 0] + kk[0, 2]
+            w = pc1 / pc2 * kk[1, 1] + kk[1, 2]
+            out[i, v] = (normal[i, v, 0] * (u - edge[i, v, 0])
+                         + normal[i, v, 1] * (w - edge[i, v, 1]))
+    return out

@@ -35,7 +35,7 @@ from numpy.typing import NDArray
 from robostereo.geometry.poses import as_se3
 from robostereo.matcher.edges import smooth, to_grey
 from robostereo.robot.edge_profiles import two_step_edges, view_blurs
-from robostereo.robot.multiview_kernels import edge_near, grid_edges, sweep_costs
+from robostereo.robot.multiview_kernels import edge_near, grid_edges, normal_residuals, sweep_costs
 from robostereo.robot.views import ViewsCapture
 
 __all__ = [
@@ -476,14 +476,14 @@ class RefinedPoints:
 
 def _residuals(views: PreparedViews, ref: int, others: NDArray[np.intp], e_ref: _F,
                n_ref: _F, edge: _F, normal: _F, t: _F, rho: _F) -> _F:
-    """Normal residuals (M, V) of the other views for the point ``(t, rho)``."""
-    p = e_ref + t[:, None] * n_ref
-    world = views.C[ref] + _rays(views, ref, p) / rho[:, None]
-    out = np.empty(edge.shape[:2])
-    for v, j in enumerate(others):
-        uv, _ = views.project(world, int(j))
-        out[:, v] = np.einsum("mi,mi->m", normal[:, v], uv - edge[:, v])
-    return out
+    """Normal residuals (M, V) of the other views for the point ``(t, rho)``
+    (:func:`~robostereo.robot.multiview_kernels.normal_residuals`)."""
+    def f(x: _F) -> _F:
+        return np.ascontiguousarray(x, dtype=np.float64)
+
+    return normal_residuals(  # type: ignore[no-any-return]
+        f(e_ref), f(n_ref), f(t), f(rho), views.K_inv, views.R[ref], views.C[ref],
+        views.R[others], views.C[others], views.K, f(edge), f(normal))
 
 
 class _Fit:
