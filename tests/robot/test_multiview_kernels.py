@@ -1,9 +1,9 @@
-"""The N-view fit's residual kernel against the same projection written in numpy."""
+"""The N-view kernels (the fit's residuals, the gradient) against the same sums in numpy."""
 
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from robostereo.robot.multiview_kernels import normal_residuals
+from robostereo.robot.multiview_kernels import central_gradient, normal_residuals
 
 
 def _setup(rng: np.random.Generator, m: int = 40, nv: int = 4):
@@ -55,3 +55,14 @@ def test_the_residual_kernel_is_the_normal_distance_of_the_projection():
     far = normal_residuals(e_ref, n_ref, t, 1.0 / (1.0 / rho + 50.0), np.linalg.inv(K),
                            R[0], C[0], R[1:], C[1:], K, edge, normal)
     assert np.median(np.max(np.abs(far - got), axis=1)) > 1.0
+
+
+def test_the_gradient_kernel_is_half_the_central_differences():
+    rng = np.random.default_rng(4)
+    s = (rng.random((23, 31)) * 127).astype(np.float32)
+    gx, gy = np.full_like(s, np.nan), np.full_like(s, np.nan)
+    central_gradient(s, gx, gy)
+    want_x, want_y = np.zeros_like(s), np.zeros_like(s)
+    want_x[:, 1:-1] = (s[:, 2:] - s[:, :-2]) * np.float32(0.5)
+    want_y[1:-1] = (s[2:] - s[:-2]) * np.float32(0.5)
+    assert np.array_equal(gx, want_x) and np.array_equal(gy, want_y)

@@ -3,6 +3,7 @@
 * :func:`sweep_costs`: each reference edge point's window scored in every other view at
   every inverse depth of its ray (zero-mean normalised cross-correlation, bilinear
   sampling through the local affine map of the depth plane);
+* :func:`central_gradient`: an image's gradient by central differences;
 * :func:`normal_residuals`: the least-squares fit's residuals, each view's edge normal
   distance to the projection of a point on a reference ray;
 * :func:`row_peaks` / :func:`edge_near`: sub-pixel edge points on the pixel grid, as
@@ -17,7 +18,7 @@ import numpy as np
 
 from robostereo.matcher.jit import kernel
 
-__all__ = ["edge_near", "grid_edges", "normal_residuals", "sweep_costs"]
+__all__ = ["central_gradient", "edge_near", "grid_edges", "normal_residuals", "sweep_costs"]
 
 #: cost of a view where the window falls outside the image (not a vote)
 OUTSIDE = np.float32(np.nan)
@@ -382,3 +383,20 @@ def normal_residuals(e_ref, n_ref, t, rho, k_inv, r_ref, c_ref, rs, cs, kk,  # t
             out[i, v] = (normal[i, v, 0] * (u - edge[i, v, 0])
                          + normal[i, v, 1] * (w - edge[i, v, 1]))
     return out
+
+
+@kernel(nogil=True)
+def central_gradient(s, gx, gy):  # type: ignore[no-untyped-def]
+    """``gx, gy`` (H, W) of `s` (H, W), float32 all: half the central differences along x
+    and y, zero on the border they cannot reach; in place, one pass."""
+    h, w = s.shape
+    for y in range(h):
+        for x in range(w):
+            if x == 0 or x == w - 1:
+                gx[y, x] = 0.0
+            else:
+                gx[y, x] = (s[y, x + 1] - s[y, x - 1]) * np.float32(0.5)
+            if y == 0 or y == h - 1:
+                gy[y, x] = 0.0
+            else:
+                gy[y, x] = (s[y + 1, x] - s[y - 1, x]) * np.float32(0.5)

@@ -35,7 +35,13 @@ from numpy.typing import NDArray
 from robostereo.geometry.poses import as_se3
 from robostereo.matcher.edges import smooth, to_grey
 from robostereo.robot.edge_profiles import two_step_edges, view_blurs
-from robostereo.robot.multiview_kernels import edge_near, grid_edges, normal_residuals, sweep_costs
+from robostereo.robot.multiview_kernels import (
+    central_gradient,
+    edge_near,
+    grid_edges,
+    normal_residuals,
+    sweep_costs,
+)
 from robostereo.robot.views import ViewsCapture
 
 __all__ = [
@@ -125,13 +131,9 @@ class PreparedViews:
 
 def _gradient(s: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.float32]
               ) -> None:
-    """``gx, gy`` (zeroed at the borders) of `s`: central differences, in place."""
-    gx[:, 0] = gx[:, -1] = 0.0
-    gy[0] = gy[-1] = 0.0
-    np.subtract(s[:, 2:], s[:, :-2], out=gx[:, 1:-1])
-    np.subtract(s[2:], s[:-2], out=gy[1:-1])
-    gx *= 0.5
-    gy *= 0.5
+    """``gx, gy`` (zeroed at the borders) of `s`: central differences, in place
+    (:func:`~robostereo.robot.multiview_kernels.central_gradient`)."""
+    central_gradient(np.ascontiguousarray(s, dtype=np.float32), gx, gy)
 
 
 def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
