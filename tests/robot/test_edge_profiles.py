@@ -199,3 +199,20 @@ def test_a_band_seen_through_a_narrowing_gap_is_located_within_its_bounds():
     assert np.median(err[None][0]) > 2.0
     assert np.median(err[reach][0]) < 0.5 * np.median(err[None][0])
     assert np.mean(err[reach][0] <= err[reach][1]) > 0.95
+
+
+def test_the_opposite_edge_kernel_reads_the_central_line_as_the_profiles_do():
+    from robostereo.robot.edge_profile_kernels import opposite_edges
+    from robostereo.robot.edge_profiles import PROFILE_HALF_PX, _opposite_peak
+
+    rng = np.random.default_rng(8)
+    img = _gap(5 / 3, rng)  # a narrow gap: opposite edges to find
+    grey = np.concatenate([img, (rng.random((40, 120)) * 127).astype(np.float32)])
+    p = rng.uniform(-2.0, [122.0, 82.0], (3000, 2))  # some beyond the borders
+    a = rng.uniform(0.0, 2 * np.pi, 3000)
+    n = np.column_stack([np.cos(a), np.sin(a)])
+    s, prof = profiles(grey, p, n, along=0)
+    want = _opposite_peak(s, prof, 3.0, 4.0)
+    got = opposite_edges(grey, p, n, PROFILE_HALF_PX, 3.0, 4.0)
+    assert np.array_equal(got, want, equal_nan=True)
+    assert 0.05 < np.mean(np.isfinite(got)) < 0.95

@@ -9,7 +9,7 @@ import numpy as np
 
 from robostereo.matcher.jit import kernel
 
-__all__ = ["fit_one_step_kernel", "fit_two_steps_kernel"]
+__all__ = ["fit_one_step_kernel", "fit_two_steps_kernel", "opposite_edges"]
 
 
 @kernel(nogil=True)
@@ -221,3 +221,61 @@ def fit_one_step_kernel(s, prof, iterations):  # type: ignore[no-untyped-def]
             o_sig[p] = sig
             o_rms[p] = rms
     return o_s0, o_sig, o_rms
+
+
+@kernel(nogil=True)
+def opposite_edges(grey, points, normals, half_px, reach, least):  # type: ignore[no-untyped-def]
+    """Offset along the normal of the steepest opposite slope on each edge point's own
+    grid line (see :func:`robostereo.robot.edge_profiles.profiles`, ``along=0``, and
+    ``_opposite_peak`` there, which this computes the same way, one point at a time).
+
+    `grey` float32 (H, W); `points`, `normals` (M, 2).  Returns (M,): the slope's
+    midpoint offset, pixels, NaN where none within `reach` of the edge reaches `least`
+    grey levels per pixel downhill or the steepest is at the line's end."""
+    h, w = grey.shape
+    m = points.shape[0]
+    nj = 2 * half_px + 1
+    out = np.empty(m)
+    s = np.empty(nj)
+    g = np.empty(nj)
+    for i in range(m):
+        rows = abs(normals[i, 0]) >= abs(normals[i, 1])
+        if rows:
+            u0 = points[i, 0]
+            pv = points[i, 1]
+            nu = normals[i, 0]
+            nv = normals[i, 1]
+        else:
+            u0 = points[i, 1]
+            pv = points[i, 0]
+            nu = normals[i, 1]
+            nv = normals[i, 0]
+        v0 = np.rint(pv)
+        dv = (v0 - pv) + 0
+        uc = u0 - nv / nu * dv
+        ru = np.rint(uc)
+        vi = int(min(max(v0, 0.0), (h - 1) if rows else (w - 1)))
+        for j in range(nj):
+            uu = ru + (j - half_px)
+            s[j] = (uu - u0) * nu + dv * nv
+            if rows:
+                g[j] = grey[vi, int(min(max(uu, 0.0), w - 1))]
+            else:
+                g[j] = grey[int(min(max(uu, 0.0), h - 1)), vi]
+        best = -np.inf
+        kb = 0
+        mid_b = 0.0
+        for k in range(nj - 1):
+            ds = s[k + 1] - s[k]
+            slope = (g[k + 1] - g[k]) / (ds if ds != 0 else 1.0)
+            mid = 0.5 * (s[k + 1] + s[k])
+            neg = -slope if abs(mid) <= reach else -np.inf
+            if neg > best:
+                best = neg
+                kb = k
+                mid_b = mid
+        if best >= least and kb > 0 and kb < nj - 2:
+            out[i] = mid_b
+        else:
+            out[i] = np.nan
+    return out

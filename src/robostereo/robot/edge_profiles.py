@@ -25,7 +25,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError
-from robostereo.robot.edge_profile_kernels import fit_one_step_kernel, fit_two_steps_kernel
+from robostereo.robot.edge_profile_kernels import (
+    fit_one_step_kernel,
+    fit_two_steps_kernel,
+    opposite_edges,
+)
 from robostereo.robot.multiview_kernels import grid_edges
 
 __all__ = [
@@ -284,8 +288,9 @@ def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F,
         return out, moved
     n = np.asarray(normals, float)
     # the opposite edge on the central line first; the whole profile where there is one
-    s, prof = profiles(grey, p, n, along=0)
-    opp = _opposite_peak(s, prof, reach_px, threshold / 2.0)
+    opp = opposite_edges(np.ascontiguousarray(grey, dtype=np.float32), np.ascontiguousarray(p),
+                         np.ascontiguousarray(n), PROFILE_HALF_PX, float(reach_px),
+                         threshold / 2.0)
     idx = np.nonzero(np.isfinite(opp))[0]
     if not len(idx):
         return out, moved
