@@ -37,6 +37,21 @@ def _bilinear(img, x, y):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
+def _bilinear_inside(img, x, y):  # type: ignore[no-untyped-def]
+    """:func:`_bilinear` where ``x, y >= 0`` (the truncation is the floor; unsigned
+    indices spare numba's negative-index test); the same value."""
+    x0 = np.uint64(x)
+    y0 = np.uint64(y)
+    fx = x - np.float64(x0)
+    fy = y - np.float64(y0)
+    x1 = x0 + np.uint64(1)
+    y1 = y0 + np.uint64(1)
+    a = img[y0, x0] * (1.0 - fx) + img[y0, x1] * fx
+    b = img[y1, x0] * (1.0 - fx) + img[y1, x1] * fx
+    return a * (1.0 - fy) + b * fy
+
+
+@kernel(nogil=True)
 def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  # type: ignore[no-untyped-def]
     """``1 - ZNCC`` of each point's reference window in each other view at each depth.
 
@@ -102,7 +117,8 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  
                     if x < margin or y < margin or x > w - 1 - margin or y > h - 1 - margin:
                         inside = False
                         break
-                    buf[q] = _bilinear(img, x, y)
+                    buf[q] = (_bilinear_inside(img, x, y) if margin >= 0.0
+                              else _bilinear(img, x, y))
                     s += buf[q]
                 if not inside:
                     out[i, v, k] = OUTSIDE
