@@ -89,6 +89,18 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  
     w = images.shape[2]
     out = np.empty((m, nv, nk), np.float32)
     buf = np.empty(p, np.float64)
+    # the samples' offset terms, multiplied once per point and view (added as before)
+    tx0 = np.empty(p)
+    tx1 = np.empty(p)
+    ty0 = np.empty(p)
+    ty1 = np.empty(p)
+    ox0 = ox1 = offs[0, 0]
+    oy0 = oy1 = offs[0, 1]
+    for q in range(p):
+        ox0 = min(ox0, offs[q, 0])
+        ox1 = max(ox1, offs[q, 0])
+        oy0 = min(oy0, offs[q, 1])
+        oy1 = max(oy1, offs[q, 1])
     for i in range(m):
         for v in range(nv):
             if skip[i, v]:
@@ -100,6 +112,11 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  
             a01 = aff[i, v, 0, 1]
             a10 = aff[i, v, 1, 0]
             a11 = aff[i, v, 1, 1]
+            for q in range(p):
+                tx0[q] = a00 * offs[q, 0]
+                tx1[q] = a01 * offs[q, 1]
+                ty0[q] = a10 * offs[q, 0]
+                ty1[q] = a11 * offs[q, 1]
             for k in range(nk):
                 hx = a[i, v, 0] + rho[i, k] * b[i, v, 0]
                 hy = a[i, v, 1] + rho[i, k] * b[i, v, 1]
@@ -109,17 +126,34 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  
                     continue
                 cx = hx / hz
                 cy = hy / hz
+                # the window's corners inside: every sample is (each is monotone in
+                # either offset, rounding too), and none needs a test
                 inside = True
-                s = 0.0
-                for q in range(p):
-                    x = cx + a00 * offs[q, 0] + a01 * offs[q, 1]
-                    y = cy + a10 * offs[q, 0] + a11 * offs[q, 1]
+                for c in range(4):
+                    ox = ox0 if c < 2 else ox1
+                    oy = oy0 if c % 2 == 0 else oy1
+                    x = cx + a00 * ox + a01 * oy
+                    y = cy + a10 * ox + a11 * oy
                     if x < margin or y < margin or x > w - 1 - margin or y > h - 1 - margin:
                         inside = False
-                        break
-                    buf[q] = (_bilinear_inside(img, x, y) if margin >= 0.0
-                              else _bilinear(img, x, y))
-                    s += buf[q]
+                s = 0.0
+                if inside and margin >= 0.0:
+                    for q in range(p):
+                        buf[q] = _bilinear_inside(img, cx + tx0[q] + tx1[q],
+                                                  cy + ty0[q] + ty1[q])
+                        s += buf[q]
+                else:
+                    inside = True
+                    for q in range(p):
+                        x = cx + tx0[q] + tx1[q]
+                        y = cy + ty0[q] + ty1[q]
+                        if (x < margin or y < margin or x > w - 1 - margin
+                                or y > h - 1 - margin):
+                            inside = False
+                            break
+                        buf[q] = (_bilinear_inside(img, x, y) if margin >= 0.0
+                                  else _bilinear(img, x, y))
+                        s += buf[q]
                 if not inside:
                     out[i, v, k] = OUTSIDE
                     continue
