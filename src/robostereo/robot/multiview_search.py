@@ -129,13 +129,6 @@ class PreparedViews:
         return uv * np.diag(self.K)[:2] + self.K[:2, 2], z
 
 
-def _gradient(s: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.float32]
-              ) -> None:
-    """``gx, gy`` (zeroed at the borders) of `s`: central differences, in place
-    (:func:`~robostereo.robot.multiview_kernels.central_gradient`)."""
-    central_gradient(np.ascontiguousarray(s, dtype=np.float32), gx, gy)
-
-
 def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
                   opposite_px: float | None = None) -> PreparedViews:
     """Undistort, convert, smooth and differentiate every view (see :class:`PreparedViews`).
@@ -179,7 +172,7 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
         if undistort:
             g = cv2.remap(g, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
         sm[i] = smooth(g)
-        _gradient(sm[i], gxs[i], gys[i])
+        central_gradient(sm[i], gxs[i], gys[i])  # half the central differences
         g = np.asarray(g, np.float32)
         if greys is not None:
             greys[i] = g
@@ -187,7 +180,7 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
             if edge_blur_px > 0:  # type: ignore[operator]
                 g = cv2.GaussianBlur(g, (0, 0), float(edge_blur_px),  # type: ignore[arg-type]
                                      borderType=cv2.BORDER_REFLECT_101)
-            _gradient(g, fxs[i], fys[i])
+            central_gradient(np.ascontiguousarray(g, np.float32), fxs[i], fys[i])
     poses = [as_se3(p) for p in capture.poses]
     blur = np.full(n_views, -1.0) if opposite_px is not None else None
     return PreparedViews(
