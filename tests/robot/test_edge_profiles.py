@@ -4,11 +4,12 @@ profiles and views this file renders itself (not the project's simulator)."""
 import numpy as np
 import pytest
 from scipy.ndimage import gaussian_filter
+from scipy.special import ndtr
 
 from robostereo.errors import InputError
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import se3_from_scara
-from robostereo.robot.edge_profiles import estimate_blur, two_step_edges
+from robostereo.robot.edge_profiles import estimate_blur, fit_one_step, profiles, two_step_edges
 from robostereo.robot.multiview import ViewsParameters, locate_views
 from robostereo.robot.views import ViewsCapture
 
@@ -82,6 +83,74 @@ def test_an_edge_without_an_opposite_one_nearby_is_left_where_it_is(blur):
     assert not moved.any() and np.array_equal(out, pts)
 
 
+def _fit_one_step_numpy(s, prof, iterations=8):
+    """The single-step fit written in numpy over all profiles at once: the reference the
+    numba kernel must reproduce (same start, damping, clipping and refusals)."""
+    m = len(prof)
+    s0, sig = np.zeros(m), np.ones(m)
+    lo_s, hi_s = s.min(axis=1), s.max(axis=1)
+    lo = np.mean(prof, axis=1, where=s <= lo_s[:, None] + 1.5)
+    hi = np.mean(prof, axis=1, where=s >= hi_s[:, None] - 1.5)
+    a, b = lo, hi - lo
+    for _ in range(iterations):
+        z = (s - s0[:, None]) / sig[:, None]
+        ph, pd = ndtr(z), np.exp(-0.5 * z * z) / np.sqrt(2.0 * np.pi)
+        r = prof - (a[:, None] + b[:, None] * ph)
+        J = np.stack([np.ones_like(z), ph, -b[:, None] * pd / sig[:, None],
+                      -b[:, None] * pd * z / sig[:, None]], axis=2)
+        JtJ = np.einsum("msi,msj->mij", J, J)
+        JtJ = JtJ + 1e-3 * np.eye(4) * np.diagonal(JtJ, axis1=1, axis2=2)[:, None, :]
+        d = np.linalg.solve(JtJ + 1e-12 * np.eye(4), np.einsum("msi,ms->mi", J, r)[:, :, None])
+        a, b = a + d[:, 0, 0], b + d[:, 1, 0]
+        s0 = np.clip(s0 + d[:, 2, 0], lo_s, hi_s)
+        sig = np.clip(sig + d[:, 3, 0], 0.2, 3.0)
+    rms = np.sqrt(np.mean((prof - (a[:, None] + b[:, None] * ndtr((s - s0[:, None])
+                                                                   / sig[:, None]))) ** 2, axis=1))
+    bad = ~np.isfinite(rms) | (sig <= 0.2) | (sig >= 3.0)
+    return tuple(np.where(bad, np.nan, x) for x in (s0, sig, rms))
+
+
+def test_the_single_step_fit_finds_a_known_step_and_blur_as_numpy_does():
+    rng = np.random.default_rng(7)
+    a = np.radians(rng.uniform(-40.0, 40.0, 60))
+    step = rng.uniform(-0.5, 0.5, 60)
+    sigma = rng.uniform(0.6, 1.6, 60)
+    yy, xx = np.mgrid[0:21, 0:21].astype(float)
+    imgs, pts, nrm = [], [], []
+    for k in range(60):
+        n = np.array([np.cos(a[k]), np.sin(a[k])])
+        d = (xx - 10.0) * n[0] + (yy - 10.0) * n[1] - step[k]
+        imgs.append(20.0 + 70.0 * ndtr(d / sigma[k]) + rng.normal(0.0, 0.75, d.shape))
+        pts.append([10.0, 10.0])
+        nrm.append(n)
+    s, prof = [], []
+    for img, p, n in zip(imgs, pts, nrm, strict=True):
+        sk, gk = profiles(img.astype(np.float32), np.array([p]), np.array([n]))
+        s.append(sk[0])
+        prof.append(gk[0])
+    s, prof = np.array(s), np.array(prof)
+    # a third of the profiles flat (no step: the fit may run the blur to a bound)
+    flat = np.arange(60) % 3 == 2
+    prof[flat] = 50.0 + rng.normal(0.0, 0.75, prof[flat].shape)
+    s0, sig, rms = fit_one_step(s, prof)
+    ref = _fit_one_step_numpy(s, prof)
+    for got, want in zip((s0, sig, rms), ref, strict=True):
+        assert np.array_equal(np.isnan(got), np.isnan(want))
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-9)
+    # and the fit is right where there is a step: within 0.1 px, the blur within 0.15 px
+    assert np.isfinite(s0[~flat]).all()
+    assert np.max(np.abs(s0 - step)[~flat]) < 0.1
+    assert np.max(np.abs(sig - sigma)[~flat]) < 0.15
+    assert np.median(rms[~flat]) < 1.0
+
+
+def test_bad_profiles_for_the_single_step_fit_are_refused():
+    with pytest.raises(InputError, match="prof"):
+        fit_one_step(np.zeros((2, 11)), np.zeros((2, 10)))
+    with pytest.raises(InputError, match="iterations"):
+        fit_one_step(np.zeros((2, 11)), np.zeros((2, 11)), iterations=-1)
+
+
 def test_bad_reach_is_refused():
     with pytest.raises(InputError, match="reach_px"):
         two_step_edges(np.zeros((9, 9), np.float32), np.zeros((1, 2)), np.ones((1, 2)), 1.0,
@@ -130,3 +199,20 @@ def test_a_band_seen_through_a_narrowing_gap_is_located_within_its_bounds():
     assert np.median(err[None][0]) > 2.0
     assert np.median(err[reach][0]) < 0.5 * np.median(err[None][0])
     assert np.mean(err[reach][0] <= err[reach][1]) > 0.95
+
+
+def test_the_opposite_edge_kernel_reads_the_central_line_as_the_profiles_do():
+    from robostereo.robot.edge_profile_kernels import opposite_edges
+    from robostereo.robot.edge_profiles import PROFILE_HALF_PX, _opposite_peak
+
+    rng = np.random.default_rng(8)
+    img = _gap(5 / 3, rng)  # a narrow gap: opposite edges to find
+    grey = np.concatenate([img, (rng.random((40, 120)) * 127).astype(np.float32)])
+    p = rng.uniform(-2.0, [122.0, 82.0], (3000, 2))  # some beyond the borders
+    a = rng.uniform(0.0, 2 * np.pi, 3000)
+    n = np.column_stack([np.cos(a), np.sin(a)])
+    s, prof = profiles(grey, p, n, along=0)
+    want = _opposite_peak(s, prof, 3.0, 4.0)
+    got = opposite_edges(grey, p, n, PROFILE_HALF_PX, 3.0, 4.0)
+    assert np.array_equal(got, want, equal_nan=True)
+    assert 0.05 < np.mean(np.isfinite(got)) < 0.95

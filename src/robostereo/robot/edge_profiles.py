@@ -25,7 +25,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError
-from robostereo.robot.edge_profile_kernels import fit_two_steps_kernel
+from robostereo.robot.edge_profile_kernels import (
+    fit_one_step_kernel,
+    fit_two_steps_kernel,
+    opposite_edges,
+)
 from robostereo.robot.multiview_kernels import grid_edges
 
 __all__ = [
@@ -43,18 +47,6 @@ _F = NDArray[np.float64]
 
 PROFILE_HALF_PX = 5
 """Pixels of a profile either side of the edge point, on each grid line."""
-
-_SQRT2 = math.sqrt(2.0)
-
-
-def _phi(z: _F) -> _F:
-    """The normal distribution function."""
-    from scipy.special import ndtr
-    return ndtr(z)
-
-
-def _pdf(z: _F) -> _F:
-    return np.exp(-0.5 * z * z) / math.sqrt(2.0 * math.pi)
 
 
 def profiles(grey: NDArray[np.float32], points: _F, normals: _F, *,
@@ -115,43 +107,31 @@ def fit_one_step(s: _F, prof: _F, iterations: int = 8) -> tuple[_F, _F, _F]:
 
     Parameters
     ----------
-    s : ndarray, shape (S,)
+    s : ndarray, shape (M, S)
+        The samples' offsets along the normal (:func:`profiles`).
     prof : ndarray, shape (M, S)
+        Their grey levels.
+    iterations : int
+        Damped Gauss-Newton steps.
 
     Returns
     -------
     s0, sigma, rms : ndarray, shape (M,)
-        NaN where the fit failed.
+        The step's position and blur, pixels, and the residuals' RMS, grey levels; NaN
+        where the fit failed (``sigma`` at a bound of [0.2, 3] or no finite residual).
+        Fitted one profile at a time
+        (:func:`~robostereo.robot.edge_profile_kernels.fit_one_step_kernel`).
     """
-    m = len(prof)
-    s0 = np.zeros(m)
-    sig = np.ones(m)
-    lo_s, hi_s = s.min(axis=1), s.max(axis=1)
-    lo = np.mean(prof, axis=1, where=s <= lo_s[:, None] + 1.5)
-    hi = np.mean(prof, axis=1, where=s >= hi_s[:, None] - 1.5)
-    a, b = lo, hi - lo
-    lam = np.full(m, 1e-3)
-    for _ in range(iterations):
-        z = (s - s0[:, None]) / sig[:, None]
-        ph, pd = _phi(z), _pdf(z)
-        r = prof - (a[:, None] + b[:, None] * ph)
-        J = np.stack([np.ones_like(z), ph, -b[:, None] * pd / sig[:, None],
-                      -b[:, None] * pd * z / sig[:, None]], axis=2)
-        JtJ = np.einsum("msi,msj->mij", J, J)
-        Jtr = np.einsum("msi,ms->mi", J, r)
-        JtJ = JtJ + lam[:, None, None] * np.eye(4) * np.diagonal(JtJ, axis1=1, axis2=2)[:, None, :]
-        try:
-            d = np.linalg.solve(JtJ + 1e-12 * np.eye(4), Jtr[:, :, None])[:, :, 0]
-        except np.linalg.LinAlgError:
-            break
-        a, b = a + d[:, 0], b + d[:, 1]
-        s0 = np.clip(s0 + d[:, 2], lo_s, hi_s)
-        sig = np.clip(sig + d[:, 3], 0.2, 3.0)
-    z = (s - s0[:, None]) / sig[:, None]
-    rms = np.sqrt(np.mean((prof - (a[:, None] + b[:, None] * _phi(z))) ** 2, axis=1))
-    bad = ~np.isfinite(rms) | (sig <= 0.2) | (sig >= 3.0)
-    return (np.where(bad, np.nan, s0), np.where(bad, np.nan, sig),
-            np.where(bad, np.nan, rms))
+    if not (isinstance(iterations, int) and iterations >= 0):
+        raise InputError(f"iterations must be a non-negative integer, got {iterations!r}")
+    s = np.ascontiguousarray(s, dtype=np.float64)
+    prof = np.ascontiguousarray(prof, dtype=np.float64)
+    if s.ndim != 2 or s.shape != prof.shape or s.shape[1] < 4:
+        raise InputError(f"s and prof must be (M, S) arrays of one shape with S >= 4, got "
+                         f"{s.shape} and {prof.shape}")
+    if not len(s):
+        return np.empty(0), np.empty(0), np.empty(0)
+    return fit_one_step_kernel(s, prof, iterations)  # type: ignore[no-any-return]
 
 
 @dataclass(frozen=True, eq=False)
@@ -308,8 +288,9 @@ def two_step_edges(grey: NDArray[np.float32], points: _F, normals: _F,
         return out, moved
     n = np.asarray(normals, float)
     # the opposite edge on the central line first; the whole profile where there is one
-    s, prof = profiles(grey, p, n, along=0)
-    opp = _opposite_peak(s, prof, reach_px, threshold / 2.0)
+    opp = opposite_edges(np.ascontiguousarray(grey, dtype=np.float32), np.ascontiguousarray(p),
+                         np.ascontiguousarray(n), PROFILE_HALF_PX, float(reach_px),
+                         threshold / 2.0)
     idx = np.nonzero(np.isfinite(opp))[0]
     if not len(idx):
         return out, moved

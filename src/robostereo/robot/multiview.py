@@ -478,11 +478,14 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     parts: list[dict[str, Any]] = []
     order = reference_order(capture)
     depth_range = capture.depth_range_mm
+    # the first reference's edge points serve the narrowing pass too
+    first = reference_edges(views, int(order[0]), p.threshold, border, p.edge_lines)
     if p.range_step_px is not None:
-        depth_range = _scene_range(capture, views, int(order[0]), p, border)
+        depth_range = _scene_range(capture, views, int(order[0]), first, p, border)
     for done, ref in enumerate(order):
         ref = int(ref)
-        edges = reference_edges(views, ref, p.threshold, border, p.edge_lines)
+        edges = (first if done == 0 else
+                 reference_edges(views, ref, p.threshold, border, p.edge_lines))
         edges = edges.subset(~claimed[ref, edges.grid[:, 1], edges.grid[:, 0]])
         if len(edges):
             rays = search_rays(views, ref, edges, depth_range,
@@ -520,13 +523,12 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                         distinct=cat["distinct"], views_seen=cat["seen"].astype(np.intp))
 
 
-def _scene_range(capture: ViewsCapture, views: Any, ref: int, p: ViewsParameters,
-                 border: int) -> tuple[float, float]:
+def _scene_range(capture: ViewsCapture, views: Any, ref: int, edges: Any,
+                 p: ViewsParameters, border: int) -> tuple[float, float]:
     """The part of the capture's depth range the scene holds, from a coarse search of
-    every fourth edge point of view `ref` (see ``ViewsParameters.range_step_px``)."""
+    every fourth of view `ref`'s edge points `edges` (see ``ViewsParameters.range_step_px``)."""
     near, far = capture.depth_range_mm
     step = float(p.range_step_px)  # type: ignore[arg-type]
-    edges = reference_edges(views, ref, p.threshold, border, p.edge_lines)
     edges = edges.subset(np.arange(0, len(edges), 4))
     sine_min = float(np.sin(np.radians(p.min_epipolar_angle_deg)))
     if not len(edges):

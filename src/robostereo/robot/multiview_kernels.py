@@ -3,6 +3,9 @@
 * :func:`sweep_costs`: each reference edge point's window scored in every other view at
   every inverse depth of its ray (zero-mean normalised cross-correlation, bilinear
   sampling through the local affine map of the depth plane);
+* :func:`central_gradient`: an image's gradient by central differences;
+* :func:`normal_residuals`: the least-squares fit's residuals, each view's edge normal
+  distance to the projection of a point on a reference ray;
 * :func:`row_peaks` / :func:`edge_near`: sub-pixel edge points on the pixel grid, as
   the matcher's (thesis 3.1-3.2: the peak of the gradient magnitude along a row, a
   parabola through it and its neighbours), along rows for edges whose normal is nearer
@@ -15,7 +18,7 @@ import numpy as np
 
 from robostereo.matcher.jit import kernel
 
-__all__ = ["edge_near", "grid_edges", "sweep_costs"]
+__all__ = ["central_gradient", "edge_near", "grid_edges", "normal_residuals", "sweep_costs"]
 
 #: cost of a view where the window falls outside the image (not a vote)
 OUTSIDE = np.float32(np.nan)
@@ -30,6 +33,21 @@ def _bilinear(img, x, y):  # type: ignore[no-untyped-def]
     fy = y - y0
     a = img[y0, x0] * (1.0 - fx) + img[y0, x0 + 1] * fx
     b = img[y0 + 1, x0] * (1.0 - fx) + img[y0 + 1, x0 + 1] * fx
+    return a * (1.0 - fy) + b * fy
+
+
+@kernel(nogil=True)
+def _bilinear_inside(img, x, y):  # type: ignore[no-untyped-def]
+    """:func:`_bilinear` where ``x, y >= 0`` (the truncation is the floor; unsigned
+    indices spare numba's negative-index test); the same value."""
+    x0 = np.uint64(x)
+    y0 = np.uint64(y)
+    fx = x - np.float64(x0)
+    fy = y - np.float64(y0)
+    x1 = x0 + np.uint64(1)
+    y1 = y0 + np.uint64(1)
+    a = img[y0, x0] * (1.0 - fx) + img[y0, x1] * fx
+    b = img[y1, x0] * (1.0 - fx) + img[y1, x1] * fx
     return a * (1.0 - fy) + b * fy
 
 
@@ -71,6 +89,18 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  
     w = images.shape[2]
     out = np.empty((m, nv, nk), np.float32)
     buf = np.empty(p, np.float64)
+    # the samples' offset terms, multiplied once per point and view (added as before)
+    tx0 = np.empty(p)
+    tx1 = np.empty(p)
+    ty0 = np.empty(p)
+    ty1 = np.empty(p)
+    ox0 = ox1 = offs[0, 0]
+    oy0 = oy1 = offs[0, 1]
+    for q in range(p):
+        ox0 = min(ox0, offs[q, 0])
+        ox1 = max(ox1, offs[q, 0])
+        oy0 = min(oy0, offs[q, 1])
+        oy1 = max(oy1, offs[q, 1])
     for i in range(m):
         for v in range(nv):
             if skip[i, v]:
@@ -82,6 +112,11 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  
             a01 = aff[i, v, 0, 1]
             a10 = aff[i, v, 1, 0]
             a11 = aff[i, v, 1, 1]
+            for q in range(p):
+                tx0[q] = a00 * offs[q, 0]
+                tx1[q] = a01 * offs[q, 1]
+                ty0[q] = a10 * offs[q, 0]
+                ty1[q] = a11 * offs[q, 1]
             for k in range(nk):
                 hx = a[i, v, 0] + rho[i, k] * b[i, v, 0]
                 hy = a[i, v, 1] + rho[i, k] * b[i, v, 1]
@@ -91,16 +126,34 @@ def sweep_costs(images, ref_patch, offs, views, a, b, aff, rho, margin, skip):  
                     continue
                 cx = hx / hz
                 cy = hy / hz
+                # the window's corners inside: every sample is (each is monotone in
+                # either offset, rounding too), and none needs a test
                 inside = True
-                s = 0.0
-                for q in range(p):
-                    x = cx + a00 * offs[q, 0] + a01 * offs[q, 1]
-                    y = cy + a10 * offs[q, 0] + a11 * offs[q, 1]
+                for c in range(4):
+                    ox = ox0 if c < 2 else ox1
+                    oy = oy0 if c % 2 == 0 else oy1
+                    x = cx + a00 * ox + a01 * oy
+                    y = cy + a10 * ox + a11 * oy
                     if x < margin or y < margin or x > w - 1 - margin or y > h - 1 - margin:
                         inside = False
-                        break
-                    buf[q] = _bilinear(img, x, y)
-                    s += buf[q]
+                s = 0.0
+                if inside and margin >= 0.0:
+                    for q in range(p):
+                        buf[q] = _bilinear_inside(img, cx + tx0[q] + tx1[q],
+                                                  cy + ty0[q] + ty1[q])
+                        s += buf[q]
+                else:
+                    inside = True
+                    for q in range(p):
+                        x = cx + tx0[q] + tx1[q]
+                        y = cy + ty0[q] + ty1[q]
+                        if (x < margin or y < margin or x > w - 1 - margin
+                                or y > h - 1 - margin):
+                            inside = False
+                            break
+                        buf[q] = (_bilinear_inside(img, x, y) if margin >= 0.0
+                                  else _bilinear(img, x, y))
+                        s += buf[q]
                 if not inside:
                     out[i, v, k] = OUTSIDE
                     continue
@@ -211,8 +264,12 @@ def grid_edges(gx, gy, threshold, border, lines):  # type: ignore[no-untyped-def
     # one test of every pixel: its axis (-1: no edge point) and offset, kept for the fill
     axis_at = np.full((h, w), -1, np.int8)
     off_at = np.zeros((h, w), np.float64)
+    # below this squared magnitude a pixel is surely under `threshold` (sqrt spared)
+    low = (threshold * (1.0 - 1e-5)) ** 2 if threshold > 0.0 else -1.0
     for y in range(border, h - border):
         for x in range(border, w - border):
+            if gx[y, x] * gx[y, x] + gy[y, x] * gy[y, x] < low:
+                continue
             axis, off = _grid_peak(gx, gy, y, x, threshold)
             if axis >= 0:
                 axis_at[y, x] = axis
@@ -323,3 +380,77 @@ def edge_near(gx, gy, ux, uy, nx, ny, reach, threshold, border, lines):  # type:
             ex[i], ey[i] = _along(gx, gy, ex[i], ey[i], nxi, nyi, abs(nxi) >= abs(nyi), lines,
                                   border)
     return ex, ey, gxe, gye, found
+
+
+@kernel(nogil=True, error_model="numpy")
+def normal_residuals(e_ref, n_ref, t, rho, k_inv, r_ref, c_ref, rs, cs, kk,  # type: ignore[no-untyped-def]
+                     edge, normal):
+    """Normal distances of each view's edge point to the projection of a point on a
+    reference ray (the residuals of :class:`robostereo.robot.multiview_search._Fit`).
+
+    Parameters
+    ----------
+    e_ref, n_ref : float64 (M, 2)
+        Reference edge points and unit normals; the ray is through ``e_ref + t n_ref``.
+    t, rho : float64 (M,)
+        Offsets along the normals, pixels, and inverse depths along the reference's
+        optical axis, 1/mm.
+    k_inv : float64 (3, 3)
+        The inverse of the camera matrix.
+    r_ref, c_ref : float64 (3, 3), (3,)
+        The reference's rotation (camera to world) and centre, mm.
+    rs, cs : float64 (V, 3, 3), (V, 3)
+        The same of the other views.
+    kk : float64 (3, 3)
+        The camera matrix (pinhole, undistorted).
+    edge, normal : float64 (M, V, 2)
+        Each view's edge point ``(x, y)`` and unit normal (zeros where none).
+
+    Returns
+    -------
+    float64 (M, V)
+        ``normal . (pi_v(P) - edge)``, pixels (inf or NaN behind a view's centre).
+    """
+    m = e_ref.shape[0]
+    nv = cs.shape[0]
+    out = np.empty((m, nv))
+    hom = np.empty(3)
+    d = np.empty(3)
+    wp = np.empty(3)
+    for i in range(m):
+        px = e_ref[i, 0] + t[i] * n_ref[i, 0]
+        py = e_ref[i, 1] + t[i] * n_ref[i, 1]
+        for a in range(3):
+            hom[a] = px * k_inv[a, 0] + py * k_inv[a, 1] + k_inv[a, 2]
+        for a in range(3):
+            d[a] = hom[0] * r_ref[a, 0] + hom[1] * r_ref[a, 1] + hom[2] * r_ref[a, 2]
+            wp[a] = c_ref[a] + d[a] / rho[i]
+        for v in range(nv):
+            x0 = wp[0] - cs[v, 0]
+            x1 = wp[1] - cs[v, 1]
+            x2 = wp[2] - cs[v, 2]
+            pc0 = x0 * rs[v, 0, 0] + x1 * rs[v, 1, 0] + x2 * rs[v, 2, 0]
+            pc1 = x0 * rs[v, 0, 1] + x1 * rs[v, 1, 1] + x2 * rs[v, 2, 1]
+            pc2 = x0 * rs[v, 0, 2] + x1 * rs[v, 1, 2] + x2 * rs[v, 2, 2]
+            u = pc0 / pc2 * kk[0, 0] + kk[0, 2]
+            w = pc1 / pc2 * kk[1, 1] + kk[1, 2]
+            out[i, v] = (normal[i, v, 0] * (u - edge[i, v, 0])
+                         + normal[i, v, 1] * (w - edge[i, v, 1]))
+    return out
+
+
+@kernel(nogil=True)
+def central_gradient(s, gx, gy):  # type: ignore[no-untyped-def]
+    """``gx, gy`` (H, W) of `s` (H, W), float32 all: half the central differences along x
+    and y, zero on the border they cannot reach; in place, one pass."""
+    h, w = s.shape
+    for y in range(h):
+        for x in range(w):
+            if x == 0 or x == w - 1:
+                gx[y, x] = 0.0
+            else:
+                gx[y, x] = (s[y, x + 1] - s[y, x - 1]) * np.float32(0.5)
+            if y == 0 or y == h - 1:
+                gy[y, x] = 0.0
+            else:
+                gy[y, x] = (s[y + 1, x] - s[y - 1, x]) * np.float32(0.5)

@@ -35,7 +35,13 @@ from numpy.typing import NDArray
 from robostereo.geometry.poses import as_se3
 from robostereo.matcher.edges import smooth, to_grey
 from robostereo.robot.edge_profiles import two_step_edges, view_blurs
-from robostereo.robot.multiview_kernels import edge_near, grid_edges, sweep_costs
+from robostereo.robot.multiview_kernels import (
+    central_gradient,
+    edge_near,
+    grid_edges,
+    normal_residuals,
+    sweep_costs,
+)
 from robostereo.robot.views import ViewsCapture
 
 __all__ = [
@@ -123,17 +129,6 @@ class PreparedViews:
         return uv * np.diag(self.K)[:2] + self.K[:2, 2], z
 
 
-def _gradient(s: NDArray[np.float32], gx: NDArray[np.float32], gy: NDArray[np.float32]
-              ) -> None:
-    """``gx, gy`` (zeroed at the borders) of `s`: central differences, in place."""
-    gx[:, 0] = gx[:, -1] = 0.0
-    gy[0] = gy[-1] = 0.0
-    np.subtract(s[:, 2:], s[:, :-2], out=gx[:, 1:-1])
-    np.subtract(s[2:], s[:-2], out=gy[1:-1])
-    gx *= 0.5
-    gy *= 0.5
-
-
 def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
                   opposite_px: float | None = None) -> PreparedViews:
     """Undistort, convert, smooth and differentiate every view (see :class:`PreparedViews`).
@@ -177,7 +172,7 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
         if undistort:
             g = cv2.remap(g, map_x, map_y, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
         sm[i] = smooth(g)
-        _gradient(sm[i], gxs[i], gys[i])
+        central_gradient(sm[i], gxs[i], gys[i])  # half the central differences
         g = np.asarray(g, np.float32)
         if greys is not None:
             greys[i] = g
@@ -185,7 +180,7 @@ def prepare_views(capture: ViewsCapture, edge_blur_px: float | None = 0.7,
             if edge_blur_px > 0:  # type: ignore[operator]
                 g = cv2.GaussianBlur(g, (0, 0), float(edge_blur_px),  # type: ignore[arg-type]
                                      borderType=cv2.BORDER_REFLECT_101)
-            _gradient(g, fxs[i], fys[i])
+            central_gradient(np.ascontiguousarray(g, np.float32), fxs[i], fys[i])
     poses = [as_se3(p) for p in capture.poses]
     blur = np.full(n_views, -1.0) if opposite_px is not None else None
     return PreparedViews(
@@ -476,14 +471,14 @@ class RefinedPoints:
 
 def _residuals(views: PreparedViews, ref: int, others: NDArray[np.intp], e_ref: _F,
                n_ref: _F, edge: _F, normal: _F, t: _F, rho: _F) -> _F:
-    """Normal residuals (M, V) of the other views for the point ``(t, rho)``."""
-    p = e_ref + t[:, None] * n_ref
-    world = views.C[ref] + _rays(views, ref, p) / rho[:, None]
-    out = np.empty(edge.shape[:2])
-    for v, j in enumerate(others):
-        uv, _ = views.project(world, int(j))
-        out[:, v] = np.einsum("mi,mi->m", normal[:, v], uv - edge[:, v])
-    return out
+    """Normal residuals (M, V) of the other views for the point ``(t, rho)``
+    (:func:`~robostereo.robot.multiview_kernels.normal_residuals`)."""
+    def f(x: _F) -> _F:
+        return np.ascontiguousarray(x, dtype=np.float64)
+
+    return normal_residuals(  # type: ignore[no-any-return]
+        f(e_ref), f(n_ref), f(t), f(rho), views.K_inv, views.R[ref], views.C[ref],
+        views.R[others], views.C[others], views.K, f(edge), f(normal))
 
 
 class _Fit:
