@@ -22,6 +22,29 @@ def test_thread_count_is_validated(monkeypatch):
         run_all([lambda: 1, boom])
 
 
+def test_the_pool_lets_go_of_a_batch_that_has_run(monkeypatch):
+    # an idle worker must not keep the last batch's calls, and through their closures
+    # the arguments of a whole match (its images), alive until the next batch
+    import gc
+    import time
+    import weakref
+
+    monkeypatch.setenv("ROBOSTEREO_THREADS", "2")
+
+    class Payload:
+        pass
+
+    payload = Payload()
+    ref = weakref.ref(payload)
+    assert run_all([lambda p=payload: id(p), lambda p=payload: id(p)]) == [id(payload)] * 2
+    del payload
+    for _ in range(100):  # the workers drop it after they have told the caller
+        gc.collect()
+        if ref() is None:
+            break
+        time.sleep(0.02)
+    assert ref() is None
+
 
 def test_interrupt_on_main_thread_cancels_the_rest_and_waits_for_running_calls(monkeypatch):
     import os

@@ -88,6 +88,9 @@ class _Pool:
                 return
             batch, i = item
             batch.run(i)
+            # hold nothing of a finished batch while waiting for the next: its calls'
+            # closures reach their arguments (the images of a whole match)
+            del item, batch
 
     def retire(self) -> None:
         for _ in range(self.workers):
@@ -104,6 +107,10 @@ def _the_pool(workers: int) -> _Pool:
                 _pool[1].retire()
             _pool = (os.getpid(), _Pool(workers))
         return _pool[1]
+
+
+def _done() -> None:
+    """Stands for a call of a batch that has run."""
 
 
 class _Batch(Generic[T]):
@@ -136,6 +143,7 @@ class _Batch(Generic[T]):
         except BaseException as e:  # handed to the caller
             self.errors[i] = e
         finally:
+            self.calls[i] = _done  # the call and what it reaches are let go
             with self._cond:
                 self._running -= 1
                 self._left -= 1
