@@ -265,6 +265,38 @@ def test_the_blur_made_strip_by_strip_places_edges_as_the_whole_image_would(
         assert np.mean(fine.x != plain.x) > 0.2  # it moved points: the check has teeth
 
 
+@pytest.mark.parametrize(("strip_rows", "row_step", "row_offset", "masked"),
+                         [(64, 1, 0, False), (5, 1, 0, False), (7, 3, 2, True),
+                          (1, 2, 1, False), (64, 70, 3, True)])
+def test_edges_found_strip_by_strip_equal_the_whole_smoothed_image(
+        monkeypatch, strip_rows, row_step, row_offset, masked) -> None:
+    """The edge stage smooths strips of rows in turn (no smoothed image is held): with
+    strips of every height down to one row, the last one partial, the edge points and
+    all their features are those of the whole image smoothed at once."""
+    import robostereo.matcher.edges as edges_module
+    from robostereo.matcher.edge_kernels import edge_points
+    from robostereo.matcher.edges import BORDER, usable_pixels
+
+    img = np.random.default_rng(9).integers(0, 256, (203, 90)).astype(np.uint8)
+    valid = np.ones(img.shape, bool)
+    valid[:, :20] = valid[90:100] = False
+    grey = to_grey(img)
+    n_lines = len(range(row_offset, img.shape[0], row_step))
+    usable = usable_pixels(valid) if masked else np.ones((1, 1), np.bool_)
+    src = np.ascontiguousarray(smooth(grey)[row_offset::row_step])
+    whole = edge_points(src, grey, np.float32(8.0), BORDER, row_offset, row_step, True,
+                        n_lines, usable, masked)
+    monkeypatch.setattr(edges_module, "_EDGE_STRIP_ROWS", strip_rows)
+    e = detect_edges(img, row_step=row_step, row_offset=row_offset,
+                     valid=valid if masked else None)
+    assert len(e) >= 10
+    names = ("line", "column", "row", "x", "sign", "magnitude", "up", "down", "up_offset",
+             "down_offset", "pattern", "mean_grey", "grey_before", "grey_after")
+    for name, expected in zip(names, whole, strict=True):
+        got = getattr(e, name)
+        assert got.dtype == expected.dtype and np.array_equal(got, expected), name
+
+
 @pytest.mark.parametrize("blur", [-0.1, 10.5, float("nan"), "1", True])
 def test_an_edge_blur_outside_0_10_is_refused(blur) -> None:
     with pytest.raises(InputError, match="edge_blur_px"):

@@ -29,9 +29,10 @@ from robostereo.matcher.edge_kernels import (
     FINE_DEAD_ZONE_PX,
     SIDE_OFFSET,
     connect,
-    edge_points,
     fine_positions,
     patterns,
+    peak_links,
+    strip_points,
 )
 
 __all__ = [
@@ -454,6 +455,38 @@ def _place_finely(x: NDArray[np.float64], row: NDArray[np.integer],
         fine_positions(x, row, column, sign, strip, s0, weights, FINE_DEAD_ZONE_PX, lo, hi)
 
 
+#: image rows smoothed at a time by the edge stage: no smoothed image is held whole
+_EDGE_STRIP_ROWS = 64
+
+
+def _strip_points(grey: NDArray[np.float32], threshold: np.float32, row_offset: int,
+                  row_step: int, n_lines: int, subpixel: bool, usable: NDArray[np.bool_],
+                  check: bool) -> list[NDArray]:
+    """:func:`~robostereo.matcher.edge_kernels.strip_points` over the lines of `grey`,
+    a strip of :data:`_EDGE_STRIP_ROWS` rows at a time, each smoothed with the two rows
+    its filter reads beyond it (so its rows come out as the whole image's would):
+    lines, columns, rows, positions, signs, magnitudes and the grey levels before and
+    after of all the peaks, ``(N,)`` each, in line order."""
+    h = grey.shape[0]
+    per_strip = max(1, _EDGE_STRIP_ROWS // row_step)
+    parts = []
+    for k0 in range(0, n_lines, per_strip):
+        k1 = min(n_lines, k0 + per_strip)
+        y0, y1 = row_offset + k0 * row_step, row_offset + (k1 - 1) * row_step + 1
+        s0, s1 = max(y0 - 2, 0), min(y1 + 2, h)
+        strip = smooth(grey[s0:s1])
+        lines = np.ascontiguousarray(strip[y0 - s0:y1 - s0:row_step])
+        del strip
+        parts.append(list(strip_points(lines, threshold, BORDER, k0, row_offset, row_step,
+                                       subpixel, usable, check)))
+    out = []
+    for f in range(8):  # field by field, each strip's part let go once joined
+        out.append(np.concatenate([p[f] for p in parts]) if len(parts) != 1 else parts[0][f])
+        for p in parts:
+            p[f] = None
+    return out
+
+
 def detect_edges(
     image: ArrayLike,
     *,
@@ -555,21 +588,18 @@ def detect_edges(
         raise InputError(f"image must be at least 5 x 5 pixels, got {w} x {h}")
     if not 0 <= row_offset < h:
         raise InputError(f"row_offset must be in 0..{h - 1}, got {row_offset}")
-    s = smooth(g0)
-    rows = np.arange(row_offset, h, row_step)
-    sr = s[row_offset::row_step]  # a view: no copy of the image
     thr = np.float32(min(float(threshold), float(np.finfo(np.float32).max)))  # no overflow
-    src = np.ascontiguousarray(sr)
-    n_lines = rows.shape[0]
+    n_lines = len(range(row_offset, h, row_step))
     usable = np.ones((1, 1), np.bool_)
     if valid is not None:
         vm = np.asarray(valid, dtype=bool)
         if vm.shape != (h, w):
             raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
         usable = usable_pixels(vm)
-    k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = (
-        edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step), bool(subpixel),
-                     int(n_lines), usable, valid is not None))
+    k, j, r, x, sign, mag, before, after = _strip_points(
+        g0, thr, int(row_offset), int(row_step), int(n_lines), bool(subpixel), usable,
+        valid is not None)
+    up, down, up_off, down_off, pattern, mean5 = peak_links(k, j, sign, int(n_lines), g0, r)
     weights = fine_weights(edge_blur_px) if subpixel else None
     if weights is not None:
         _place_finely(x, r, j, sign, g0, weights)
