@@ -136,8 +136,8 @@ def connect_sorted(line, column, sign, n_lines):  # type: ignore[no-untyped-def]
         starts[line[i] + 1] += 1
     for k in range(n_lines):
         starts[k + 1] += starts[k]
-    up = np.full(n, -1, dtype=np.int64)
-    down = np.full(n, -1, dtype=np.int64)
+    up = np.full(n, -1, dtype=np.int32)
+    down = np.full(n, -1, dtype=np.int32)
     up_off = np.zeros(n, dtype=np.int8)
     down_off = np.zeros(n, dtype=np.int8)
     for k in range(n_lines):
@@ -317,10 +317,10 @@ def peak_values(line, column, smoothed, subpixel):  # type: ignore[no-untyped-de
     n = line.shape[0]
     w = smoothed.shape[1]
     x = np.empty(n, np.float64)
-    mag = np.empty(n, np.float64)
+    mag = np.empty(n, np.float32)  # float32 values: the arithmetic is float32
     sign = np.empty(n, np.int8)
-    before = np.empty(n, np.float64)
-    after = np.empty(n, np.float64)
+    before = np.empty(n, np.float32)  # grey levels of the float32 smoothed image
+    after = np.empty(n, np.float32)
     half = np.float32(0.5)
     quarter = np.float32(0.25)
     two = np.float32(2.0)
@@ -420,8 +420,8 @@ def strip_points(smoothed, threshold, m, first_line, row_offset, row_step, subpi
                  usable, check):  # type: ignore[no-untyped-def]
     """:func:`gradient_peaks` and :func:`peak_values` on a strip of an image's lines:
     ``smoothed`` holds lines ``first_line ..``, with ``check`` only the peaks on
-    ``usable`` pixels.  Returns their lines, columns and rows (of the whole image),
-    then position, sign, magnitude and the grey levels before and after; the
+    ``usable`` pixels.  Returns their lines, columns and rows (of the whole image,
+    int32), then position, sign, magnitude and the grey levels before and after; the
     features that need the lines above and below come from :func:`peak_links` once
     every strip is done."""
     line, column = gradient_peaks(smoothed, threshold, m)
@@ -432,4 +432,6 @@ def strip_points(smoothed, threshold, m, first_line, row_offset, row_step, subpi
         line, column = line[keep], column[keep]
     x, sign, mag, before, after = peak_values(line, column, smoothed, subpixel)
     line += first_line
-    return line, column, row_offset + row_step * line, x, sign, mag, before, after
+    row = row_offset + row_step * line
+    return (line.astype(np.int32), column.astype(np.int32), row.astype(np.int32), x, sign,
+            mag, before, after)

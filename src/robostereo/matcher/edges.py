@@ -243,31 +243,33 @@ def smooth(grey: NDArray[np.floating]) -> NDArray[np.float32]:
 class EdgeSet:
     """Edge points of one image with their features (thesis 3.2, ``P[i, j](d, s, m, p, a)``).
 
-    All arrays have shape ``(N,)`` and are sorted by ``(line, x)``.
+    All arrays have shape ``(N,)`` and are sorted by ``(line, x)``.  Indices are int32
+    and the features computed in float32 are kept in float32 (the position and the
+    mean grey level, summed in float64, stay float64): 52 bytes a point.
 
     Attributes
     ----------
-    line : ndarray of int
+    line : ndarray of int32
         Index ``i`` of the epipolar line (0, 1, ... over the sampled rows).
-    row : ndarray of int
+    row : ndarray of int32
         Image row of the line, ``line * row_step + row_offset``.
-    x : ndarray of float
+    x : ndarray of float64
         Sub-pixel position along the row (pixels; the thesis's distance ``d``).
-    column : ndarray of int
+    column : ndarray of int32
         Pixel column of the gradient peak.
     sign : ndarray of int8
         Contrast sign: +1 where the grey level rises along the row, -1 where it falls.
-    magnitude : ndarray of float
+    magnitude : ndarray of float32
         Gradient magnitude at the peak (grey levels per pixel, 0..127 scale).
     pattern : ndarray of int8
         Connectivity pattern type 1..16 (see :func:`pattern_type`).
-    up, down : ndarray of int
+    up, down : ndarray of int32
         Index of the connected edge point on the line above / below, -1 if none.
     up_offset, down_offset : ndarray of int8
         Column offset -1, 0 or +1 of that neighbour; 0 where there is none.
-    mean_grey : ndarray of float
+    mean_grey : ndarray of float64
         Mean grey level of the 5 x 5 window centred on the edge pixel.
-    grey_before, grey_after : ndarray of float
+    grey_before, grey_after : ndarray of float32
         Smoothed grey level ``SIDE_OFFSET`` pixels before and after the edge along the row.
     row_step, row_offset : int
         Sampling of the epipolar lines: rows ``row_offset, row_offset + row_step, ...``.
@@ -275,20 +277,20 @@ class EdgeSet:
         Number of sampled lines.
     """
 
-    line: NDArray[np.intp]
-    row: NDArray[np.intp]
+    line: NDArray[np.int32]
+    row: NDArray[np.int32]
     x: NDArray[np.float64]
-    column: NDArray[np.intp]
+    column: NDArray[np.int32]
     sign: NDArray[np.int8]
-    magnitude: NDArray[np.float64]
+    magnitude: NDArray[np.float32]
     pattern: NDArray[np.int8]
-    up: NDArray[np.intp]
-    down: NDArray[np.intp]
+    up: NDArray[np.int32]
+    down: NDArray[np.int32]
     up_offset: NDArray[np.int8]
     down_offset: NDArray[np.int8]
     mean_grey: NDArray[np.float64]
-    grey_before: NDArray[np.float64]
-    grey_after: NDArray[np.float64]
+    grey_before: NDArray[np.float32]
+    grey_after: NDArray[np.float32]
     row_step: int = 1
     row_offset: int = 0
     n_lines: int = 0
@@ -604,10 +606,9 @@ def detect_edges(
     if weights is not None:
         _place_finely(x, r, j, sign, g0, weights)
     return EdgeSet(
-        line=k.astype(np.intp, copy=False), row=r.astype(np.intp, copy=False), x=x,
-        column=j.astype(np.intp, copy=False), sign=sign, magnitude=mag, pattern=pattern,
-        up=up.astype(np.intp, copy=False), down=down.astype(np.intp, copy=False),
-        up_offset=up_off, down_offset=down_off, mean_grey=mean5, grey_before=before,
+        line=k, row=r, x=x, column=j, sign=sign, magnitude=mag, pattern=pattern,
+        up=up, down=down, up_offset=up_off, down_offset=down_off, mean_grey=mean5,
+        grey_before=before,
         grey_after=after, row_step=int(row_step), row_offset=int(row_offset),
         n_lines=int(n_lines),
     )

@@ -124,9 +124,9 @@ def _nearest_right_edge(left: EdgeSet, right: EdgeSet, x_right: NDArray[np.float
     if len(left) == 0 or len(right) == 0:
         return np.full(k1 - k0, -1, dtype=np.intp), np.full(k1 - k0, np.inf)
     idx, dist = nearest_on_lines(
-        np.ascontiguousarray(left.line[k0:k1], np.int64),
+        np.ascontiguousarray(left.line[k0:k1], np.int32),
         np.ascontiguousarray(left.sign[k0:k1], np.int8),
-        np.ascontiguousarray(x_right, np.float64), np.ascontiguousarray(right.line, np.int64),
+        np.ascontiguousarray(x_right, np.float64), np.ascontiguousarray(right.line, np.int32),
         np.ascontiguousarray(right.x, np.float64), np.ascontiguousarray(right.sign, np.int8),
         n_lines)
     return idx.astype(np.intp, copy=False), dist
@@ -377,8 +377,8 @@ def contour_accepted(
     """
     conf = np.nan_to_num(np.asarray(confidence, dtype=np.float64), nan=-1.0)
     own = conf >= acceptance
-    support, _ = contour_support(np.ascontiguousarray(left.up, np.int64),
-                                 np.ascontiguousarray(left.down, np.int64),
+    support, _ = contour_support(np.ascontiguousarray(left.up, np.int32),
+                                 np.ascontiguousarray(left.down, np.int32),
                                  np.ascontiguousarray(disparity, np.float64),
                                  own.astype(np.float64), int(reach), CONTOUR_TOLERANCE)
     return own | ((conf >= min_confidence) & (support >= share * 2 * reach))
