@@ -265,19 +265,26 @@ def test_the_blur_made_strip_by_strip_places_edges_as_the_whole_image_would(
         assert np.mean(fine.x != plain.x) > 0.2  # it moved points: the check has teeth
 
 
-@pytest.mark.parametrize(("strip_rows", "row_step", "row_offset", "masked"),
-                         [(64, 1, 0, False), (5, 1, 0, False), (7, 3, 2, True),
-                          (1, 2, 1, False), (64, 70, 3, True)])
+@pytest.mark.parametrize(("strip_rows", "row_step", "row_offset", "masked", "stripes"),
+                         [(64, 1, 0, False, False), (5, 1, 0, False, False),
+                          (7, 3, 2, True, False), (1, 2, 1, False, False),
+                          (64, 70, 3, True, False), (64, 1, 0, False, True),
+                          (3, 1, 0, True, True)])
 def test_edges_found_strip_by_strip_equal_the_whole_smoothed_image(
-        monkeypatch, strip_rows, row_step, row_offset, masked) -> None:
+        monkeypatch, strip_rows, row_step, row_offset, masked, stripes) -> None:
     """The edge stage smooths strips of rows in turn (no smoothed image is held): with
     strips of every height down to one row, the last one partial, the edge points and
-    all their features are those of the whole image smoothed at once."""
+    all their features are those of the whole image smoothed at once; also where there
+    are more edge points than the room first made for them (stripes: an edge every
+    three pixels)."""
     import robostereo.matcher.edges as edges_module
     from robostereo.matcher.edge_kernels import edge_points
     from robostereo.matcher.edges import BORDER, usable_pixels
 
     img = np.random.default_rng(9).integers(0, 256, (203, 90)).astype(np.uint8)
+    if stripes:
+        img = np.tile(np.repeat(np.arange(30) % 2 * 200, 3), (203, 1)).astype(np.uint8)
+        img[::7] = img[::7] // 2  # lines of another contrast
     valid = np.ones(img.shape, bool)
     valid[:, :20] = valid[90:100] = False
     grey = to_grey(img)
@@ -290,6 +297,8 @@ def test_edges_found_strip_by_strip_equal_the_whole_smoothed_image(
     e = detect_edges(img, row_step=row_step, row_offset=row_offset,
                      valid=valid if masked else None)
     assert len(e) >= 10
+    if stripes:
+        assert len(e) > img.size // 8  # more than the first room: it grew
     names = ("line", "column", "row", "x", "sign", "magnitude", "up", "down", "up_offset",
              "down_offset", "pattern", "mean_grey", "grey_before", "grey_after")
     for name, expected in zip(names, whole, strict=True):

@@ -468,10 +468,13 @@ def _strip_points(grey: NDArray[np.float32], threshold: np.float32, row_offset: 
     a strip of :data:`_EDGE_STRIP_ROWS` rows at a time, each smoothed with the two rows
     its filter reads beyond it (so its rows come out as the whole image's would):
     lines, columns, rows, positions, signs, magnitudes and the grey levels before and
-    after of all the peaks, ``(N,)`` each, in line order."""
-    h = grey.shape[0]
+    after of all the peaks, ``(N,)`` each, in line order.  Each strip's points are
+    copied into arrays made once with room to spare and cut to size at the end, not
+    joined from the strips' parts (which would hold every point twice)."""
+    h, w = grey.shape
     per_strip = max(1, _EDGE_STRIP_ROWS // row_step)
-    parts = []
+    out: list[NDArray] = []
+    n = 0
     for k0 in range(0, n_lines, per_strip):
         k1 = min(n_lines, k0 + per_strip)
         y0, y1 = row_offset + k0 * row_step, row_offset + (k1 - 1) * row_step + 1
@@ -479,13 +482,19 @@ def _strip_points(grey: NDArray[np.float32], threshold: np.float32, row_offset: 
         strip = smooth(grey[s0:s1])
         lines = np.ascontiguousarray(strip[y0 - s0:y1 - s0:row_step])
         del strip
-        parts.append(list(strip_points(lines, threshold, BORDER, k0, row_offset, row_step,
-                                       subpixel, usable, check)))
-    out = []
-    for f in range(8):  # field by field, each strip's part let go once joined
-        out.append(np.concatenate([p[f] for p in parts]) if len(parts) != 1 else parts[0][f])
-        for p in parts:
-            p[f] = None
+        part = strip_points(lines, threshold, BORDER, k0, row_offset, row_step, subpixel,
+                            usable, check)
+        k = part[0].shape[0]
+        if not out:  # room for an eighth of the pixels, the pages touched only as filled
+            out = [np.empty(max(k, n_lines * w // 8), a.dtype) for a in part]
+        if n + k > out[0].shape[0]:  # more edge points than that: twice the room
+            for a in out:
+                a.resize(max(2 * a.shape[0], n + k), refcheck=False)
+        for a, b in zip(out, part, strict=True):
+            a[n:n + k] = b
+        n += k
+    for a in out:  # the room not used given back (realloc: no copy)
+        a.resize(n, refcheck=False)
     return out
 
 
