@@ -469,9 +469,10 @@ def _strip_points(grey: NDArray[np.float32], threshold: np.float32, row_offset: 
     its filter reads beyond it (so its rows come out as the whole image's would):
     lines, columns, rows, positions, signs, magnitudes and the grey levels before and
     after of all the peaks, ``(N,)`` each, in line order.  Each strip's points are
-    copied into arrays made once with room to spare and cut to size at the end, not
-    joined from the strips' parts (which would hold every point twice)."""
-    h, w = grey.shape
+    copied into arrays made with the room the strips so far foretell (remade larger
+    where that falls short) and cut to size at the end, not joined from the strips'
+    parts (which would hold every point twice)."""
+    h = grey.shape[0]
     per_strip = max(1, _EDGE_STRIP_ROWS // row_step)
     out: list[NDArray] = []
     n = 0
@@ -485,11 +486,14 @@ def _strip_points(grey: NDArray[np.float32], threshold: np.float32, row_offset: 
         part = strip_points(lines, threshold, BORDER, k0, row_offset, row_step, subpixel,
                             usable, check)
         k = part[0].shape[0]
-        if not out:  # room for an eighth of the pixels, the pages touched only as filled
-            out = [np.empty(max(k, n_lines * w // 8), a.dtype) for a in part]
-        if n + k > out[0].shape[0]:  # more edge points than that: twice the room
+        # room for the points the lines so far foretell for the whole image, a quarter
+        # more; made again from the count so far where that was too little
+        room = max(n + k, 1024, (n + k) * n_lines * 5 // (4 * k1))
+        if not out:
+            out = [np.empty(room, a.dtype) for a in part]
+        elif n + k > out[0].shape[0]:
             for a in out:
-                a.resize(max(2 * a.shape[0], n + k), refcheck=False)
+                a.resize(room, refcheck=False)
         for a, b in zip(out, part, strict=True):
             a[n:n + k] = b
         n += k
