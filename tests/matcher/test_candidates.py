@@ -150,3 +150,25 @@ def test_pair_similarity_is_the_seed_formula_and_checks_its_indices(rng):
     for bad in ([len(left)], [-1]):
         with pytest.raises(InputError, match="index"):
             pair_similarity(left, right, np.array(bad), np.array([0]))
+
+
+def test_similarity_of_float32_edge_features_is_taken_in_float64() -> None:
+    """The edge sets keep magnitude and the side grey levels in float32; the indices
+    are their differences in float64, as with the same values in float64 arrays."""
+    import dataclasses
+
+    from robostereo.matcher.candidates import pair_similarity
+
+    rng = np.random.default_rng(3)
+    img = rng.integers(0, 256, (40, 120)).astype(np.uint8)
+    left, right = detect_edges(img), detect_edges(np.roll(img, -3, axis=1), threshold=6.0)
+    assert left.magnitude.dtype == np.float32
+
+    def wide(e):
+        return dataclasses.replace(e, **{k: getattr(e, k).astype(np.float64)
+                                         for k in ("magnitude", "grey_before", "grey_after")})
+
+    li, ri = rng.integers(0, len(left), 5000), rng.integers(0, len(right), 5000)
+    for narrow, widened in zip(pair_similarity(left, right, li, ri),
+                               pair_similarity(wide(left), wide(right), li, ri), strict=True):
+        assert np.array_equal(narrow, widened)

@@ -265,6 +265,66 @@ def test_the_blur_made_strip_by_strip_places_edges_as_the_whole_image_would(
         assert np.mean(fine.x != plain.x) > 0.2  # it moved points: the check has teeth
 
 
+@pytest.mark.parametrize(("strip_rows", "row_step", "row_offset", "masked", "stripes"),
+                         [(64, 1, 0, False, False), (5, 1, 0, False, False),
+                          (7, 3, 2, True, False), (1, 2, 1, False, False),
+                          (64, 70, 3, True, False), (64, 1, 0, False, True),
+                          (3, 1, 0, True, True)])
+def test_edges_found_strip_by_strip_equal_the_whole_smoothed_image(
+        monkeypatch, strip_rows, row_step, row_offset, masked, stripes) -> None:
+    """The edge stage smooths strips of rows in turn (no smoothed image is held): with
+    strips of every height down to one row, the last one partial, the edge points and
+    all their features are those of the whole image smoothed at once; also where the
+    first strips foretell too few points (no edges above, an edge every three pixels
+    below), so that the room made for them grows."""
+    import robostereo.matcher.edges as edges_module
+    from robostereo.matcher.edge_kernels import edge_points
+    from robostereo.matcher.edges import BORDER, usable_pixels
+
+    img = np.random.default_rng(9).integers(0, 256, (203, 90)).astype(np.uint8)
+    if stripes:
+        img = np.tile(np.repeat(np.arange(30) % 2 * 200, 3), (203, 1)).astype(np.uint8)
+        img[::7] = img[::7] // 2  # lines of another contrast
+        img[:100] = 90  # no edge points in the first strips
+    valid = np.ones(img.shape, bool)
+    valid[:, :20] = valid[90:100] = False
+    grey = to_grey(img)
+    n_lines = len(range(row_offset, img.shape[0], row_step))
+    usable = usable_pixels(valid) if masked else np.ones((1, 1), np.bool_)
+    src = np.ascontiguousarray(smooth(grey)[row_offset::row_step])
+    whole = edge_points(src, grey, np.float32(8.0), BORDER, row_offset, row_step, True,
+                        n_lines, usable, masked)
+    monkeypatch.setattr(edges_module, "_EDGE_STRIP_ROWS", strip_rows)
+    e = detect_edges(img, row_step=row_step, row_offset=row_offset,
+                     valid=valid if masked else None)
+    assert len(e) >= 10
+    if stripes:
+        assert len(e) > 1024  # beyond the least room first made: it grew
+    names = ("line", "column", "row", "x", "sign", "magnitude", "up", "down", "up_offset",
+             "down_offset", "pattern", "mean_grey", "grey_before", "grey_after")
+    for name, expected in zip(names, whole, strict=True):
+        assert np.array_equal(getattr(e, name), expected), name
+
+
+def test_edge_sets_keep_int32_indices_and_float32_where_computed_in_float32() -> None:
+    """The dtypes of an EdgeSet (52 bytes a point): indices int32, the features that
+    come from float32 arithmetic float32 and equal to it, the position and the 5 x 5
+    mean (summed in float64) float64."""
+    img = np.random.default_rng(10).integers(0, 256, (60, 80)).astype(np.uint8)
+    e = detect_edges(img, edge_blur_px=0.85)
+    assert len(e) > 50
+    kinds = {"line": np.int32, "row": np.int32, "column": np.int32, "up": np.int32,
+             "down": np.int32, "magnitude": np.float32, "grey_before": np.float32,
+             "grey_after": np.float32, "x": np.float64, "mean_grey": np.float64,
+             "sign": np.int8, "pattern": np.int8, "up_offset": np.int8,
+             "down_offset": np.int8}
+    for name, dtype in kinds.items():
+        assert getattr(e, name).dtype == dtype, name
+    s = smooth(to_grey(img))
+    assert np.array_equal(e.grey_before, s[e.row, np.maximum(e.column - 4, 0)])
+    assert not np.all(e.x == np.round(e.x))  # sub-pixel positions kept in float64
+
+
 @pytest.mark.parametrize("blur", [-0.1, 10.5, float("nan"), "1", True])
 def test_an_edge_blur_outside_0_10_is_refused(blur) -> None:
     with pytest.raises(InputError, match="edge_blur_px"):

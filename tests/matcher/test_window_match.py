@@ -8,6 +8,7 @@ from synthetic import layered_pair
 
 from robostereo.errors import InputError
 from robostereo.evaluation import match_errors
+from robostereo.matcher.confidence import DEFAULT_MODEL
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
 from robostereo.matcher.window_match import COARSE_MIN_DISPARITIES
 
@@ -98,5 +99,10 @@ def test_costs_made_first_give_the_same_match_and_small_chunks_do_too(monkeypatc
         for name in ("disparity", "right_edge", "features", "confidence"):
             assert np.array_equal(getattr(whole, name), getattr(split, name), equal_nan=True)
         assert whole.costs.d_min == split.costs.d_min
+        # the evidence is kept in float32; the confidence was scored from it in float64
+        assert whole.features.dtype == np.float32
+        has = np.isfinite(whole.confidence)
+        assert np.allclose(DEFAULT_MODEL(whole.features)[has], whole.confidence[has],
+                           rtol=0, atol=1e-6)
     with pytest.raises(InputError, match="grey images or the costs"):
         wm_module.window_match(el, er, None, None, (0.0, 30.0))

@@ -306,13 +306,15 @@ def _similarity(li, ri, mag_l, uo_l, do_l, up_l, dn_l, mean_l, bef_l, aft_l,
     side = np.empty(n)
     for k in range(n):
         i, j = li[k], ri[k]
-        gi[k] = 1.0 / (1.0 + abs(float(mag_l[i]) - float(mag_r[j])))
+        # np.float64, not float(): numba's float() keeps a float32 a float32, and the
+        # differences are taken in float64 whatever the edge sets' dtypes
+        gi[k] = 1.0 / (1.0 + abs(np.float64(mag_l[i]) - np.float64(mag_r[j])))
         diff = (_one_side(uo_l[i], uo_r[j], up_l[i] >= 0, up_r[j] >= 0)
                 + _one_side(do_l[i], do_r[j], dn_l[i] >= 0, dn_r[j] >= 0))
         pi[k] = 1.0 / (1.0 + float(diff))
-        ai[k] = 1.0 / (1.0 + abs(float(mean_l[i]) - float(mean_r[j])))
-        side[k] = 0.5 * (abs(float(bef_l[i]) - float(bef_r[j]))
-                         + abs(float(aft_l[i]) - float(aft_r[j])))
+        ai[k] = 1.0 / (1.0 + abs(np.float64(mean_l[i]) - np.float64(mean_r[j])))
+        side[k] = 0.5 * (abs(np.float64(bef_l[i]) - np.float64(bef_r[j]))
+                         + abs(np.float64(aft_l[i]) - np.float64(aft_r[j])))
     return gi, pi, ai, side
 
 

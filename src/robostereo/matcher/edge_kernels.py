@@ -1,10 +1,12 @@
 """Numba kernels of the edge stage: gradient peaks along rows and their features.
 
-:func:`edge_points` is what :func:`robostereo.matcher.edges.detect_edges` calls on the
-smoothed image: the peaks of the row gradient (:func:`gradient_peaks`, thesis 3.1 [1]_), then
-their features (:func:`peak_features`, thesis 3.2): sub-pixel position, sign,
-connectivity (:func:`connect_sorted`), pattern type (:func:`pattern_of`), 5 x 5 mean grey
-(:func:`mean5_at`) and the grey levels either side.  :func:`connect` and :func:`patterns`
+:func:`robostereo.matcher.edges.detect_edges` calls :func:`strip_points` on each strip of
+smoothed rows: the peaks of the row gradient (:func:`gradient_peaks`, thesis 3.1 [1]_) and
+what the row gives of their features (:func:`peak_values`, thesis 3.2: sub-pixel
+position, sign, magnitude, the grey levels either side); then, on all the peaks,
+:func:`peak_links`: connectivity (:func:`connect_sorted`), pattern type
+(:func:`pattern_of`) and 5 x 5 mean grey (:func:`mean5_at`).  :func:`edge_points` does
+the same on a whole smoothed image at once.  :func:`connect` and :func:`patterns`
 serve :func:`robostereo.matcher.edges.connectivity` and
 :func:`robostereo.matcher.edges.pattern_type` on points in any order.  Only numba
 functions and the constants they compile in.
@@ -35,6 +37,9 @@ __all__ = [
     "pattern_of",
     "patterns",
     "peak_features",
+    "peak_links",
+    "peak_values",
+    "strip_points",
 ]
 
 #: how far (pixels) the grey levels beside an edge are sampled, either side
@@ -131,8 +136,8 @@ def connect_sorted(line, column, sign, n_lines):  # type: ignore[no-untyped-def]
         starts[line[i] + 1] += 1
     for k in range(n_lines):
         starts[k + 1] += starts[k]
-    up = np.full(n, -1, dtype=np.int64)
-    down = np.full(n, -1, dtype=np.int64)
+    up = np.full(n, -1, dtype=np.int32)
+    down = np.full(n, -1, dtype=np.int32)
     up_off = np.zeros(n, dtype=np.int8)
     down_off = np.zeros(n, dtype=np.int8)
     for k in range(n_lines):
@@ -305,18 +310,17 @@ def blurred_span(vert, c, weights, out):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
-def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
-                  n_lines):  # type: ignore[no-untyped-def]
-    """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
-    the grey levels before and after of the peaks of :func:`gradient_peaks` (float32
-    arithmetic where NumPy's on the same arrays is float32)."""
+def peak_values(line, column, smoothed, subpixel):  # type: ignore[no-untyped-def]
+    """Sub-pixel position, sign, magnitude and the smoothed grey levels before and after
+    of the peaks ``(line[i], column[i])`` of :func:`gradient_peaks` on ``smoothed``
+    (float32 arithmetic where NumPy's on the same arrays is float32)."""
     n = line.shape[0]
     w = smoothed.shape[1]
     x = np.empty(n, np.float64)
-    mag = np.empty(n, np.float64)
+    mag = np.empty(n, np.float32)  # float32 values: the arithmetic is float32
     sign = np.empty(n, np.int8)
-    before = np.empty(n, np.float64)
-    after = np.empty(n, np.float64)
+    before = np.empty(n, np.float32)  # grey levels of the float32 smoothed image
+    after = np.empty(n, np.float32)
     half = np.float32(0.5)
     quarter = np.float32(0.25)
     two = np.float32(2.0)
@@ -342,12 +346,31 @@ def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
         sign[i] = 1 if gradient > 0 else (-1 if gradient < 0 else 0)
         before[i] = smoothed[line[i], min(max(column[i] - SIDE_OFFSET, 0), w - 1)]
         after[i] = smoothed[line[i], min(max(column[i] + SIDE_OFFSET, 0), w - 1)]
-    # -- connectivity, pattern type, mean grey
+    return x, sign, mag, before, after
+
+
+@kernel(nogil=True)
+def peak_links(line, column, sign, n_lines, grey, row):  # type: ignore[no-untyped-def]
+    """Connectivity (:func:`connect_sorted`), pattern type and 5 x 5 mean grey level of
+    ``grey`` at pixel ``(row[i], column[i])`` of all the peaks of an image, sorted by
+    line and column."""
     up, down, up_off, down_off = connect_sorted(line, column, sign, n_lines)
-    pattern = np.empty(n, np.int8)
-    for i in range(n):
+    pattern = np.empty(line.shape[0], np.int8)
+    for i in range(line.shape[0]):
         pattern[i] = pattern_of(up_off[i], down_off[i], up[i] >= 0, down[i] >= 0)
-    mean5 = mean5_at(grey, row_offset + row_step * line, column)
+    mean5 = mean5_at(grey, row, column)
+    return up, down, up_off, down_off, pattern, mean5
+
+
+@kernel(nogil=True)
+def peak_features(line, column, smoothed, grey, row_offset, row_step, subpixel,
+                  n_lines):  # type: ignore[no-untyped-def]
+    """Sub-pixel position, magnitude, sign, connectivity, pattern type, mean grey and
+    the grey levels before and after of the peaks of :func:`gradient_peaks`
+    (:func:`peak_values`, then :func:`peak_links`)."""
+    x, sign, mag, before, after = peak_values(line, column, smoothed, subpixel)
+    up, down, up_off, down_off, pattern, mean5 = peak_links(
+        line, column, sign, n_lines, grey, row_offset + row_step * line)
     return x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after
 
 
@@ -390,3 +413,25 @@ def edge_points(smoothed, grey, threshold, m, row_offset, row_step, subpixel, n_
         line, column, smoothed, grey, row_offset, row_step, subpixel, n_lines)
     return (line, column, row, x, sign, mag, up, down, up_off, down_off, pattern, mean5,
             before, after)
+
+
+@kernel(nogil=True)
+def strip_points(smoothed, threshold, m, first_line, row_offset, row_step, subpixel,
+                 usable, check):  # type: ignore[no-untyped-def]
+    """:func:`gradient_peaks` and :func:`peak_values` on a strip of an image's lines:
+    ``smoothed`` holds lines ``first_line ..``, with ``check`` only the peaks on
+    ``usable`` pixels.  Returns their lines, columns and rows (of the whole image,
+    int32), then position, sign, magnitude and the grey levels before and after; the
+    features that need the lines above and below come from :func:`peak_links` once
+    every strip is done."""
+    line, column = gradient_peaks(smoothed, threshold, m)
+    if check:
+        keep = np.empty(line.shape[0], np.bool_)
+        for i in range(line.shape[0]):
+            keep[i] = usable[row_offset + row_step * (first_line + line[i]), column[i]]
+        line, column = line[keep], column[keep]
+    x, sign, mag, before, after = peak_values(line, column, smoothed, subpixel)
+    line += first_line
+    row = row_offset + row_step * line
+    return (line.astype(np.int32), column.astype(np.int32), row.astype(np.int32), x, sign,
+            mag, before, after)

@@ -29,9 +29,10 @@ from robostereo.matcher.edge_kernels import (
     FINE_DEAD_ZONE_PX,
     SIDE_OFFSET,
     connect,
-    edge_points,
     fine_positions,
     patterns,
+    peak_links,
+    strip_points,
 )
 
 __all__ = [
@@ -242,31 +243,33 @@ def smooth(grey: NDArray[np.floating]) -> NDArray[np.float32]:
 class EdgeSet:
     """Edge points of one image with their features (thesis 3.2, ``P[i, j](d, s, m, p, a)``).
 
-    All arrays have shape ``(N,)`` and are sorted by ``(line, x)``.
+    All arrays have shape ``(N,)`` and are sorted by ``(line, x)``.  Indices are int32
+    and the features computed in float32 are kept in float32 (the position and the
+    mean grey level, summed in float64, stay float64): 52 bytes a point.
 
     Attributes
     ----------
-    line : ndarray of int
+    line : ndarray of int32
         Index ``i`` of the epipolar line (0, 1, ... over the sampled rows).
-    row : ndarray of int
+    row : ndarray of int32
         Image row of the line, ``line * row_step + row_offset``.
-    x : ndarray of float
+    x : ndarray of float64
         Sub-pixel position along the row (pixels; the thesis's distance ``d``).
-    column : ndarray of int
+    column : ndarray of int32
         Pixel column of the gradient peak.
     sign : ndarray of int8
         Contrast sign: +1 where the grey level rises along the row, -1 where it falls.
-    magnitude : ndarray of float
+    magnitude : ndarray of float32
         Gradient magnitude at the peak (grey levels per pixel, 0..127 scale).
     pattern : ndarray of int8
         Connectivity pattern type 1..16 (see :func:`pattern_type`).
-    up, down : ndarray of int
+    up, down : ndarray of int32
         Index of the connected edge point on the line above / below, -1 if none.
     up_offset, down_offset : ndarray of int8
         Column offset -1, 0 or +1 of that neighbour; 0 where there is none.
-    mean_grey : ndarray of float
+    mean_grey : ndarray of float64
         Mean grey level of the 5 x 5 window centred on the edge pixel.
-    grey_before, grey_after : ndarray of float
+    grey_before, grey_after : ndarray of float32
         Smoothed grey level ``SIDE_OFFSET`` pixels before and after the edge along the row.
     row_step, row_offset : int
         Sampling of the epipolar lines: rows ``row_offset, row_offset + row_step, ...``.
@@ -274,20 +277,20 @@ class EdgeSet:
         Number of sampled lines.
     """
 
-    line: NDArray[np.intp]
-    row: NDArray[np.intp]
+    line: NDArray[np.int32]
+    row: NDArray[np.int32]
     x: NDArray[np.float64]
-    column: NDArray[np.intp]
+    column: NDArray[np.int32]
     sign: NDArray[np.int8]
-    magnitude: NDArray[np.float64]
+    magnitude: NDArray[np.float32]
     pattern: NDArray[np.int8]
-    up: NDArray[np.intp]
-    down: NDArray[np.intp]
+    up: NDArray[np.int32]
+    down: NDArray[np.int32]
     up_offset: NDArray[np.int8]
     down_offset: NDArray[np.int8]
     mean_grey: NDArray[np.float64]
-    grey_before: NDArray[np.float64]
-    grey_after: NDArray[np.float64]
+    grey_before: NDArray[np.float32]
+    grey_after: NDArray[np.float32]
     row_step: int = 1
     row_offset: int = 0
     n_lines: int = 0
@@ -454,6 +457,51 @@ def _place_finely(x: NDArray[np.float64], row: NDArray[np.integer],
         fine_positions(x, row, column, sign, strip, s0, weights, FINE_DEAD_ZONE_PX, lo, hi)
 
 
+#: image rows smoothed at a time by the edge stage: no smoothed image is held whole
+_EDGE_STRIP_ROWS = 64
+
+
+def _strip_points(grey: NDArray[np.float32], threshold: np.float32, row_offset: int,
+                  row_step: int, n_lines: int, subpixel: bool, usable: NDArray[np.bool_],
+                  check: bool) -> list[NDArray]:
+    """:func:`~robostereo.matcher.edge_kernels.strip_points` over the lines of `grey`,
+    a strip of :data:`_EDGE_STRIP_ROWS` rows at a time, each smoothed with the two rows
+    its filter reads beyond it (so its rows come out as the whole image's would):
+    lines, columns, rows, positions, signs, magnitudes and the grey levels before and
+    after of all the peaks, ``(N,)`` each, in line order.  Each strip's points are
+    copied into arrays made with the room the strips so far foretell (remade larger
+    where that falls short) and cut to size at the end, not joined from the strips'
+    parts (which would hold every point twice)."""
+    h = grey.shape[0]
+    per_strip = max(1, _EDGE_STRIP_ROWS // row_step)
+    out: list[NDArray] = []
+    n = 0
+    for k0 in range(0, n_lines, per_strip):
+        k1 = min(n_lines, k0 + per_strip)
+        y0, y1 = row_offset + k0 * row_step, row_offset + (k1 - 1) * row_step + 1
+        s0, s1 = max(y0 - 2, 0), min(y1 + 2, h)
+        strip = smooth(grey[s0:s1])
+        lines = np.ascontiguousarray(strip[y0 - s0:y1 - s0:row_step])
+        del strip
+        part = strip_points(lines, threshold, BORDER, k0, row_offset, row_step, subpixel,
+                            usable, check)
+        k = part[0].shape[0]
+        # room for the points the lines so far foretell for the whole image, a quarter
+        # more; made again from the count so far where that was too little
+        room = max(n + k, 1024, (n + k) * n_lines * 5 // (4 * k1))
+        if not out:
+            out = [np.empty(room, a.dtype) for a in part]
+        elif n + k > out[0].shape[0]:
+            for a in out:
+                a.resize(room, refcheck=False)
+        for a, b in zip(out, part, strict=True):
+            a[n:n + k] = b
+        n += k
+    for a in out:  # the room not used given back (realloc: no copy)
+        a.resize(n, refcheck=False)
+    return out
+
+
 def detect_edges(
     image: ArrayLike,
     *,
@@ -555,29 +603,25 @@ def detect_edges(
         raise InputError(f"image must be at least 5 x 5 pixels, got {w} x {h}")
     if not 0 <= row_offset < h:
         raise InputError(f"row_offset must be in 0..{h - 1}, got {row_offset}")
-    s = smooth(g0)
-    rows = np.arange(row_offset, h, row_step)
-    sr = s[row_offset::row_step]  # a view: no copy of the image
     thr = np.float32(min(float(threshold), float(np.finfo(np.float32).max)))  # no overflow
-    src = np.ascontiguousarray(sr)
-    n_lines = rows.shape[0]
+    n_lines = len(range(row_offset, h, row_step))
     usable = np.ones((1, 1), np.bool_)
     if valid is not None:
         vm = np.asarray(valid, dtype=bool)
         if vm.shape != (h, w):
             raise InputError(f"valid mask must have the image's shape {(h, w)}, got {vm.shape}")
         usable = usable_pixels(vm)
-    k, j, r, x, sign, mag, up, down, up_off, down_off, pattern, mean5, before, after = (
-        edge_points(src, g0, thr, BORDER, int(row_offset), int(row_step), bool(subpixel),
-                     int(n_lines), usable, valid is not None))
+    k, j, r, x, sign, mag, before, after = _strip_points(
+        g0, thr, int(row_offset), int(row_step), int(n_lines), bool(subpixel), usable,
+        valid is not None)
+    up, down, up_off, down_off, pattern, mean5 = peak_links(k, j, sign, int(n_lines), g0, r)
     weights = fine_weights(edge_blur_px) if subpixel else None
     if weights is not None:
         _place_finely(x, r, j, sign, g0, weights)
     return EdgeSet(
-        line=k.astype(np.intp, copy=False), row=r.astype(np.intp, copy=False), x=x,
-        column=j.astype(np.intp, copy=False), sign=sign, magnitude=mag, pattern=pattern,
-        up=up.astype(np.intp, copy=False), down=down.astype(np.intp, copy=False),
-        up_offset=up_off, down_offset=down_off, mean_grey=mean5, grey_before=before,
+        line=k, row=r, x=x, column=j, sign=sign, magnitude=mag, pattern=pattern,
+        up=up, down=down, up_offset=up_off, down_offset=down_off, mean_grey=mean5,
+        grey_before=before,
         grey_after=after, row_step=int(row_step), row_offset=int(row_offset),
         n_lines=int(n_lines),
     )

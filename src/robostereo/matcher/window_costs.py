@@ -412,14 +412,15 @@ def window_costs(
     d_lo, d_hi = (int(v) for v in disparity_range)
     if d_lo > d_hi:
         raise InputError(f"disparity_range must have min <= max, got {disparity_range}")
-    r = np.ascontiguousarray(rows, dtype=np.int64)
-    c = np.ascontiguousarray(columns, dtype=np.int64)
+    r, c = np.asarray(rows), np.asarray(columns)
     h, w = gl.shape
     if r.shape != c.shape or r.ndim != 1:
         raise InputError("rows and columns must be 1-D arrays of one length")
     if r.size and (np.any(np.diff(r) < 0) or r.min() < 0 or r.max() >= h or c.min() < 0
                    or c.max() >= w):
         raise InputError("edge pixels must lie in the image and be sorted by row")
+    r = np.ascontiguousarray(r, dtype=np.int32)  # an EdgeSet's are: no copy
+    c = np.ascontiguousarray(c, dtype=np.int32)
     # -- masks: invalid pixels get a gradient that differs from any by more than the
     # truncation and a census of alternating bits, so that any pair with one costs
     # nearly the most

@@ -75,8 +75,9 @@ CONTOUR_SHARE = 0.5
 #: largest disparity difference (pixels) of contour neighbours that support each other
 CONTOUR_TOLERANCE = 1.0
 
-#: the thesis's similarity of the right edge points found is computed this many points
-#: at a time, so that its temporaries stay small whatever the number of edge points
+#: the evidence, the thesis's similarity of the right edge points found and the
+#: confidence are computed this many points at a time, so that their float64
+#: temporaries stay small whatever the number of edge points
 SIMILARITY_CHUNK = 1 << 14
 
 
@@ -94,32 +95,38 @@ class WindowMatch:
         range is out of view.
     right_edge : ndarray of int, shape (N,)
         Index of that right edge point, -1 where there is none.
-    features : ndarray of float, shape (N, F)
-        The evidence, columns named by :data:`robostereo.matcher.confidence.FEATURES`.
+    features : ndarray of float32, shape (N, F)
+        The evidence, columns named by :data:`robostereo.matcher.confidence.FEATURES`,
+        kept in float32 (uniquenesses and similarities in 0..1, flags 0 or 1: seven
+        digits are more than they hold).
     confidence : ndarray of float, shape (N,)
-        Calibrated ``P(correct)`` of the best disparity; NaN where there is none.
+        Calibrated ``P(correct)`` of the best disparity; NaN where there is none.  It is
+        scored from the evidence in float64 before the features are stored, so the
+        model applied to ``features`` again may differ from it by about 1e-7.
     costs : WindowCosts
         The window costs the match was read from.
     """
 
     disparity: NDArray[np.float64]
     right_edge: NDArray[np.intp]
-    features: NDArray[np.float64]
+    features: NDArray[np.float32]
     confidence: NDArray[np.float64]
     costs: WindowCosts
 
 
-def _nearest_right_edge(left: EdgeSet, right: EdgeSet, x_right: NDArray[np.float64]
-                        ) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
-    """Per left edge point, the right edge point next to ``x_right`` on its line (the
-    nearer of the two around it, if it has the same contrast sign), and the distance
-    (``inf`` where none)."""
+def _nearest_right_edge(left: EdgeSet, right: EdgeSet, x_right: NDArray[np.float64],
+                        k0: int, n_lines: int) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
+    """Per left edge point ``k0 + k`` (``x_right`` ``(K,)``), the right edge point next to
+    ``x_right[k]`` on its line (the nearer of the two around it, if it has the same
+    contrast sign), and the distance (``inf`` where none); `n_lines` from
+    :func:`_n_lines`."""
+    k1 = k0 + x_right.shape[0]
     if len(left) == 0 or len(right) == 0:
-        return np.full(len(left), -1, dtype=np.intp), np.full(len(left), np.inf)
-    n_lines = int(max(int(left.line.max()), int(right.line.max())) + 1)
+        return np.full(k1 - k0, -1, dtype=np.intp), np.full(k1 - k0, np.inf)
     idx, dist = nearest_on_lines(
-        np.ascontiguousarray(left.line, np.int64), np.ascontiguousarray(left.sign, np.int8),
-        np.ascontiguousarray(x_right, np.float64), np.ascontiguousarray(right.line, np.int64),
+        np.ascontiguousarray(left.line[k0:k1], np.int32),
+        np.ascontiguousarray(left.sign[k0:k1], np.int8),
+        np.ascontiguousarray(x_right, np.float64), np.ascontiguousarray(right.line, np.int32),
         np.ascontiguousarray(right.x, np.float64), np.ascontiguousarray(right.sign, np.int8),
         n_lines)
     return idx.astype(np.intp, copy=False), dist
@@ -256,36 +263,64 @@ def window_match(
     wc = costs
     d_lo = wc.d_min
     n, nd = len(left), wc.n_disparities
-    feats = np.zeros((n, len(FEATURES)))
     summary = StreamSummary(*(getattr(wc, name) for name in StreamSummary._fields))
+    score = model or DEFAULT_MODEL
+    n_lines = _n_lines(left, right)
+    # the evidence, a chunk of points at a time: each chunk's features in float64 while
+    # its confidence is computed, then kept in float32 (the whole table in float64 was
+    # the largest array of a match with many edge points)
+    feats = np.empty((n, len(FEATURES)), np.float32)
+    disparity = np.empty(n)
+    right_edge = np.empty(n, np.intp)
+    conf = np.empty(n)
+    for k0 in range(0, n, SIMILARITY_CHUNK):
+        k1 = min(n, k0 + SIMILARITY_CHUNK)
+        f = np.zeros((k1 - k0, len(FEATURES)))
+        d, idx, c = _chunk(left, right, StreamSummary(*(a[k0:k1] for a in summary)), k0, f,
+                           d_lo, nd, lo, hi, n_lines, weights, profile_scale, score)
+        disparity[k0:k1], right_edge[k0:k1], conf[k0:k1] = d, idx, c
+        feats[k0:k1] = f
+    return WindowMatch(disparity=disparity, right_edge=right_edge, features=feats,
+                       confidence=conf, costs=wc)
+
+
+def _n_lines(left: EdgeSet, right: EdgeSet) -> int:
+    """Lines that the edge points of either image lie on (0 without any)."""
+    if len(left) == 0 or len(right) == 0:
+        return 0
+    return int(max(int(left.line.max()), int(right.line.max())) + 1)
+
+
+def _chunk(left: EdgeSet, right: EdgeSet, summary: StreamSummary, k0: int,
+           feats: NDArray[np.float64], d_lo: int, nd: int, lo: float, hi: float,
+           n_lines: int, weights: SimilarityWeights | None, profile_scale: float | None,
+           score: ConfidenceModel
+           ) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.float64]]:
+    """Steps 2-6 of :func:`window_match` for the left edge points ``k0 .. k0 + K - 1``
+    (``summary`` their window costs): their features into ``feats`` ``(K, F)``, and
+    their disparities, right edge points and confidences, ``(K,)`` each."""
     d_par, seen = evidence(summary, d_lo, nd, SWAP_UNIQUENESS, feats, _EVIDENCE_COLUMNS)
-    idx, dist = _nearest_right_edge(left, right, left.x - d_par)
+    k1 = k0 + d_par.shape[0]
+    x = left.x[k0:k1]
+    idx, dist = _nearest_right_edge(left, right, x - d_par, k0, n_lines)
     use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel
     del dist
     # the sub-pixel disparity, made in place: from the right edge point where there is
-    # one, else the parabola's; NaN outside the range (no full-size temporaries)
+    # one, else the parabola's; NaN outside the range
     disparity = d_par
     if len(right):
-        np.subtract(left.x, right.x[np.maximum(idx, 0)], out=disparity, where=use_edge)
+        np.subtract(x, right.x[np.maximum(idx, 0)], out=disparity, where=use_edge)
     in_range = (disparity >= lo - 0.5) & (disparity <= hi + 0.5) & seen
     disparity[~in_range] = np.nan
     feats[:, _RIGHT_EDGE] = use_edge
     sel = np.flatnonzero(use_edge)
-    for k0 in range(0, sel.shape[0], SIMILARITY_CHUNK):
-        part = sel[k0:k0 + SIMILARITY_CHUNK]
-        feats[part, _SIMILARITY] = pair_similarity(left, right, part, idx[part],
-                                                   weights=weights,
-                                                   profile_scale=profile_scale)[4]
-    del sel
+    feats[sel, _SIMILARITY] = pair_similarity(left, right, sel + k0, idx[sel], weights=weights,
+                                              profile_scale=profile_scale)[4]
     right_edge = idx
     right_edge[~(use_edge & in_range)] = -1
-    score = model or DEFAULT_MODEL
-    conf = np.empty(n)
-    for k0 in range(0, n, SIMILARITY_CHUNK):
-        conf[k0:k0 + SIMILARITY_CHUNK] = score(feats[k0:k0 + SIMILARITY_CHUNK])
+    conf = score(feats)
     conf[~np.isfinite(disparity)] = np.nan
-    return WindowMatch(disparity=disparity, right_edge=right_edge, features=feats,
-                       confidence=conf, costs=wc)
+    return disparity, right_edge, conf
 
 
 def contour_accepted(
@@ -342,8 +377,8 @@ def contour_accepted(
     """
     conf = np.nan_to_num(np.asarray(confidence, dtype=np.float64), nan=-1.0)
     own = conf >= acceptance
-    support, _ = contour_support(np.ascontiguousarray(left.up, np.int64),
-                                 np.ascontiguousarray(left.down, np.int64),
+    support, _ = contour_support(np.ascontiguousarray(left.up, np.int32),
+                                 np.ascontiguousarray(left.down, np.int32),
                                  np.ascontiguousarray(disparity, np.float64),
                                  own.astype(np.float64), int(reach), CONTOUR_TOLERANCE)
     return own | ((conf >= min_confidence) & (support >= share * 2 * reach))
