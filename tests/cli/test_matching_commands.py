@@ -189,3 +189,19 @@ def test_no_paths_no_coarse_and_contour_reach_the_matcher():
     p = matcher_params(ap.parse_args(["--no-paths", "--no-coarse", "--contour"]),
                        MatchParameters())
     assert not p.paths and not p.coarse and p.contour
+
+
+def test_match_says_when_the_views_grey_levels_differ(tmp_path, rng, capsys):
+    import cv2
+
+    left, right, _ = synthetic_pair(rng, height=90, width=260)
+    bright = np.clip(np.rint(1.35 * right.astype(float) + 6), 0, 255).astype(np.uint8)
+    lp, rp = tmp_path / "l.png", tmp_path / "r.png"
+    cv2.imwrite(str(lp), left)
+    cv2.imwrite(str(rp), bright)
+    args = ["match", str(lp), str(rp), "--min-disparity", "4", "--max-disparity", "16"]
+    assert main([*args, "-o", str(tmp_path / "a.csv")]) == 0
+    assert "grey levels differ" in capsys.readouterr().err
+    assert main([*args, "-o", str(tmp_path / "b.csv"), "--no-photometric"]) == 0
+    assert "grey levels differ" not in capsys.readouterr().err
+    assert len(_rows(tmp_path / "a.csv")) > 0

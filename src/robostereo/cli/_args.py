@@ -82,8 +82,8 @@ def unit_interval(name: str) -> Callable[[str], float]:
 
 
 def add_matcher_args(p: Any) -> None:
-    """``--method``, ``--min-confidence``, ``--no-paths``, ``--no-coarse`` and
-    ``--contour``, shared by the commands that match."""
+    """``--method``, ``--min-confidence``, ``--no-paths``, ``--no-coarse``, ``--contour``
+    and ``--no-photometric``, shared by the commands that match."""
     from robostereo.matcher.pipeline import DEFAULT_MIN_CONFIDENCE, METHODS
 
     p.add_argument("--method", choices=METHODS, default=None,
@@ -104,11 +104,15 @@ def add_matcher_args(p: Any) -> None:
                    help="window method: also accept a match of confidence >= 0.8 that its "
                         "edge contour supports (neighbours up and down with its disparity, "
                         "accepted on their own): more points, most near depth steps")
+    p.add_argument("--no-photometric", dest="photometric", action="store_false", default=None,
+                   help="window method: do not compare the two views' grey levels at the "
+                        "matches and match again with the right view's corrected where "
+                        "they differ (a gain, offset or exposure change between the views)")
 
 
 def matcher_params(args: argparse.Namespace, base: Any) -> Any:
     """``base`` (MatchParameters) with the ``--method``, ``--min-confidence``,
-    ``--no-paths``, ``--no-coarse`` and ``--contour`` given."""
+    ``--no-paths``, ``--no-coarse``, ``--contour`` and ``--no-photometric`` given."""
     changes: dict[str, Any] = {}
     if getattr(args, "method", None) is not None:
         changes["method"] = args.method
@@ -120,6 +124,8 @@ def matcher_params(args: argparse.Namespace, base: Any) -> Any:
         changes["coarse"] = False
     if getattr(args, "contour", None):
         changes["contour"] = True
+    if getattr(args, "photometric", None) is False:
+        changes["photometric"] = False
     return replace(base, **changes)
 
 

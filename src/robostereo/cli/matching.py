@@ -108,6 +108,12 @@ def run_match(args: argparse.Namespace) -> int:
         lo, hi = result.disparity_range
         print(f"robostereo: note: disparity range limited to {lo:g} .. {hi:g} (the image is "
               f"{result.image_shape[1]} pixels wide)", file=sys.stderr)
+    if result.grey_map is not None:
+        g = result.grey_map
+        print(f"robostereo: note: the two views' grey levels differ (median difference "
+              f"{g.residual_identity:.1f} grey levels at the matches, {g.residual_mapped:.1f} "
+              f"mapped): matched again with {args.right.name}'s corrected (--no-photometric: "
+              f"not)", file=sys.stderr)
     table = result.table()
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], table)

@@ -13,6 +13,9 @@ The modules in pipeline order:
   made sub-pixel, its evidence and its confidence (the default method);
 * :mod:`~robostereo.matcher.confidence`: the calibrated model from evidence to
   ``P(correct)`` (3.3, eq. 2);
+* :mod:`~robostereo.matcher.photometric`: the two views' grey levels compared at the
+  accepted matches, and the map that corrects the right view's where they differ
+  (:mod:`~robostereo.matcher.photometric_kernels`: its numba kernel);
 * :mod:`~robostereo.matcher.candidates`: the thesis's right-edge candidates, similarity
   indices GI, PI, AI, initial probabilities and acceptance (3.2-3.3, 3.5);
 * :mod:`~robostereo.matcher.relaxation`: relaxation on edge connectivity (3.4);
@@ -52,6 +55,14 @@ from robostereo.matcher.edges import (
     usable_pixels,
 )
 from robostereo.matcher.parallel import n_threads, run_all
+from robostereo.matcher.photometric import (
+    GreyMap,
+    fit_grey_map,
+    grey_correction,
+    grey_difference,
+    grey_pairs,
+    views_differ,
+)
 from robostereo.matcher.pipeline import (
     DEFAULT_MIN_CONFIDENCE,
     METHODS,
@@ -100,6 +111,7 @@ __all__ = [
     "Candidates",
     "ConfidenceModel",
     "EdgeSet",
+    "GreyMap",
     "MatchParameters",
     "MatchResult",
     "RelaxationParameters",
@@ -116,6 +128,10 @@ __all__ = [
     "detect_edges",
     "find_candidates",
     "fit_confidence",
+    "fit_grey_map",
+    "grey_correction",
+    "grey_difference",
+    "grey_pairs",
     "group_argmax",
     "group_max",
     "group_sum",
@@ -135,6 +151,7 @@ __all__ = [
     "support_structure",
     "to_grey",
     "usable_pixels",
+    "views_differ",
     "warm_up",
     "window_costs",
     "window_match",

@@ -1,0 +1,122 @@
+"""Views of different exposure: what a grey-level change between the views costs, and the
+photometric check (:mod:`robostereo.matcher.photometric`) that wins it back.
+
+Run:  python benchmarks/bench_photometric.py [--repeat N]
+
+1. On every developer scene of ../shared/data/stereo (or $ROBOSTEREO_DATA) the right
+   image is changed as a camera of another exposure would have taken it (a gain, a
+   gain and an offset, a gamma; grey levels rounded and clipped to 0..255), and matched
+   with robostereo's defaults with the check off (``MatchParameters(photometric=False)``)
+   and on: % of the counted left edge points accepted and % of those false (silhouette
+   rule), and ``*`` where the check found the views to differ and matched again.  Worst
+   scene first (by coverage with the check off under the largest change).
+2. The check's ratio on the scenes as they are (the pairs' median grey-level difference
+   as they are over the one after a gain and offset; the views differ above
+   :data:`~robostereo.matcher.photometric.RESIDUAL_RATIO`).
+3. Its time on the scenes as they are, per core (``ROBOSTEREO_THREADS=1``, thread CPU
+   time): median of N interleaved rounds of the whole match with the check on and off,
+   and the median of the rounds' ratios.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import time
+
+import numpy as np
+
+from robostereo.datasets import available_scenes, find_data_dir, load_scene
+from robostereo.evaluation_rules import rule_errors
+from robostereo.matcher.photometric import (
+    RESIDUAL_RATIO,
+    grey_difference,
+    grey_pairs,
+)
+from robostereo.matcher.pipeline import MatchParameters, match_stereo
+
+#: the changes of the right image: name -> (gain, offset in grey levels of 255, gamma)
+CHANGES: dict[str, tuple[float, float, float]] = {
+    "as is": (1.0, 0.0, 1.0),
+    "gain 1.05": (1.05, 0.0, 1.0),
+    "gain 1.1": (1.1, 0.0, 1.0),
+    "gain 0.7 + 20": (0.7, 20.0, 1.0),
+    "gamma 0.7": (1.0, 0.0, 0.7),
+    "gain 1.3": (1.3, 0.0, 1.0),
+}
+
+
+def exposed(image: np.ndarray, gain: float, offset: float, gamma: float) -> np.ndarray:
+    """``image`` (8-bit) with another exposure: ``gain * 255 (g / 255) ** gamma + offset``."""
+    f = 255.0 * (image.astype(float) / 255.0) ** gamma
+    return np.clip(np.rint(gain * f + offset), 0, 255).astype(np.uint8)
+
+
+def scored(scene, right: np.ndarray, photometric: bool) -> tuple[float, float, bool]:
+    """% accepted, % of them false (silhouette rule), and whether it matched again."""
+    res = match_stereo(scene.left, right, scene.disparity_range,
+                       params=MatchParameters(photometric=photometric))
+    e = res.left_edges
+    known, err = rule_errors(e.row, e.x, res.edge_disparity, scene.gt_disparity,
+                             rule="silhouette")
+    acc = res.accepted & known
+    return (100.0 * acc.sum() / max(known.sum(), 1),
+            100.0 * (acc & (err > 1.0)).sum() / max(acc.sum(), 1), res.grey_map is not None)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
+    ap.add_argument("--repeat", type=int, default=9, help="rounds of the time table")
+    args = ap.parse_args(argv)
+    data = find_data_dir()
+    if data is None:
+        print("no real scenes (../shared/data/stereo or $ROBOSTEREO_DATA)")
+        return 0
+    scenes = {n: load_scene(data / n) for n in available_scenes(data)}
+
+    # -- 1. coverage / false % with the check off and on, per change of the right view
+    rows = {}
+    for name, s in scenes.items():
+        rows[name] = {c: (scored(s, exposed(s.right, *v), False),
+                          scored(s, exposed(s.right, *v), True)) for c, v in CHANGES.items()}
+    last = list(CHANGES)[-1]
+    order = sorted(rows, key=lambda n: rows[n][last][0][0])
+    print("% accepted / % false (silhouette rule): check off -> on (* matched again)")
+    for c in CHANGES:
+        print(f"\n{c}")
+        for n in order:
+            (a0, f0, _), (a1, f1, again) = rows[n][c]
+            print(f"  {n:11s} {a0:5.1f} / {f0:4.2f}  ->  {a1:5.1f} / {f1:4.2f} "
+                  f"{'*' if again else ''}")
+
+    # -- 2. the check's ratio on the pairs as they are
+    print(f"\nthe check on the pairs as they are (views differ above {RESIDUAL_RATIO:g}):")
+    for n, s in scenes.items():
+        res = match_stereo(s.left, s.right, s.disparity_range,
+                           params=MatchParameters(photometric=False))
+        acc = res.accepted
+        as_is, fitted = grey_difference(*grey_pairs(
+            s.left, s.right, res.left_edges.row[acc], res.left_edges.x[acc],
+            res.edge_disparity[acc]))
+        print(f"  {n:11s} {as_is:5.2f} / {fitted:5.2f} grey levels = {as_is / fitted:4.2f}")
+
+    # -- 3. its time, per core, on the pairs as they are
+    os.environ["ROBOSTEREO_THREADS"] = "1"
+    print(f"\ntime per core (thread CPU ms, median of {args.repeat} rounds): on, off, ratio")
+    for n, s in scenes.items():
+        t: dict[bool, list[float]] = {True: [], False: []}
+        for _ in range(args.repeat):
+            for on in (True, False):
+                p = MatchParameters(photometric=on)
+                match_stereo(s.left, s.right, s.disparity_range, params=p)
+                t0 = time.thread_time()
+                match_stereo(s.left, s.right, s.disparity_range, params=p)
+                t[on].append(time.thread_time() - t0)
+        ratio = float(np.median(np.array(t[True]) / np.array(t[False])))
+        print(f"  {n:11s} {1000 * np.median(t[True]):7.2f} {1000 * np.median(t[False]):7.2f}"
+              f"  {ratio:5.3f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
