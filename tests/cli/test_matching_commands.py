@@ -205,3 +205,23 @@ def test_match_says_when_the_views_grey_levels_differ(tmp_path, rng, capsys):
     assert main([*args, "-o", str(tmp_path / "b.csv"), "--no-photometric"]) == 0
     assert "grey levels differ" not in capsys.readouterr().err
     assert len(_rows(tmp_path / "a.csv")) > 0
+
+
+def test_match_warns_when_the_rows_disagree(tmp_path, capsys):
+    import cv2
+
+    rng = np.random.default_rng(7)
+    blocks = cv2.resize(rng.integers(0, 256, (40, 60)).astype(np.uint8), (240, 160),
+                        interpolation=cv2.INTER_NEAREST)
+    left = cv2.GaussianBlur(blocks, (0, 0), 0.8)  # edges both ways, corners
+    right = cv2.warpAffine(np.roll(left, -9, axis=1), np.float32([[1, 0, 0], [0, 1, 1.2]]),
+                           (240, 160), flags=cv2.INTER_LINEAR,
+                           borderMode=cv2.BORDER_REPLICATE)
+    lp, rp = tmp_path / "l.png", tmp_path / "r.png"
+    cv2.imwrite(str(lp), left)
+    cv2.imwrite(str(rp), right)
+    args = ["match", str(lp), str(rp), "--min-disparity", "0", "--max-disparity", "20"]
+    assert main([*args, "-o", str(tmp_path / "a.csv")]) == 0
+    assert "rows of the two views disagree by +1.2" in capsys.readouterr().err
+    assert main([*args, "-o", str(tmp_path / "b.csv"), "--no-rows-check"]) == 0
+    assert "rows of the two views disagree" not in capsys.readouterr().err

@@ -82,8 +82,8 @@ def unit_interval(name: str) -> Callable[[str], float]:
 
 
 def add_matcher_args(p: Any) -> None:
-    """``--method``, ``--min-confidence``, ``--no-paths``, ``--no-coarse``, ``--contour``
-    and ``--no-photometric``, shared by the commands that match."""
+    """``--method``, ``--min-confidence``, ``--no-paths``, ``--no-coarse``, ``--contour``,
+    ``--no-photometric`` and ``--no-rows-check``, shared by the commands that match."""
     from robostereo.matcher.pipeline import DEFAULT_MIN_CONFIDENCE, METHODS
 
     p.add_argument("--method", choices=METHODS, default=None,
@@ -108,11 +108,16 @@ def add_matcher_args(p: Any) -> None:
                    help="window method: do not compare the two views' grey levels at the "
                         "matches and match again with the right view's corrected where "
                         "they differ (a gain, offset or exposure change between the views)")
+    p.add_argument("--no-rows-check", dest="rows_check", action="store_false", default=None,
+                   help="window method: do not measure how far the two views' rows disagree "
+                        "at the matches (warn and match again with the right view moved "
+                        "beyond 0.4 px)")
 
 
 def matcher_params(args: argparse.Namespace, base: Any) -> Any:
     """``base`` (MatchParameters) with the ``--method``, ``--min-confidence``,
-    ``--no-paths``, ``--no-coarse``, ``--contour`` and ``--no-photometric`` given."""
+    ``--no-paths``, ``--no-coarse``, ``--contour``, ``--no-photometric`` and
+    ``--no-rows-check`` given."""
     changes: dict[str, Any] = {}
     if getattr(args, "method", None) is not None:
         changes["method"] = args.method
@@ -126,6 +131,8 @@ def matcher_params(args: argparse.Namespace, base: Any) -> Any:
         changes["contour"] = True
     if getattr(args, "photometric", None) is False:
         changes["photometric"] = False
+    if getattr(args, "rows_check", None) is False:
+        changes["rows_check"] = False
     return replace(base, **changes)
 
 

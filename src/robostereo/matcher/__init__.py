@@ -13,9 +13,13 @@ The modules in pipeline order:
   made sub-pixel, its evidence and its confidence (the default method);
 * :mod:`~robostereo.matcher.confidence`: the calibrated model from evidence to
   ``P(correct)`` (3.3, eq. 2);
+* :mod:`~robostereo.matcher.alignment`: the rows' offset between the views at the
+  accepted matches, tracked by Lucas-Kanade (:mod:`~robostereo.matcher.alignment_kernels`);
 * :mod:`~robostereo.matcher.photometric`: the two views' grey levels compared at the
   accepted matches, and the map that corrects the right view's where they differ
   (:mod:`~robostereo.matcher.photometric_kernels`: its numba kernel);
+* :mod:`~robostereo.matcher.stages`: one match, all stages, as the pipeline runs it once
+  and again where a check calls for it;
 * :mod:`~robostereo.matcher.candidates`: the thesis's right-edge candidates, similarity
   indices GI, PI, AI, initial probabilities and acceptance (3.2-3.3, 3.5);
 * :mod:`~robostereo.matcher.relaxation`: relaxation on edge connectivity (3.4);
@@ -24,6 +28,7 @@ The modules in pipeline order:
 * :mod:`~robostereo.matcher.parallel`: the threads the stages share.
 """
 
+from robostereo.matcher.alignment import ROW_TOLERANCE_PX, RowOffset, moved_rows, row_offset
 from robostereo.matcher.candidates import (
     Candidates,
     SimilarityWeights,
@@ -106,6 +111,7 @@ __all__ = [
     "METHODS",
     "PARABOLA_DISPARITY_UNCERTAINTY_PX",
     "PATH_PENALTIES",
+    "ROW_TOLERANCE_PX",
     "SEED_KERNEL",
     "SWAP_UNIQUENESS",
     "Candidates",
@@ -116,6 +122,7 @@ __all__ = [
     "MatchResult",
     "RelaxationParameters",
     "RelaxationResult",
+    "RowOffset",
     "SimilarityWeights",
     "WindowCosts",
     "WindowMatch",
@@ -138,12 +145,14 @@ __all__ = [
     "initial_probabilities",
     "isotonic",
     "match_stereo",
+    "moved_rows",
     "n_threads",
     "neighbours",
     "pair_similarity",
     "pattern_difference",
     "pattern_type",
     "relax",
+    "row_offset",
     "run_all",
     "searched_range",
     "smooth",

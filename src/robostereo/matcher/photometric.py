@@ -14,7 +14,7 @@ match along its row; :func:`views_differ` says whether a gain and offset
 pairs (:func:`grey_correction` does the three) and
 :func:`~robostereo.matcher.pipeline.match_stereo` matches again with the right view's
 grey levels mapped.  On pairs whose views agree the first match is the result,
-unchanged; ``benchmarks/bench_photometric.py`` measures both.
+unchanged; ``benchmarks/bench_checks.py`` measures both.
 
 References
 ----------

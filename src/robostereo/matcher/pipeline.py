@@ -23,26 +23,22 @@ from robostereo.errors import (
     require_int,
     require_positive,
     require_range,
+    warn_input,
 )
 from robostereo.geometry.triangulation import StereoCamera, triangulate
+from robostereo.matcher.alignment import RowOffset, moved_rows, row_offset
 from robostereo.matcher.candidates import (
     Candidates,
     SimilarityWeights,
     assign_matches,
-    find_candidates,
-    group_argmax,
-    initial_probabilities,
 )
-from robostereo.matcher.edges import EdgeSet, check_edge_blur, detect_edges, to_grey
-from robostereo.matcher.parallel import run_all
+from robostereo.matcher.edges import EdgeSet, check_edge_blur
 from robostereo.matcher.photometric import GreyMap, grey_correction
-from robostereo.matcher.relaxation import RelaxationParameters, RelaxationResult, relax
-from robostereo.matcher.window_costs import PATH_PENALTIES
+from robostereo.matcher.relaxation import RelaxationParameters, RelaxationResult
+from robostereo.matcher.stages import match_once
 from robostereo.matcher.window_match import (
     WindowMatch,
     contour_accepted,
-    search_costs,
-    window_match,
 )
 
 __all__ = [
@@ -159,6 +155,12 @@ class MatchParameters:
         by more than noise (a gain, offset, exposure or gamma change), match again with
         the right view's mapped to the left's (:mod:`~robostereo.matcher.photometric`).
         A 30 % gain costs the developer scenes 4-22 points of coverage without it.
+    rows_check : bool
+        Window method: measure how far the rows of the two views disagree at the accepted
+        matches (:func:`~robostereo.matcher.alignment.row_offset`); beyond
+        :data:`~robostereo.matcher.alignment.ROW_TOLERANCE_PX` warn
+        (:class:`~robostereo.errors.PlausibilityWarning`) and match again with the right
+        view moved.  A 1 px offset takes the developer scenes to 1.0-6.5 % false without it.
     """
 
     method: str = "window"
@@ -179,6 +181,7 @@ class MatchParameters:
     contour: bool = False
     edge_blur_px: float | None = 0.85
     photometric: bool = True
+    rows_check: bool = True
 
     def __post_init__(self) -> None:
         if self.method not in METHODS:
@@ -191,7 +194,7 @@ class MatchParameters:
                 raise InputError(f"min_confidence must be in 0..1, got {self.min_confidence}")
         require_int("row_step", self.row_step, minimum=1)
         require_int("gradient_truncation", self.gradient_truncation, minimum=0)
-        for name in ("paths", "coarse", "contour", "photometric"):
+        for name in ("paths", "coarse", "contour", "photometric", "rows_check"):
             if not isinstance(getattr(self, name), bool):
                 raise InputError(f"{name} must be True or False, got {getattr(self, name)!r}")
         if self.gradient_truncation > 300:
@@ -229,7 +232,7 @@ class MatchParameters:
         base = cls(
             method="relaxation", right_threshold_ratio=1.0, subpixel=False, profile_scale=None,
             relaxation=RelaxationParameters(no_match_support=1.0), min_confidence=0.5,
-            edge_blur_px=None, photometric=False,
+            edge_blur_px=None, photometric=False, rows_check=False,
         )
         return replace(base, **changes)  # type: ignore[arg-type]
 
@@ -297,6 +300,10 @@ class MatchResult:
         Where ``parameters.photometric`` found the views' grey levels to differ: the map
         of the right view's to the left's with which this (second) match was made
         (:mod:`~robostereo.matcher.photometric`); None where they agreed (one match).
+    row_offset : RowOffset or None
+        With ``parameters.rows_check``: the rows' offset at the first match's accepted
+        matches; where ``row_offset.misaligned`` the right view was moved by it and
+        matched again.  None where the check was off or could not track enough places.
     """
 
     left_edges: EdgeSet
@@ -315,6 +322,7 @@ class MatchResult:
     parameters: MatchParameters
     timings: dict[str, float]
     grey_map: GreyMap | None = None
+    row_offset: RowOffset | None = None
 
     # -- per matched point -------------------------------------------------------
     @property
@@ -590,7 +598,31 @@ def match_stereo(
     say = progress or (lambda _stage: None)
     t: dict[str, float] = {}
     t0 = time.perf_counter()
-    fields, el, er = _match_once(a, b, lo, hi, p, valid_left, valid_right, say, t, None)
+
+    def accept(e: EdgeSet, d: NDArray[np.float64], c: NDArray[np.float64]) -> NDArray[np.bool_]:
+        return _window_accepted(p, e, d, c, p.acceptance)
+
+    fields, el, er = match_once(a, b, lo, hi, p, valid_left, valid_right, say, t, None, accept)
+
+    # -- the rows: matched again with the right view moved where they disagree
+    rows = None
+    if p.method == "window" and p.rows_check:
+        t2, acc = time.perf_counter(), fields["accepted"]
+        rows = row_offset(a, b, el.row[acc], el.x[acc], fields["edge_disparity"][acc])
+        t["rows_check"] = time.perf_counter() - t2
+        if rows is not None and rows.misaligned:
+            warn_input(f"the rows of the two views disagree by {rows.offset_px:+.2f} px at "
+                       f"{rows.n_places} matched places (the right view "
+                       f"{'lower' if rows.offset_px > 0 else 'higher'}): not epipolar lines; "
+                       "matched again with the right view moved (check the rectification, "
+                       "calibration or poses)")
+            say("rows disagree: matching again")
+            b = moved_rows(b, rows.offset_px)
+            if valid_right is not None:
+                valid_right = moved_rows(np.asarray(valid_right, np.uint8), rows.offset_px) > 0
+            del fields, el, er
+            fields, el, er = match_once(a, b, lo, hi, p, valid_left, valid_right, say, t,
+                                        None, accept)
 
     # -- the views' grey levels compared at the accepted matches; matched again with the
     #    right view's mapped where they differ
@@ -604,87 +636,16 @@ def match_stereo(
             say("grey levels differ: matching again")
             first = dict(t)
             del fields, el, er  # the first match is not held while the second is made
-            fields, el, er = _match_once(a, b, lo, hi, p, valid_left, valid_right, say, t,
-                                         grey_map)
+            fields, el, er = match_once(a, b, lo, hi, p, valid_left, valid_right, say, t,
+                                        grey_map, accept)
             t["first_match"] = first["edges"] + first.get("window", 0.0)
     t["total"] = time.perf_counter() - t0
     return MatchResult(
         left_edges=el, right_edges=er, **fields,  # type: ignore[arg-type]
         camera=camera, image_shape=(int(a.shape[0]), int(a.shape[1])),
         disparity_range=(float(lo), float(hi)), parameters=p, timings=t, grey_map=grey_map,
+        row_offset=rows,
     )
-
-
-def _match_once(a: np.ndarray, b: np.ndarray, lo: float, hi: float, p: MatchParameters,
-                valid_left: ArrayLike | None, valid_right: ArrayLike | None,
-                say: Callable[[str], None], t: dict[str, float],
-                grey_map: GreyMap | None) -> tuple[dict, EdgeSet, EdgeSet]:
-    """One match of the pair ``a, b`` by ``p``'s method (:func:`match_stereo`'s steps
-    1-3), the right view's grey levels through ``grey_map`` where given: the result's
-    fields but the pair's own, the two edge sets; stage times into ``t``."""
-    t0 = time.perf_counter()
-    say("edges")
-    # grey levels on this thread: the memory they take, freed after the window costs,
-    # is then this thread's to reuse (a worker thread's allocator keeps its own memory)
-    ga = to_grey(a, bit_depth=p.bit_depth, name="left image")
-    gb = to_grey(b, bit_depth=p.bit_depth, name="right image")
-    if grey_map is not None:
-        gb = grey_map(gb)
-
-    # the two images' edge points side by side, on two threads where there are two cores
-    el, er = run_all([
-        lambda: detect_edges(a, threshold=p.threshold, row_step=p.row_step,
-                             subpixel=p.subpixel, grey=ga, valid=valid_left,
-                             edge_blur_px=p.edge_blur_px),
-        lambda: detect_edges(b, threshold=p.threshold * p.right_threshold_ratio,
-                             row_step=p.row_step, subpixel=p.subpixel, grey=gb,
-                             valid=valid_right, edge_blur_px=p.edge_blur_px),
-    ])
-    t1 = time.perf_counter()
-    t["edges"] = t1 - t0
-    n = len(el)
-    if p.method == "window":
-        say("window costs")
-        costs = search_costs(
-            el, ga, gb, (float(lo), float(hi)), gradient_truncation=p.gradient_truncation,
-            valid_left=None if valid_left is None else np.asarray(valid_left, bool),
-            valid_right=None if valid_right is None else np.asarray(valid_right, bool),
-            path_penalties=PATH_PENALTIES if p.paths else None, coarse=p.coarse)
-        del ga, gb  # the grey images are done with: not held at the peak of what follows
-        wm = window_match(el, er, None, None, (float(lo), float(hi)),
-                          gradient_truncation=p.gradient_truncation, weights=p.weights,
-                          profile_scale=p.profile_scale, costs=costs)
-        conf = wm.confidence
-        accepted = _window_accepted(p, el, wm.disparity, conf, p.acceptance)
-        fields = dict(edge_disparity=wm.disparity, edge_confidence=conf,
-                      edge_right=wm.right_edge, accepted=accepted, window=wm,
-                      candidates=None, relaxation=None, match=None)
-        t["window"] = time.perf_counter() - t1
-    else:
-        say("candidates")
-        del ga, gb  # not used by the relaxation
-        cands = find_candidates(el, er, (float(lo), float(hi)), weights=p.weights,
-                                profile_scale=p.profile_scale)
-        p0, p0_none = initial_probabilities(cands)
-        t2 = time.perf_counter()
-        t["candidates"] = t2 - t1
-        say("relaxation")
-        rel = relax(el, er, cands, p0, p0_none, params=p.relaxation)
-        match = assign_matches(cands, rel.probability, rel.no_match, n,
-                               min_probability=p.acceptance)
-        prob = rel.probability
-        best = np.where(match >= 0, match, group_argmax(prob, cands.starts))
-        has = best >= 0
-        bi = np.maximum(best, 0)
-        nan = np.full(n, np.nan)
-        fields = dict(
-            edge_disparity=np.where(has, cands.disparity[bi], nan) if len(cands) else nan,
-            edge_confidence=np.where(has, prob[bi], nan) if len(cands) else nan,
-            edge_right=np.where(has, cands.right[bi], -1).astype(np.intp) if len(cands)
-            else np.full(n, -1, dtype=np.intp),
-            accepted=match >= 0, window=None, candidates=cands, relaxation=rel, match=match)
-        t["relaxation"] = time.perf_counter() - t2
-    return fields, el, er
 
 
 def warm_up() -> None:

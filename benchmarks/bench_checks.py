@@ -1,7 +1,9 @@
-"""Views of different exposure: what a grey-level change between the views costs, and the
-photometric check (:mod:`robostereo.matcher.photometric`) that wins it back.
+"""The checks on a first match: views of different exposure
+(:mod:`robostereo.matcher.photometric`) and rows that are not epipolar lines
+(:mod:`robostereo.matcher.alignment`): what each costs the matcher without its check, and
+what the check gives back.
 
-Run:  python benchmarks/bench_photometric.py [--repeat N]
+Run:  python benchmarks/bench_checks.py [--repeat N]
 
 1. On every developer scene of ../shared/data/stereo (or $ROBOSTEREO_DATA) the right
    image is changed as a camera of another exposure would have taken it (a gain, a
@@ -13,9 +15,12 @@ Run:  python benchmarks/bench_photometric.py [--repeat N]
 2. The check's ratio on the scenes as they are (the pairs' median grey-level difference
    as they are over the one after a gain and offset; the views differ above
    :data:`~robostereo.matcher.photometric.RESIDUAL_RATIO`).
-3. Its time on the scenes as they are, per core (``ROBOSTEREO_THREADS=1``, thread CPU
-   time): median of N interleaved rounds of the whole match with the check on and off,
-   and the median of the rounds' ratios.
+3. The right image moved down by 0.5, 1 and 2 px and up by 1 px (linear interpolation):
+   % accepted / % false with the rows check off and on (``*`` where it found the rows
+   apart and matched again), and its estimate of the offset on the scenes as they are.
+4. The time of both checks on the scenes as they are, per core (``ROBOSTEREO_THREADS=1``,
+   thread CPU time): median of N interleaved rounds of the whole match with both checks
+   on and both off, and the median of the rounds' ratios.
 """
 
 from __future__ import annotations
@@ -23,10 +28,13 @@ from __future__ import annotations
 import argparse
 import os
 import time
+import warnings
 
+import cv2
 import numpy as np
 
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
+from robostereo.errors import PlausibilityWarning
 from robostereo.evaluation_rules import rule_errors
 from robostereo.matcher.photometric import (
     RESIDUAL_RATIO,
@@ -52,22 +60,36 @@ def exposed(image: np.ndarray, gain: float, offset: float, gamma: float) -> np.n
     return np.clip(np.rint(gain * f + offset), 0, 255).astype(np.uint8)
 
 
-def scored(scene, right: np.ndarray, photometric: bool) -> tuple[float, float, bool]:
-    """% accepted, % of them false (silhouette rule), and whether it matched again."""
+#: the right image moved down by these many rows
+SHIFTS = (0.5, 1.0, 2.0, -1.0)
+
+
+def moved_down(image: np.ndarray, rows: float) -> np.ndarray:
+    """``image`` moved down by ``rows`` (linear interpolation, border repeated)."""
+    h, w = image.shape[:2]
+    return cv2.warpAffine(image, np.float32([[1, 0, 0], [0, 1, rows]]), (w, h),
+                          flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+
+
+def scored(scene, right: np.ndarray, **checks: bool) -> tuple[float, float, bool]:
+    """% accepted, % of them false (silhouette rule), and whether a check matched again."""
     res = match_stereo(scene.left, right, scene.disparity_range,
-                       params=MatchParameters(photometric=photometric))
+                       params=MatchParameters(**checks))
     e = res.left_edges
     known, err = rule_errors(e.row, e.x, res.edge_disparity, scene.gt_disparity,
                              rule="silhouette")
     acc = res.accepted & known
+    again = res.grey_map is not None or (res.row_offset is not None
+                                         and res.row_offset.misaligned)
     return (100.0 * acc.sum() / max(known.sum(), 1),
-            100.0 * (acc & (err > 1.0)).sum() / max(acc.sum(), 1), res.grey_map is not None)
+            100.0 * (acc & (err > 1.0)).sum() / max(acc.sum(), 1), again)
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--repeat", type=int, default=9, help="rounds of the time table")
     args = ap.parse_args(argv)
+    warnings.simplefilter("ignore", PlausibilityWarning)  # the rows check's, expected here
     data = find_data_dir()
     if data is None:
         print("no real scenes (../shared/data/stereo or $ROBOSTEREO_DATA)")
@@ -77,8 +99,8 @@ def main(argv: list[str] | None = None) -> int:
     # -- 1. coverage / false % with the check off and on, per change of the right view
     rows = {}
     for name, s in scenes.items():
-        rows[name] = {c: (scored(s, exposed(s.right, *v), False),
-                          scored(s, exposed(s.right, *v), True)) for c, v in CHANGES.items()}
+        rows[name] = {c: (scored(s, exposed(s.right, *v), photometric=False),
+                          scored(s, exposed(s.right, *v))) for c, v in CHANGES.items()}
     last = list(CHANGES)[-1]
     order = sorted(rows, key=lambda n: rows[n][last][0][0])
     print("% accepted / % false (silhouette rule): check off -> on (* matched again)")
@@ -100,14 +122,31 @@ def main(argv: list[str] | None = None) -> int:
             res.edge_disparity[acc]))
         print(f"  {n:11s} {as_is:5.2f} / {fitted:5.2f} grey levels = {as_is / fitted:4.2f}")
 
-    # -- 3. its time, per core, on the pairs as they are
+    # -- 3. rows moved: the rows check off and on
+    print("\n% accepted / % false (silhouette rule) with the right image moved down: rows "
+          "check off -> on (* matched again); the offset found on the pair as it is")
+    for n in order:
+        s = scenes[n]
+        line = f"  {n:11s}"
+        for dy in SHIFTS:
+            a0, f0, _ = scored(s, moved_down(s.right, dy), rows_check=False)
+            a1, f1, again = scored(s, moved_down(s.right, dy))
+            line += f" | {dy:+.1f}: {a0:5.1f} / {f0:5.2f} -> {a1:5.1f} / {f1:4.2f}{'*' * again}"
+        ro = match_stereo(s.left, s.right, s.disparity_range).row_offset
+        line += (f" | as is: {ro.offset_px:+.2f} +- {ro.standard_error_px:.2f} px"
+                 if ro is not None else " | as is: no estimate")
+        print(line)
+
+    # -- 4. the checks' time, per core, on the pairs as they are
     os.environ["ROBOSTEREO_THREADS"] = "1"
-    print(f"\ntime per core (thread CPU ms, median of {args.repeat} rounds): on, off, ratio")
+    cv2.setNumThreads(1)
+    print(f"\ntime per core (thread CPU ms, median of {args.repeat} rounds): both checks on, "
+          "both off, ratio")
     for n, s in scenes.items():
         t: dict[bool, list[float]] = {True: [], False: []}
         for _ in range(args.repeat):
             for on in (True, False):
-                p = MatchParameters(photometric=on)
+                p = MatchParameters(photometric=on, rows_check=on)
                 match_stereo(s.left, s.right, s.disparity_range, params=p)
                 t0 = time.thread_time()
                 match_stereo(s.left, s.right, s.disparity_range, params=p)

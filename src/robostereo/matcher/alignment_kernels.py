@@ -1,0 +1,130 @@
+"""Numba kernel of the rows check: Lucas-Kanade at a few places, on the images as given.
+
+:func:`~robostereo.matcher.alignment.row_offset` tracks about a hundred places from the
+left view into the right.  OpenCV's ``calcOpticalFlowPyrLK`` wants 8-bit grey images
+and makes the gradients of the whole image first, which cost more than the tracking;
+here each place reads only its own window, of any grey-level type.  Only numba
+functions.
+
+References
+----------
+.. [1] B. D. Lucas and T. Kanade, "An iterative image registration technique with an
+   application to stereo vision", IJCAI 1981.
+.. [2] S. Baker and I. Matthews, "Lucas-Kanade 20 years on: a unifying framework",
+   IJCV 56(3), 2004 (the template's gradients, kept fixed: inverse additive form).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from robostereo.matcher.jit import kernel
+
+__all__ = ["track_kernel"]
+
+
+@kernel(nogil=True)
+def _bilinear(image, x, y):  # type: ignore[no-untyped-def]
+    x0 = math.floor(x)
+    y0 = math.floor(y)
+    fx = x - x0
+    fy = y - y0
+    top = (1.0 - fx) * image[y0, x0] + fx * image[y0, x0 + 1]
+    bottom = (1.0 - fx) * image[y0 + 1, x0] + fx * image[y0 + 1, x0 + 1]
+    return (1.0 - fy) * top + fy * bottom
+
+
+@kernel(nogil=True)
+def _structure(left, x, y, half, gx, gy):  # type: ignore[no-untyped-def]
+    """Central-difference gradients of the window at ``(x, y)`` into ``gx, gy`` and the
+    structure tensor's entries ``sxx, syy, sxy``."""
+    n = 2 * half + 1
+    sxx = 0.0
+    syy = 0.0
+    sxy = 0.0
+    for j in range(n):
+        for i in range(n):
+            yy = y - half + j
+            xx = x - half + i
+            a = 0.5 * (float(left[yy, xx + 1]) - float(left[yy, xx - 1]))
+            b = 0.5 * (float(left[yy + 1, xx]) - float(left[yy - 1, xx]))
+            gx[j, i] = a
+            gy[j, i] = b
+            sxx += a * a
+            syy += b * b
+            sxy += a * b
+    return sxx, syy, sxy
+
+
+@kernel(nogil=True)
+def track_kernel(left, right, px, py, disparity, half, iterations):  # type: ignore[no-untyped-def]
+    """Track the better-structured half of the left places ``(px, py)`` (M,) int64 into
+    ``right``, from ``(px - disparity, py)``, over ``(2 half + 1)^2`` windows (images
+    ``(H, W)``, any real type).
+
+    Returns ``strength, dx, dy, ok`` (M,) each: the smaller eigenvalue of the window's
+    structure tensor (central differences; 0 for places too near the border), the
+    motion found (right minus left, ``dx`` beside ``-disparity``), and whether the
+    place was tracked (strength at least the median of the places in the image), stayed
+    in the image and converged (a step under 0.02 px within ``iterations``)."""
+    m = px.shape[0]
+    h, w = left.shape
+    strength = np.zeros(m)
+    dxs = np.zeros(m)
+    dys = np.zeros(m)
+    ok = np.zeros(m, np.bool_)
+    n = 2 * half + 1
+    gx = np.empty((n, n))
+    gy = np.empty((n, n))
+    usable = np.zeros(m, np.bool_)
+    for k in range(m):
+        x = px[k]
+        y = py[k]
+        if x - half - 1 < 0 or x + half + 1 >= w or y - half - 1 < 0 or y + half + 1 >= h:
+            continue
+        sxx, syy, sxy = _structure(left, x, y, half, gx, gy)
+        strength[k] = 0.5 * (sxx + syy) - math.sqrt(0.25 * (sxx - syy) ** 2 + sxy * sxy)
+        usable[k] = True
+    if not usable.any():
+        return strength, dxs, dys, ok
+    level = np.median(strength[usable])
+    for k in range(m):
+        if not usable[k] or strength[k] < level:
+            continue
+        x = px[k]
+        y = py[k]
+        sxx, syy, sxy = _structure(left, x, y, half, gx, gy)
+        det = sxx * syy - sxy * sxy
+        if det <= 1e-12 * max(sxx * syy, 1.0):
+            continue
+        u = -disparity[k]
+        v = 0.0
+        converged = False
+        inside = True
+        for _ in range(iterations):
+            if (x + u - half < 0 or x + u + half + 1 >= w or y + v - half < 0
+                    or y + v + half + 1 >= h):
+                inside = False
+                break
+            bx = 0.0
+            by = 0.0
+            for j in range(n):
+                for i in range(n):
+                    e = (_bilinear(right, x - half + i + u, y - half + j + v)
+                         - float(left[y - half + j, x - half + i]))
+                    bx += e * gx[j, i]
+                    by += e * gy[j, i]
+            du = -(syy * bx - sxy * by) / det
+            dv = -(sxx * by - sxy * bx) / det
+            u += du
+            v += dv
+            if abs(du) < 0.02 and abs(dv) < 0.02:
+                converged = True
+                break
+        if inside and converged:
+            dxs[k] = u
+            dys[k] = v
+            ok[k] = True
+    return strength, dxs, dys, ok
