@@ -3,15 +3,16 @@
 :func:`~robostereo.matcher.alignment.row_offset` tracks about a hundred places from the
 left view into the right.  OpenCV's ``calcOpticalFlowPyrLK`` wants 8-bit grey images
 and makes the gradients of the whole image first, which cost more than the tracking;
-here each place reads only its own window, of any grey-level type.  Only numba
-functions.
+here each place reads only its own window, of any grey-level type: Lucas-Kanade [1]_
+with the template's gradients kept fixed (the inverse additive form of [2]_).  Only
+numba functions.
 
 References
 ----------
 .. [1] B. D. Lucas and T. Kanade, "An iterative image registration technique with an
    application to stereo vision", IJCAI 1981.
 .. [2] S. Baker and I. Matthews, "Lucas-Kanade 20 years on: a unifying framework",
-   IJCV 56(3), 2004 (the template's gradients, kept fixed: inverse additive form).
+   IJCV 56(3), 2004.
 """
 
 from __future__ import annotations

@@ -3,8 +3,9 @@
 The window costs (census and Sobel, :mod:`~robostereo.matcher.window_costs`) and the
 thesis's edge features (3.2) assume that a scene point has about the same grey level in
 both views.  Two cameras, or one camera whose exposure changed between the two
-viewpoints, break that: a 30 % gain on the right view costs the default matcher 4-22
-points of coverage on the developer scenes, though the census alone does not mind it.
+viewpoints, break that [1]_ [2]_: a 30 % gain on the right view costs the default
+matcher 4-22 points of coverage on the developer scenes, though the census alone does
+not mind it.
 
 After a first match the accepted matches say which left pixel sees what right pixel.
 :func:`grey_pairs` reads the grey levels of both views a few pixels either side of each
