@@ -55,11 +55,12 @@ PAIR_OFFSETS: tuple[int, ...] = (-3, -2, 2, 3)
 #: least number of grey-level pairs for a map to be fitted and trusted
 MIN_PAIRS: int = 400
 #: the views differ when a gain and offset at least halve the pairs' median absolute
-#: difference (:func:`views_differ`).  On the six developer scenes the ratio
-#: is 1.00-1.43 (no second match); a 5 % gain on the right view gives 1.5-3.1, a 10 %
-#: gain 2.6-6.0, a 30 % gain, an offset of 20 or a gamma of 0.7 5-15.  Below it the
-#: coverage the difference costs is small (a 5 % gain: 0.1-1.8 points); the ratio only
-#: decides when the time of a second match is spent
+#: difference (:func:`views_differ`).  On the six developer scenes the ratio is
+#: 0.97-1.15 (no second match); a 5 % gain on the right view gives 1.35-3.07, a 10 %
+#: gain 2.46-5.22, a gain of 0.7 with an offset of 20, a gamma of 0.7 or a 30 % gain
+#: 4.3-13.2 (``benchmarks/bench_checks.py``).  Below it the coverage the difference
+#: costs is small (a 5 % gain: 0.4-1.8 points); the ratio only decides when the time
+#: of a second match is spent
 RESIDUAL_RATIO: float = 2.0
 #: groups of equal count the pairs are pooled into before the non-decreasing fit
 _GROUPS = 32
