@@ -182,7 +182,8 @@ def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, f
     calls = {
         "match": lambda: match_stereo(left, right, rng, params=p),
         "edges": lambda: [detect_edges(im, threshold=t, row_step=p.row_step,
-                                       subpixel=p.subpixel, grey=to_grey(im))
+                                       subpixel=p.subpixel, grey=to_grey(im),
+                                       edge_blur_px=p.edge_blur_px)
                           for im, t in ((left, p.threshold),
                                         (right, p.threshold * p.right_threshold_ratio))],
         "window": lambda: window_match(el, er, ga, gb, res.disparity_range,

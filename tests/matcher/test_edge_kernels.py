@@ -61,3 +61,56 @@ def test_mean5_inside_and_at_the_border_equals_a_reflected_window():
     want = [padded[r:r + 5, c:c + 5].mean()
             for r, c in zip(rows.ravel(), cols.ravel(), strict=True)]
     assert np.allclose(got, want, rtol=0, atol=1e-12)
+
+
+def _span_reference(vert, c, weights):
+    """:func:`blurred_span` in plain Python: each output summed tap by tap in float32,
+    the reads reflected at the row's ends (``cv2.BORDER_REFLECT_101``)."""
+    w, rad = vert.shape[0], weights.shape[0] // 2
+    out = np.empty(7, np.float32)
+    for j in range(7):
+        acc = np.float32(0.0)
+        for t in range(weights.shape[0]):
+            k = c - 3 - rad + j + t
+            k = -k if k < 0 else k
+            k = 2 * (w - 1) - k if k > w - 1 else k
+            acc = np.float32(acc + np.float32(weights[t] * vert[min(max(k, 0), w - 1)]))
+        out[j] = acc
+    return out
+
+
+@pytest.mark.parametrize("taps", [1, 7, 11])
+def test_blurred_span_equals_the_sums_tap_by_tap_inside_and_at_the_ends(taps):
+    from robostereo.matcher.edge_kernels import blurred_span
+
+    rng = np.random.default_rng(taps)
+    vert = rng.uniform(0, 127, 40).astype(np.float32)
+    weights = rng.uniform(0.01, 0.3, taps).astype(np.float32)  # no symmetry to lean on
+    out = np.empty(7, np.float32)
+    for c in range(vert.shape[0]):
+        blurred_span(vert, c, weights, out)
+        assert out.tobytes() == _span_reference(vert, c, weights).tobytes(), c
+
+
+def test_fine_positions_inside_and_at_the_ends_equal_a_plain_python_placement():
+    from robostereo.matcher.edge_kernels import fine_offset, fine_positions
+
+    rng = np.random.default_rng(11)
+    vert = rng.uniform(0, 127, (6, 30)).astype(np.float32)
+    weights = np.array([0.05, 0.25, 0.4, 0.25, 0.05], np.float32)
+    row = np.repeat(np.arange(1, 5), 26).astype(np.int32)
+    column = np.tile(np.arange(2, 28), 4).astype(np.int32)
+    sign = np.where(rng.random(row.shape[0]) < 0.5, 1, -1).astype(np.int8)
+    x = column + rng.uniform(-0.5, 0.5, row.shape[0])
+    want = x.copy()
+    for i in range(row.shape[0]):
+        sg = np.float32(1.0 if sign[i] > 0 else -1.0)
+        fo = fine_offset(_span_reference(vert[row[i]], column[i], weights), 3, sg)
+        if fo == fo:
+            move = column[i] + fo - want[i]
+            if abs(move) > 0.05:
+                want[i] += move - np.copysign(0.05, move)
+    got = x.copy()
+    fine_positions(got, row, column, sign, vert[1:], 1, weights, 0.05, 0, row.shape[0])
+    assert np.mean(got != x) > 0.3  # points inside and at the ends moved
+    assert got.tobytes() == want.tobytes()
