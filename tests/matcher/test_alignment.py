@@ -106,3 +106,18 @@ def test_real_scene_with_rows_a_pixel_apart_is_warned_about_and_kept_right(real_
                        params=MatchParameters(rows_check=False))
     assert off.row_offset is None
     assert MatchParameters.thesis().rows_check is False
+
+
+def test_the_right_views_valid_pixels_move_with_it():
+    rng = np.random.default_rng(7)
+    blocks = cv2.resize(rng.integers(0, 256, (40, 60)).astype(np.uint8), (240, 160),
+                        interpolation=cv2.INTER_NEAREST)
+    left = cv2.GaussianBlur(blocks, (0, 0), 0.8)
+    right = _moved_down(np.roll(left, -9, axis=1), 1.2)
+    valid = np.ones(left.shape, bool)
+    valid[140:] = False  # the rectification's fill at the bottom
+    with pytest.warns(PlausibilityWarning, match="disagree by \\+1.2"):
+        res = match_stereo(left, right, (0, 20), valid_right=valid)
+    assert res.row_offset.misaligned and len(res) > 0
+    # no accepted match sees a right pixel the moved mask calls invalid
+    assert res.rows.max() < 140 - 1

@@ -619,7 +619,8 @@ def match_stereo(
             say("rows disagree: matching again")
             b = moved_rows(b, rows.offset_px)
             if valid_right is not None:
-                valid_right = moved_rows(np.asarray(valid_right, np.uint8), rows.offset_px) > 0
+                moved = moved_rows(np.asarray(valid_right, np.float32), rows.offset_px)
+                valid_right = moved >= 0.999  # every pixel it reads was valid
             del fields, el, er
             fields, el, er = match_once(a, b, lo, hi, p, valid_left, valid_right, say, t,
                                         None, accept)
