@@ -29,7 +29,7 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robostereo.errors import InputError
+from robostereo.errors import InputError, require_finite, require_int
 from robostereo.matcher.alignment_kernels import track_kernel
 
 __all__ = ["MIN_TRACKED", "ROW_TOLERANCE_PX", "RowOffset", "moved_rows", "row_offset"]
@@ -75,12 +75,11 @@ class RowOffset:
     n_places: int
 
     def __post_init__(self) -> None:
-        if not np.isfinite(self.offset_px):
-            raise InputError(f"offset_px must be finite, got {self.offset_px}")
-        if not (np.isfinite(self.spread_px) and self.spread_px >= 0):
-            raise InputError(f"spread_px must be finite and >= 0, got {self.spread_px}")
-        if int(self.n_places) != self.n_places or self.n_places < 0:
-            raise InputError(f"n_places must be an integer >= 0, got {self.n_places}")
+        require_finite("offset_px", self.offset_px)
+        require_finite("spread_px", self.spread_px)
+        if self.spread_px < 0:
+            raise InputError(f"spread_px must be >= 0, got {self.spread_px}")
+        require_int("n_places", self.n_places, minimum=0)
 
     @property
     def standard_error_px(self) -> float:

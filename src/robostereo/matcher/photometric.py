@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.errors import InputError
+from robostereo.errors import InputError, require_finite, require_int
 from robostereo.matcher.confidence import isotonic
 from robostereo.matcher.edges import to_grey
 from robostereo.matcher.photometric_kernels import difference_kernel, places_kernel
@@ -81,7 +81,8 @@ class GreyMap:
         0..127 scale.
     residual_identity, residual_mapped : float
         Median absolute difference of the pairs' grey levels, left minus right, as they
-        are and with the right ones mapped.
+        are and with the right ones mapped (for the record: whether the views differ is
+        decided by :func:`views_differ`).
     n_pairs : int
         Number of pairs fitted.
 
@@ -104,16 +105,15 @@ class GreyMap:
         if r.ndim != 1 or r.shape != g.shape or r.size == 0:
             raise InputError(f"right_knots and left_knots must be of one length >= 1, got "
                              f"{r.size} and {g.size}")
-        if not (np.all(np.isfinite(r)) and np.all(np.isfinite(g))):
-            raise InputError("grey map knots must be finite")
+        require_finite("right_knots", r.tolist())
+        require_finite("left_knots", g.tolist())
         if np.any(np.diff(r) <= 0) or np.any(np.diff(g) < 0):
             raise InputError("grey map knots must increase (right) and not decrease (left)")
         for name in ("residual_identity", "residual_mapped"):
-            v = getattr(self, name)
-            if not (np.isfinite(v) and v >= 0):
-                raise InputError(f"{name} must be finite and >= 0, got {v}")
-        if int(self.n_pairs) != self.n_pairs or self.n_pairs < 0:
-            raise InputError(f"n_pairs must be an integer >= 0, got {self.n_pairs}")
+            require_finite(name, getattr(self, name))
+            if getattr(self, name) < 0:
+                raise InputError(f"{name} must be >= 0, got {getattr(self, name)}")
+        require_int("n_pairs", self.n_pairs, minimum=0)
 
     def __call__(self, grey: ArrayLike) -> NDArray[np.float32]:
         """The right view's grey levels ``(H, W)`` (any shape) mapped to the left's."""
@@ -224,7 +224,7 @@ def views_differ(left_grey: ArrayLike, right_grey: ArrayLike) -> bool:
     gl, gr = _pairs(left_grey, right_grey)
     if gl.size < MIN_PAIRS:
         return False
-    as_they_are, fitted = difference_kernel(gl, gr)
+    as_they_are, fitted = grey_difference(gl, gr)
     return bool(as_they_are > RESIDUAL_RATIO * fitted)
 
 
@@ -274,11 +274,9 @@ def fit_grey_map(left_grey: ArrayLike, right_grey: ArrayLike) -> GreyMap:
     2. A non-decreasing fit of the groups' left medians on their right medians (pool
        adjacent violators, :func:`~robostereo.matcher.confidence.isotonic`) is the map:
        an exposure, gain, offset or gamma change between the views is monotone.
-    3. The map is fitted to all pairs.
-    4. The residuals are the pairs' median absolute left-minus-right difference, as they
-       are and mapped; mapped by a map fitted to the other half of the pairs (runs of
-       eight pairs, about two matches' offsets, alternately), so that the map's own
-       freedom does not make it look better than the identity.
+    3. The residuals are the pairs' median absolute left-minus-right difference, as
+       they are and mapped.  They describe the fit; the decision to use it rests on the
+       two-parameter :func:`views_differ`, which the map's freedom cannot flatter.
 
     Examples
     --------
@@ -290,16 +288,17 @@ def fit_grey_map(left_grey: ArrayLike, right_grey: ArrayLike) -> GreyMap:
     """
     gl, gr = _pairs(left_grey, right_grey)
     n = int(gl.size)
-    if n < 2 * _GROUPS:
+    if n < _GROUPS:
         return GreyMap((0.0,), (0.0,), 0.0, 0.0, n)
-    # -- 4. residuals held out: the map fitted to alternate runs of eight pairs (two
-    #    matches' offsets), its residuals read on the other runs, both ways
-    half = (np.arange(n) // 8) % 2 == 0
-    held = np.concatenate([
-        np.abs(gl[~h] - _fit(gl[h], gr[h])(gr[~h])) for h in (half, ~half)])
-    m = _fit(gl, gr)
+    # -- 1. equal-count groups along the right grey level, their medians
+    med_r, med_l, sizes = _group_medians_of(gl, gr, _GROUPS)
+    # -- 2. non-decreasing fit; groups of one right median are merged
+    kx, ky = isotonic(med_r, med_l, sizes.astype(float))
+    kx, first = np.unique(kx, return_index=True)
+    m = GreyMap(tuple(kx.tolist()), tuple(ky[first].tolist()), 0.0, 0.0, n)
+    # -- 3. the residuals
     return GreyMap(m.right_knots, m.left_knots, float(np.median(np.abs(gl - gr))),
-                   float(np.median(held)), n)
+                   float(np.median(np.abs(gl - m(gr)))), n)
 
 
 def _group_medians_of(gl: NDArray[np.float64], gr: NDArray[np.float64], groups: int
@@ -318,12 +317,3 @@ def _group_medians_of(gl: NDArray[np.float64], gr: NDArray[np.float64], groups: 
     return (0.5 * (r[mid[0]] + r[mid[1]]),
             (0.5 * (within[mid[0]] + within[mid[1]])) * span + lo, sizes)
 
-
-def _fit(gl: NDArray[np.float64], gr: NDArray[np.float64]) -> GreyMap:
-    """Steps 1-2 of :func:`fit_grey_map`: the map alone (residuals left at 0)."""
-    # -- 1. equal-count groups along the right grey level, their medians
-    med_r, med_l, sizes = _group_medians_of(gl, gr, _GROUPS)
-    # -- 2. non-decreasing fit; groups of one right median are merged
-    kx, ky = isotonic(med_r, med_l, sizes.astype(float))
-    kx, first = np.unique(kx, return_index=True)
-    return GreyMap(tuple(kx.tolist()), tuple(ky[first].tolist()), 0.0, 0.0, int(gl.size))

@@ -603,6 +603,7 @@ def match_stereo(
         return _window_accepted(p, e, d, c, p.acceptance)
 
     fields, el, er = match_once(a, b, lo, hi, p, valid_left, valid_right, say, t, None, accept)
+    first_match = sum(t.values())  # its stages, the only ones timed so far
 
     # -- the rows: matched again with the right view moved where they disagree
     rows = None
@@ -621,9 +622,10 @@ def match_stereo(
             if valid_right is not None:
                 moved = moved_rows(np.asarray(valid_right, np.float32), rows.offset_px)
                 valid_right = moved >= 0.999  # every pixel it reads was valid
-            del fields, el, er
+            del fields, el, er  # the first match is not held while the second is made
             fields, el, er = match_once(a, b, lo, hi, p, valid_left, valid_right, say, t,
                                         None, accept)
+            t["first_match"] = first_match
 
     # -- the views' grey levels compared at the accepted matches; matched again with the
     #    right view's mapped where they differ
@@ -635,11 +637,10 @@ def match_stereo(
         t["photometric"] = time.perf_counter() - t2
         if grey_map is not None:
             say("grey levels differ: matching again")
-            first = dict(t)
-            del fields, el, er  # the first match is not held while the second is made
+            del fields, el, er
             fields, el, er = match_once(a, b, lo, hi, p, valid_left, valid_right, say, t,
                                         grey_map, accept)
-            t["first_match"] = first["edges"] + first.get("window", 0.0)
+            t["first_match"] = first_match
     t["total"] = time.perf_counter() - t0
     return MatchResult(
         left_edges=el, right_edges=er, **fields,  # type: ignore[arg-type]
