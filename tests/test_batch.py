@@ -216,3 +216,28 @@ def test_find_inputs(tmp_path: Path, inputs: Path) -> None:
         find_inputs(tmp_path / "missing")
     row = json.loads(json.dumps(process_input(tmp_path / "missing", tmp_path)))
     assert row["status"] == "error"
+
+
+def test_summary_says_which_pairs_the_checks_corrected(tmp_path: Path) -> None:
+    """A right view moved down 1.5 px, one 35 % brighter, and one as it was: the summary
+    names the moved rows and the mapped grey levels of each, and only of those."""
+    blurred = cv2.GaussianBlur(np.random.default_rng(3).random((160, 320)), (0, 0), 1.2)
+    texture = cv2.normalize(blurred, None, 0, 255, cv2.NORM_MINMAX).astype(np.uint8)
+    right = np.roll(texture, -11, axis=1)  # 11 px disparity
+    moved = cv2.warpAffine(right, np.float32([[1, 0, 0], [0, 1, 1.5]]), (320, 160),
+                           flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    bright = np.clip(np.rint(1.35 * right.astype(float) + 6), 0, 255).astype(np.uint8)
+    for name, r in (("a_plain", right), ("b_rows", moved), ("c_bright", bright)):
+        (tmp_path / "in" / name).mkdir(parents=True)
+        cv2.imwrite(str(tmp_path / "in" / name / "left.png"), texture)
+        cv2.imwrite(str(tmp_path / "in" / name / "right.png"), r)
+    with pytest.warns(Warning, match="rows of the two views disagree"):
+        rep = run_batch(tmp_path / "in", tmp_path / "out",
+                        options=BatchOptions(disparity_range=(4.0, 16.0)), workers=1)
+    rows = {r["input"]: r for r in rep.rows}
+    assert [rows[n]["rows_moved"] for n in ("a_plain", "b_rows", "c_bright")] == [0, 1, 0]
+    assert [rows[n]["grey_mapped"] for n in ("a_plain", "b_rows", "c_bright")] == [0, 0, 1]
+    assert abs(float(rows["b_rows"]["row_offset_px"]) - 1.5) < 0.2
+    assert abs(float(rows["a_plain"]["row_offset_px"])) < 0.2
+    header = (tmp_path / "out" / "summary.csv").read_text().splitlines()[0].split(",")
+    assert {"row_offset_px", "rows_moved", "grey_mapped"} <= set(header)

@@ -65,9 +65,15 @@ PathLike = str | os.PathLike[str]
 
 SUMMARY_COLUMNS = (
     "input", "status", "kind", "edges_left", "edges_right", "matched", "matched_percent",
-    "points_3d", "min_disparity", "max_disparity", "output", "error",
+    "points_3d", "min_disparity", "max_disparity", "row_offset_px", "rows_moved",
+    "grey_mapped", "output", "error",
 )  # fmt: skip
-"""Columns of ``summary.csv`` (one row per input, sorted by input name)."""
+"""Columns of ``summary.csv`` (one row per input, sorted by input name).  The checks of
+:func:`~robostereo.matcher.pipeline.match_stereo` are there too, so that a batch says
+which pairs were not as they should be: ``row_offset_px`` the rows' measured offset
+(blank where it could not be measured), ``rows_moved`` 1 where the right view was moved
+by it and matched again, ``grey_mapped`` 1 where the views' grey levels differed and
+were mapped before matching again."""
 
 _IMAGE_EXTS = (".png", ".ppm", ".pgm", ".pnm", ".tif", ".tiff", ".bmp", ".jpg", ".jpeg")
 
@@ -322,7 +328,7 @@ def _run_pair(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
         "kind": kind, "edges_left": n_left, "edges_right": len(res.right_edges),
         "matched": n, "matched_percent": round(100.0 * n / n_left, 2) if n_left else 0.0,
         "points_3d": int(np.isfinite(xyz).all(axis=1).sum()) if xyz is not None else 0,
-        "min_disparity": float(lo), "max_disparity": float(hi),
+        "min_disparity": float(lo), "max_disparity": float(hi), **_checks(res),
         "output": _write_outputs(out, d.name, table, xyz, options.ply),
     }  # fmt: skip
 
@@ -344,9 +350,19 @@ def _run_capture(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
         "kind": "capture", "edges_left": n_left, "edges_right": len(res.right_edges),
         "matched": n, "matched_percent": round(100.0 * n / n_left, 2) if n_left else 0.0,
         "points_3d": int(np.isfinite(located.world).all(axis=1).sum()),
-        "min_disparity": float(lo), "max_disparity": float(hi),
+        "min_disparity": float(lo), "max_disparity": float(hi), **_checks(res),
         "output": _write_outputs(out, d.name, table, located.world, options.ply),
     }  # fmt: skip
+
+
+def _checks(res: Any) -> dict[str, Any]:
+    """The summary's columns of the match's own checks (rows, grey levels)."""
+    rows = res.row_offset
+    return {
+        "row_offset_px": "" if rows is None else round(float(rows.offset_px), 3),
+        "rows_moved": int(rows is not None and rows.misaligned),
+        "grey_mapped": int(res.grey_map is not None),
+    }
 
 
 def _blank_row(name: str) -> dict[str, Any]:
