@@ -29,12 +29,13 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("robostereo.simulation", "robostereo.evaluation", "robostereo.evaluation_rules",
      "robostereo.evaluation_outlines", "robostereo.evaluation_visibility", "robostereo.rig"),
     ("robostereo.robot",),
-    ("robostereo.experiments", "robostereo.plots", "robostereo.batch"),
+    ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
+     "robostereo.batch_workers"),
     ("robostereo.cli",),
 )
 #: the application layer, which the library never imports
 APPLICATION = ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
-               "robostereo.cli")
+               "robostereo.batch_workers", "robostereo.cli")
 #: lines a module may have at most (numba kernel modules excepted)
 MAX_LINES = 700
 

@@ -67,7 +67,8 @@ from robostereo.geometry.scara_rectification import EpipolarGeometry
 from robostereo.geometry.triangulation import StereoCamera, triangulate
 from robostereo.matcher.candidates import SimilarityWeights
 from robostereo.matcher.edges import EdgeSet, detect_edges
-from robostereo.matcher.pipeline import MatchParameters, MatchResult, match_stereo
+from robostereo.matcher.parameters import MatchParameters
+from robostereo.matcher.pipeline import MatchResult, match_stereo
 from robostereo.matcher.relaxation import RelaxationParameters
 
 __version__ = "0.1.0"

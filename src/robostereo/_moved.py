@@ -24,7 +24,7 @@ __all__ = ["MOVED", "install"]
 #: old module path -> the modules whose public names it is made of (first wins)
 MOVED: dict[str, tuple[str, ...]] = {
     # the matcher (one folder, kernels apart)
-    "robostereo.pipeline": ("robostereo.matcher.pipeline",),
+    "robostereo.pipeline": ("robostereo.matcher.pipeline", "robostereo.matcher.parameters"),
     "robostereo.edges": ("robostereo.matcher.edges",),
     "robostereo.matching": ("robostereo.matcher.candidates",),
     "robostereo.relaxation": ("robostereo.matcher.relaxation",),
@@ -34,6 +34,7 @@ MOVED: dict[str, tuple[str, ...]] = {
         "robostereo.matcher.window_match",
         "robostereo.matcher.window_costs",
         "robostereo.matcher.pipeline",
+        "robostereo.matcher.parameters",
         "robostereo.matcher.window_kernels",
     ),
     # geometry under one roof, file reading in io

@@ -49,7 +49,7 @@ import yaml
 
 from robostereo.errors import InputError
 from robostereo.matcher.parallel import n_threads
-from robostereo.matcher.pipeline import MatchParameters
+from robostereo.matcher.parameters import MatchParameters
 
 __all__ = [
     "SUMMARY_COLUMNS",

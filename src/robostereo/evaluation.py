@@ -71,7 +71,8 @@ from robostereo.evaluation_rules import (
 from robostereo.geometry.calibrated_rectification import rectify_stereo
 from robostereo.geometry.triangulation import StereoCamera, triangulate
 from robostereo.matcher.edges import to_grey
-from robostereo.matcher.pipeline import MatchParameters, match_stereo, searched_range
+from robostereo.matcher.parameters import MatchParameters
+from robostereo.matcher.pipeline import match_stereo, searched_range
 
 __all__ = [
     "CURVE_LEVELS",

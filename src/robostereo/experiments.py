@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from robostereo.errors import InputError
 from robostereo.evaluation import MatchScore, score_matches
 from robostereo.geometry.scara_rectification import EpipolarGeometry
-from robostereo.matcher.pipeline import MatchParameters
+from robostereo.matcher.parameters import MatchParameters
 from robostereo.robot.capture import Located, LocateParameters, locate
 from robostereo.robot.multiview import ViewsParameters, locate_views
 from robostereo.robot.simulated_scara import (

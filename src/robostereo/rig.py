@@ -37,7 +37,8 @@ from robostereo.geometry.calibrated_rectification import (
 from robostereo.geometry.calibration import StereoCalibration
 from robostereo.io.calibration_files import read_calibration
 from robostereo.io.images import load_image
-from robostereo.matcher.pipeline import MatchParameters, MatchResult, match_stereo
+from robostereo.matcher.parameters import MatchParameters
+from robostereo.matcher.pipeline import MatchResult, match_stereo
 
 __all__ = [
     "RigResult",

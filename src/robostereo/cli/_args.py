@@ -84,7 +84,7 @@ def unit_interval(name: str) -> Callable[[str], float]:
 def add_matcher_args(p: Any) -> None:
     """``--method``, ``--min-confidence``, ``--no-paths``, ``--no-coarse``, ``--contour``,
     ``--no-photometric`` and ``--no-rows-check``, shared by the commands that match."""
-    from robostereo.matcher.pipeline import DEFAULT_MIN_CONFIDENCE, METHODS
+    from robostereo.matcher.parameters import DEFAULT_MIN_CONFIDENCE, METHODS
 
     p.add_argument("--method", choices=METHODS, default=None,
                    help="matcher: window (default; every disparity scored by side-aware "

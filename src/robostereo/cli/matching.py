@@ -78,7 +78,8 @@ def run_match(args: argparse.Namespace) -> int:
         write_csv,
         write_ply,
     )
-    from robostereo.matcher.pipeline import MatchParameters, match_stereo
+    from robostereo.matcher.parameters import MatchParameters
+    from robostereo.matcher.pipeline import match_stereo
 
     if args.ply is not None and args.camera is None:
         raise InputError("--ply needs --camera: 3-D points need the camera geometry")
@@ -168,7 +169,7 @@ def add_rig_parser(sub: Any) -> None:
 
 def run_rig(args: argparse.Namespace) -> int:
     from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
-    from robostereo.matcher.pipeline import MatchParameters
+    from robostereo.matcher.parameters import MatchParameters
     from robostereo.rig import load_rig_pair, match_rig
 
     drange = _range_args(args)
@@ -234,7 +235,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
 
     from robostereo.datasets import load_scene
     from robostereo.evaluation import evaluate_scene, format_evaluation
-    from robostereo.matcher.pipeline import MatchParameters
+    from robostereo.matcher.parameters import MatchParameters
     from robostereo.plots import save_curves
 
     drange = _range_args(args)

@@ -60,6 +60,7 @@ from robostereo.matcher.edges import (
     usable_pixels,
 )
 from robostereo.matcher.parallel import n_threads, run_all
+from robostereo.matcher.parameters import DEFAULT_MIN_CONFIDENCE, METHODS, MatchParameters
 from robostereo.matcher.photometric import (
     GreyMap,
     fit_grey_map,
@@ -69,10 +70,7 @@ from robostereo.matcher.photometric import (
     views_differ,
 )
 from robostereo.matcher.pipeline import (
-    DEFAULT_MIN_CONFIDENCE,
-    METHODS,
     PARABOLA_DISPARITY_UNCERTAINTY_PX,
-    MatchParameters,
     MatchResult,
     match_stereo,
     searched_range,

@@ -547,7 +547,7 @@ def detect_edges(
         none where there is no such peak).  The 5 x 5 filter spreads an edge's gradient about 2 px
         either side, so texture beside the edge pulls the peak; at an object's
         outline the texture behind differs between the two views and the pull does
-        not cancel in the disparity.  :class:`~robostereo.matcher.pipeline.MatchParameters`
+        not cancel in the disparity.  :class:`~robostereo.matcher.parameters.MatchParameters`
         passes its own (0.85 by default).
 
     Returns

@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -24,6 +23,7 @@ from robostereo.matcher.candidates import (
 )
 from robostereo.matcher.edges import EdgeSet, detect_edges, to_grey
 from robostereo.matcher.parallel import run_all
+from robostereo.matcher.parameters import MatchParameters
 from robostereo.matcher.photometric import GreyMap
 from robostereo.matcher.relaxation import relax
 from robostereo.matcher.window_costs import PATH_PENALTIES
@@ -32,14 +32,14 @@ from robostereo.matcher.window_match import search_costs, window_match
 __all__ = ["match_once"]
 
 
-def match_once(a: np.ndarray, b: np.ndarray, lo: float, hi: float, p: Any,
+def match_once(a: np.ndarray, b: np.ndarray, lo: float, hi: float, p: MatchParameters,
                valid_left: ArrayLike | None, valid_right: ArrayLike | None,
                say: Callable[[str], None], t: dict[str, float], grey_map: GreyMap | None,
                accept: Callable[[EdgeSet, NDArray[np.float64], NDArray[np.float64]],
                                 NDArray[np.bool_]]) -> tuple[dict, EdgeSet, EdgeSet]:
     """One match of the pair ``a, b`` (``(H, W)`` or ``(H, W, 3|4)``) over the disparities
     ``lo .. hi`` by ``p``'s method (:func:`~robostereo.matcher.pipeline.match_stereo`'s
-    steps 1-3; ``p`` is its :class:`~robostereo.matcher.pipeline.MatchParameters`, not
+    steps 1-3; ``p`` is its :class:`~robostereo.matcher.parameters.MatchParameters`, not
     imported here: that would be a cycle), the right view's grey levels through
     ``grey_map`` where given, the window method's acceptance by
     ``accept(left_edges, disparity, confidence)``.

@@ -36,7 +36,8 @@ from numpy.typing import ArrayLike, NDArray
 from robostereo.errors import InputError, warn_input
 from robostereo.geometry.pose_rectification import GeneralEpipolarGeometry
 from robostereo.geometry.scara_rectification import rectified_valid_mask
-from robostereo.matcher.pipeline import MatchParameters, MatchResult, match_stereo
+from robostereo.matcher.parameters import MatchParameters
+from robostereo.matcher.pipeline import MatchResult, match_stereo
 from robostereo.robot.capture_folder import (
     CAPTURE_YAML,
     DISPARITY_UNCERTAINTY_PX,

@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from robostereo.errors import InputError, UnreachablePoseError, require_finite
 from robostereo.geometry.camera import Camera, camera_to_dict
 from robostereo.geometry.poses import SE3, pose_to_dict
-from robostereo.matcher.pipeline import MatchParameters
+from robostereo.matcher.parameters import MatchParameters
 from robostereo.robot.capture import Capture, Located, LocateParameters, locate
 from robostereo.robot.handeye import (
     DEFAULT_METHOD,
