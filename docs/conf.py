@@ -85,7 +85,8 @@ API_PAGES: dict[str, tuple[str, str, tuple[str, ...]]] = {
     "robot": ("robostereo.robot", "Arms, captures, locating, hand-eye, planning.",
               ("robostereo.robot",)),
     "application": ("The application layer", "The thesis's experiments, figures, batches.",
-                    ("robostereo.experiments", "robostereo.plots", "robostereo.batch")),
+                    ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
+                     "robostereo.batch_workers")),
     "errors": ("robostereo.errors", "The one error type and its checks.",
                ("robostereo.errors",)),
 }

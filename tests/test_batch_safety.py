@@ -215,12 +215,12 @@ def test_killing_the_main_process_leaves_no_worker(slow_inputs: Path, tmp_path: 
 def test_local_workers_share_the_cores(monkeypatch):
     """A local worker gets its share of the cores for the matcher's threads, unless
     ROBOSTEREO_THREADS says otherwise."""
-    from robostereo import batch
+    from robostereo import batch_workers
 
-    monkeypatch.setattr(batch, "_die_with_parent", lambda parent: None)
+    monkeypatch.setattr(batch_workers, "die_with_parent", lambda parent: None)
     monkeypatch.delenv("ROBOSTEREO_THREADS", raising=False)
-    batch._start_worker(os.getpid(), 3)
+    batch_workers.start_worker(os.getpid(), 3)
     assert os.environ["ROBOSTEREO_THREADS"] == "3"
     monkeypatch.setenv("ROBOSTEREO_THREADS", "5")
-    batch._start_worker(os.getpid(), 1)
+    batch_workers.start_worker(os.getpid(), 1)
     assert os.environ["ROBOSTEREO_THREADS"] == "5"

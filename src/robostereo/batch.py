@@ -34,9 +34,6 @@ import hashlib
 import json
 import math
 import os
-import signal
-import sys
-import threading
 import time
 from collections.abc import Callable, Mapping
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -47,6 +44,7 @@ from typing import Any
 import numpy as np
 import yaml
 
+from robostereo.batch_workers import start_worker, stop_workers
 from robostereo.errors import InputError
 from robostereo.matcher.parallel import n_threads
 from robostereo.matcher.parameters import MatchParameters
@@ -580,7 +578,7 @@ def run_batch(
             # the cores shared out: n processes of n_threads() threads each would make
             # n times too many (a ROBOSTEREO_THREADS the user set is kept)
             share = max(1, n_threads() // n)
-            with ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=_start_worker,
+            with ProcessPoolExecutor(max_workers=n, mp_context=ctx, initializer=start_worker,
                                      initargs=(os.getpid(), share)) as pool:
                 futs = [pool.submit(process_input, str(p), str(out), opts) for p in todo]
                 try:
@@ -589,7 +587,7 @@ def run_batch(
                 except BaseException:
                     for f in futs:
                         f.cancel()
-                    _stop_workers(pool)
+                    stop_workers(pool)
                     raise
     ordered = [rows[n] for n in sorted(rows)]
     summary = out / "summary.csv"
@@ -602,77 +600,6 @@ def run_batch(
         errors={r["input"]: r["error"] for r in ordered if r["status"] != "ok"},
         redone=tuple(sorted(redone)),
     )  # fmt: skip
-
-
-def _start_worker(parent: int, threads: int) -> None:
-    """Initializer of a local worker: its share of the cores for the matcher's threads
-    (unless ``ROBOSTEREO_THREADS`` is set), and :func:`_die_with_parent`."""
-    if not os.environ.get("ROBOSTEREO_THREADS", "").strip():
-        os.environ["ROBOSTEREO_THREADS"] = str(threads)
-    _die_with_parent(parent)
-
-
-def _die_with_parent(parent: int) -> None:
-    """Initializer of a local worker: end when the main process `parent` ends.
-
-    On Linux the kernel kills the worker when its parent dies (``PR_SET_PDEATHSIG``),
-    even by SIGKILL; elsewhere, and as a fallback, a thread checks twice a second that
-    the parent is still there.  SIGINT is left to the main process, which stops the
-    workers itself (with SIGTERM): a worker then removes its temporary outputs and
-    ends at once (exit code 143).
-    """
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, _worker_terminated)
-    if sys.platform.startswith("linux"):
-        try:
-            import ctypes
-
-            ctypes.CDLL(None, use_errno=True).prctl(1, int(signal.SIGKILL))  # PR_SET_PDEATHSIG
-        except (OSError, AttributeError):
-            pass
-    if os.getppid() != parent:
-        os._exit(1)
-
-    def watch() -> None:
-        while os.getppid() == parent:
-            time.sleep(0.5)
-        os._exit(1)
-
-    threading.Thread(target=watch, name="robostereo-parent-watch", daemon=True).start()
-
-
-def _worker_terminated(signum: int, frame: Any) -> None:
-    """SIGTERM in a local worker: no half-written ``.part`` left, no traceback."""
-    from robostereo.io import remove_live_parts
-
-    remove_live_parts()
-    os._exit(143)
-
-
-def _stop_workers(pool: ProcessPoolExecutor) -> None:
-    """Terminate a pool's worker processes now (an interrupted batch).
-
-    The pool's manager thread may then try to settle futures that were just cancelled
-    and print a traceback of ``InvalidStateError`` / ``CancelledError`` after the
-    one-line "interrupted": exceptions of those two kinds in threads are silenced.
-    """
-    from concurrent.futures import CancelledError, InvalidStateError
-
-    previous = threading.excepthook
-
-    def quiet(args: threading.ExceptHookArgs) -> None:
-        if not isinstance(args.exc_value, CancelledError | InvalidStateError):
-            previous(args)
-
-    threading.excepthook = quiet
-    handles = list((getattr(pool, "_processes", None) or {}).values())
-    for proc in handles:
-        proc.terminate()
-    pool.shutdown(wait=False, cancel_futures=True)
-    for proc in handles:
-        proc.join(timeout=5.0)
-        if proc.is_alive():
-            proc.kill()
 
 
 def _run_dask(
