@@ -15,9 +15,12 @@ Run:  python benchmarks/bench_checks.py [--repeat N]
 2. The check's ratio on the scenes as they are (the pairs' median grey-level difference
    as they are over the one after a gain and offset; the views differ above
    :data:`~robostereo.matcher.photometric.RESIDUAL_RATIO`).
-3. The right image moved down by 0.5, 1 and 2 px and up by 1 px (linear interpolation):
-   % accepted / % false with the rows check off and on (``*`` where it found the rows
-   apart and matched again), and its estimate of the offset on the scenes as they are.
+3. The right image's rows moved (linear interpolation): down by 0.5, 1 and 2 px, up by
+   1 px, tilted by 0.2 and -0.4 degrees about the image's centre (a rotation between
+   the views: rows at the side edges 1-2.6 px apart, none at the centre), and stretched
+   1.5 px more at the bottom and as much less at the top (a focal length off): % accepted
+   / % false with the rows check off and on (``*`` where it found the rows apart and
+   matched again), and its estimate (offset / tilt / stretch) on the scenes as they are.
 4. The time of both checks on the scenes as they are, per core (``ROBOSTEREO_THREADS=1``,
    thread CPU time): median of N interleaved rounds of the whole match with both checks
    on and both off, and the median of the rounds' ratios.
@@ -60,15 +63,27 @@ def exposed(image: np.ndarray, gain: float, offset: float, gamma: float) -> np.n
     return np.clip(np.rint(gain * f + offset), 0, 255).astype(np.uint8)
 
 
-#: the right image moved down by these many rows
-SHIFTS = (0.5, 1.0, 2.0, -1.0)
+#: the right image's rows moved: name -> (rows down, tilt in degrees, stretch in px)
+ROW_CHANGES: dict[str, tuple[float, float, float]] = {
+    "+0.5 px": (0.5, 0.0, 0.0),
+    "+1 px": (1.0, 0.0, 0.0),
+    "+2 px": (2.0, 0.0, 0.0),
+    "-1 px": (-1.0, 0.0, 0.0),
+    "tilt 0.2 deg": (0.0, 0.2, 0.0),
+    "tilt -0.4 deg": (0.0, -0.4, 0.0),
+    "stretch 1.5 px": (0.0, 0.0, 1.5),
+}
 
 
-def moved_down(image: np.ndarray, rows: float) -> np.ndarray:
-    """``image`` moved down by ``rows`` (linear interpolation, border repeated)."""
+def rows_moved(image: np.ndarray, down: float, tilt_deg: float, stretch: float) -> np.ndarray:
+    """``image`` whose row ``y`` at column ``x`` shows up at ``y + down + tan(tilt) (x - cx)
+    + stretch (y - cy) / cy`` (linear interpolation, border repeated)."""
     h, w = image.shape[:2]
-    return cv2.warpAffine(image, np.float32([[1, 0, 0], [0, 1, rows]]), (w, h),
-                          flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    cx, cy = 0.5 * (w - 1), 0.5 * (h - 1)
+    t, k = np.tan(np.radians(tilt_deg)), stretch / cy
+    m = np.float32([[1, 0, 0], [t, 1 + k, down - t * cx - k * cy]])
+    return cv2.warpAffine(image, m, (w, h), flags=cv2.INTER_LINEAR,
+                          borderMode=cv2.BORDER_REPLICATE)
 
 
 def scored(scene, right: np.ndarray, **checks: bool) -> tuple[float, float, bool]:
@@ -123,19 +138,24 @@ def main(argv: list[str] | None = None) -> int:
         print(f"  {n:11s} {as_is:5.2f} / {fitted:5.2f} grey levels = {as_is / fitted:4.2f}")
 
     # -- 3. rows moved: the rows check off and on
-    print("\n% accepted / % false (silhouette rule) with the right image moved down: rows "
-          "check off -> on (* matched again); the offset found on the pair as it is")
+    print("\n% accepted / % false (silhouette rule) with the right image's rows moved: rows "
+          "check off -> on (* matched again)")
+    for change, move in ROW_CHANGES.items():
+        print(f"\n{change}")
+        for n in order:
+            s = scenes[n]
+            a0, f0, _ = scored(s, rows_moved(s.right, *move), rows_check=False)
+            a1, f1, again = scored(s, rows_moved(s.right, *move))
+            print(f"  {n:11s} {a0:5.1f} / {f0:5.2f}  ->  {a1:5.1f} / {f1:4.2f} "
+                  f"{'*' if again else ''}")
+    print("\nthe rows check on the pairs as they are: offset +- its standard error, tilt, "
+          "stretch (px)")
     for n in order:
         s = scenes[n]
-        line = f"  {n:11s}"
-        for dy in SHIFTS:
-            a0, f0, _ = scored(s, moved_down(s.right, dy), rows_check=False)
-            a1, f1, again = scored(s, moved_down(s.right, dy))
-            line += f" | {dy:+.1f}: {a0:5.1f} / {f0:5.2f} -> {a1:5.1f} / {f1:4.2f}{'*' * again}"
         ro = match_stereo(s.left, s.right, s.disparity_range).row_offset
-        line += (f" | as is: {ro.offset_px:+.2f} +- {ro.standard_error_px:.2f} px"
-                 if ro is not None else " | as is: no estimate")
-        print(line)
+        print(f"  {n:11s} " + (f"{ro.offset_px:+.2f} +- {ro.standard_error_px:.2f}, "
+                               f"{ro.tilt_px:+.2f}, {ro.stretch_px:+.2f}"
+                               if ro is not None else "no estimate"))
 
     # -- 4. the checks' time, per core, on the pairs as they are
     os.environ["ROBOSTEREO_THREADS"] = "1"

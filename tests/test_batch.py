@@ -240,4 +240,5 @@ def test_summary_says_which_pairs_the_checks_corrected(tmp_path: Path) -> None:
     assert abs(float(rows["b_rows"]["row_offset_px"]) - 1.5) < 0.2
     assert abs(float(rows["a_plain"]["row_offset_px"])) < 0.2
     header = (tmp_path / "out" / "summary.csv").read_text().splitlines()[0].split(",")
-    assert {"row_offset_px", "rows_moved", "grey_mapped"} <= set(header)
+    assert {"row_offset_px", "row_tilt_px", "row_stretch_px", "rows_moved",
+            "grey_mapped"} <= set(header)

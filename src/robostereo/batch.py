@@ -63,15 +63,17 @@ PathLike = str | os.PathLike[str]
 
 SUMMARY_COLUMNS = (
     "input", "status", "kind", "edges_left", "edges_right", "matched", "matched_percent",
-    "points_3d", "min_disparity", "max_disparity", "row_offset_px", "rows_moved",
-    "grey_mapped", "output", "error",
+    "points_3d", "min_disparity", "max_disparity", "row_offset_px", "row_tilt_px",
+    "row_stretch_px", "rows_moved", "grey_mapped", "output", "error",
 )  # fmt: skip
 """Columns of ``summary.csv`` (one row per input, sorted by input name).  The checks of
 :func:`~robostereo.matcher.pipeline.match_stereo` are there too, so that a batch says
-which pairs were not as they should be: ``row_offset_px`` the rows' measured offset
-(blank where it could not be measured), ``rows_moved`` 1 where the right view was moved
-by it and matched again, ``grey_mapped`` 1 where the views' grey levels differed and
-were mapped before matching again."""
+which pairs were not as they should be: ``row_offset_px``, ``row_tilt_px`` and
+``row_stretch_px`` the rows' measured offset (see
+:class:`~robostereo.matcher.alignment.RowOffset`; blank where it could not be measured),
+``rows_moved`` 1 where the right view was moved by it and matched again,
+``grey_mapped`` 1 where the views' grey levels differed and were mapped before matching
+again."""
 
 _IMAGE_EXTS = (".png", ".ppm", ".pgm", ".pnm", ".tif", ".tiff", ".bmp", ".jpg", ".jpeg")
 
@@ -358,6 +360,8 @@ def _checks(res: Any) -> dict[str, Any]:
     rows = res.row_offset
     return {
         "row_offset_px": "" if rows is None else round(float(rows.offset_px), 3),
+        "row_tilt_px": "" if rows is None else round(float(rows.tilt_px), 3),
+        "row_stretch_px": "" if rows is None else round(float(rows.stretch_px), 3),
         "rows_moved": int(rows is not None and rows.misaligned),
         "grey_mapped": int(res.grey_map is not None),
     }

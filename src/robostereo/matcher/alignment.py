@@ -12,7 +12,11 @@ keeps precisely those, so :func:`row_offset` keeps the places whose neighbourhoo
 grey-level structure in both directions (the structure tensor's smaller eigenvalue, as
 Shi and Tomasi choose features [1]_) and tracks them from the left view into the right
 with Lucas-Kanade [2]_, starting at the matched disparity.  The median vertical motion is
-the rows' offset.
+the rows' offset.  Rows may also disagree by an amount that changes across the image --
+a small rotation between the views about the optical axis tilts them, a focal length
+off in one view stretches them -- so the motions are also fitted by a plane in the
+image (an offset at the centre, a tilt to the side edges, a stretch to the top and
+bottom), kept where its slopes are beyond their noise.
 
 References
 ----------
@@ -51,16 +55,26 @@ _WINDOW = 11
 class RowOffset:
     """How far the right view's rows are from the left's, at matched places.
 
+    The right view shows at row ``y + offset_px + tilt_px u + stretch_px v`` what the
+    left shows at row ``y``, with ``u = (x - cx) / cx`` and ``v = (y - cy) / cy`` (-1 at
+    the left and top edges, 1 at the right and bottom ones; ``cx, cy`` the image's
+    centre).
+
     Attributes
     ----------
     offset_px : float
-        Median vertical motion from the left view to the right (pixels, down
-        positive): the right view shows at row ``y + offset_px`` what the left shows at
-        row ``y``.
+        Vertical motion from the left view to the right (pixels, down positive): the
+        median of the places' motions, or the plane's value at the image's centre where
+        it tilts or stretches.
     spread_px : float
-        Half the interquartile range of the places' vertical motions.
+        Half the interquartile range of the places' vertical motions (about the plane,
+        where it tilts or stretches).
     n_places : int
         Places tracked.
+    tilt_px, stretch_px : float
+        How much more the offset is at the right edge and at the bottom than at the
+        centre (as much less at the left edge and the top); 0 unless the places show it
+        beyond three standard errors.
 
     Examples
     --------
@@ -68,18 +82,37 @@ class RowOffset:
     (True, False)
     >>> RowOffset(0.5, 1.5, 57).misaligned  # three standard errors are 1.1 px
     False
+    >>> r = RowOffset(0.0, 0.1, 60, tilt_px=1.2)  # a rotation: 0 at the centre
+    >>> round(r.rms_px, 2), r.misaligned
+    (0.69, True)
     """
 
     offset_px: float
     spread_px: float
     n_places: int
+    tilt_px: float = 0.0
+    stretch_px: float = 0.0
 
     def __post_init__(self) -> None:
         require_finite("offset_px", self.offset_px)
         require_finite("spread_px", self.spread_px)
+        require_finite("tilt_px", self.tilt_px)
+        require_finite("stretch_px", self.stretch_px)
         if self.spread_px < 0:
             raise InputError(f"spread_px must be >= 0, got {self.spread_px}")
         require_int("n_places", self.n_places, minimum=0)
+
+    @property
+    def varies(self) -> bool:
+        """Whether the offset changes across the image (a tilt or a stretch)."""
+        return self.tilt_px != 0.0 or self.stretch_px != 0.0
+
+    @property
+    def rms_px(self) -> float:
+        """The offset's root mean square over the image: ``sqrt(offset^2 + (tilt^2 +
+        stretch^2) / 3)`` (``u`` and ``v`` uniform on -1..1)."""
+        return float(np.sqrt(self.offset_px ** 2
+                             + (self.tilt_px ** 2 + self.stretch_px ** 2) / 3.0))
 
     @property
     def standard_error_px(self) -> float:
@@ -89,12 +122,33 @@ class RowOffset:
 
     @property
     def misaligned(self) -> bool:
-        """At least :data:`MIN_TRACKED` places, the rows more than
-        :data:`ROW_TOLERANCE_PX` apart, and the offset more than three standard errors
-        from 0 (a scene with few places that show vertical structure, say an untextured
-        block, gives a wide scatter and no verdict)."""
-        return bool(self.n_places >= MIN_TRACKED and abs(self.offset_px) > ROW_TOLERANCE_PX
-                    and abs(self.offset_px) > 3.0 * self.standard_error_px)
+        """At least :data:`MIN_TRACKED` places and the rows more than
+        :data:`ROW_TOLERANCE_PX` apart (root mean square over the image), beyond their
+        noise: an offset more than three standard errors from 0, or a tilt or stretch
+        (kept only beyond three standard errors).  A scene with few places that show
+        vertical structure, say an untextured block, gives a wide scatter and no
+        verdict."""
+        if self.n_places < MIN_TRACKED or self.rms_px <= ROW_TOLERANCE_PX:
+            return False
+        return bool(self.varies or abs(self.offset_px) > 3.0 * self.standard_error_px)
+
+    def describe(self) -> str:
+        """The offset in words, for a warning.
+
+        >>> RowOffset(-0.2, 0.1, 60, tilt_px=1.1).describe()
+        '-0.20 px at the centre, 1.10 px more at the right edge and as much less at the left'
+        """
+        if not self.varies:
+            side = "lower" if self.offset_px > 0 else "higher"
+            return f"{self.offset_px:+.2f} px (the right view {side})"
+        parts = [f"{self.offset_px:+.2f} px at the centre"]
+        if self.tilt_px:
+            parts.append(f"{self.tilt_px:.2f} px more at the right edge and as much less at "
+                         "the left")
+        if self.stretch_px:
+            parts.append(f"{self.stretch_px:.2f} px more at the bottom and as much less at "
+                         "the top")
+        return ", ".join(parts)
 
 
 def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
@@ -124,6 +178,10 @@ def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
        ``(x - disparity, row)``.
     3. The better-structured half of the places whose track converged within 2 px of
        its match gives the median vertical motion and its spread.
+    4. The same motions fitted by a plane ``offset + tilt u + stretch v`` (least squares,
+       the places more than three robust deviations off left out, twice, starting from
+       the median); where a slope is more than three of its standard errors from 0, the
+       plane is the estimate (a slope within its noise is set to 0 and the rest refitted).
 
     Examples
     --------
@@ -161,22 +219,81 @@ def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
     if dy.size < MIN_TRACKED:
         return None
     # -- 3. the median and its spread (the quartiles as the nearest order statistics)
-    dy = np.sort(dy)
-    n = dy.size
-    med = 0.5 * (dy[(n - 1) // 2] + dy[n // 2])
-    return RowOffset(float(med), float(0.5 * (dy[(3 * n) // 4] - dy[n // 4])), int(n))
+    med, spread = _median_spread(dy)
+    constant = RowOffset(med, spread, int(dy.size))
+    # -- 4. a plane over the image, where its slopes are beyond their noise
+    h, w = ga.shape[:2]
+    # the places where the right view shows them: the rows' offset is the right view's
+    u = (xi[best] + dx[best] - 0.5 * (w - 1)) / max(0.5 * (w - 1), 1.0)
+    v = (y[best] - 0.5 * (h - 1)) / max(0.5 * (h - 1), 1.0)
+    plane = _plane(dy, u, v, med)
+    if plane is None:
+        return constant
+    (offset, tilt, stretch), residuals = plane
+    _, spread = _median_spread(residuals)
+    return RowOffset(offset, spread, int(dy.size), tilt_px=tilt, stretch_px=stretch)
 
 
-def moved_rows(image: ArrayLike, offset_px: float) -> np.ndarray:
-    """``image`` ``(H, W)`` or ``(H, W, C)`` moved up by ``offset_px`` rows (linear
-    interpolation, the border row repeated): what the right view would show were its
-    rows the left's.  Same dtype.
+def _median_spread(values: np.ndarray) -> tuple[float, float]:
+    """Median and half the interquartile range (the quartiles as the nearest order
+    statistics) of ``values`` (n,)."""
+    z = np.sort(values)
+    n = z.size
+    return (float(0.5 * (z[(n - 1) // 2] + z[n // 2])),
+            float(0.5 * (z[(3 * n) // 4] - z[n // 4])))
+
+
+def _plane(dy: np.ndarray, u: np.ndarray, v: np.ndarray, start: float
+           ) -> tuple[tuple[float, float, float], np.ndarray] | None:
+    """``dy ~ offset + tilt u + stretch v`` (all (n,)), fitted robustly from the constant
+    `start`; slopes within three standard errors of 0 are dropped and the rest refitted.
+    None where no slope is kept.  Returns the coefficients and the kept fit's residuals."""
+    design = np.column_stack([np.ones_like(u), u, v])
+    use = [0, 1, 2]
+    coef = np.array([start, 0.0, 0.0])
+    while len(use) > 1:
+        a = design[:, use]
+        fit = coef[use]
+        for _ in range(2):  # leave out the places far off the current fit, refit
+            r = dy - a @ fit
+            sigma = max(1.4826 * float(np.median(np.abs(r - np.median(r)))), 0.02)
+            keep = np.abs(r) <= 3.0 * sigma
+            if keep.sum() < MIN_TRACKED:
+                return None
+            fit = np.linalg.lstsq(a[keep], dy[keep], rcond=None)[0]
+        r = dy[keep] - a[keep] @ fit
+        sigma = max(1.4826 * float(np.median(np.abs(r - np.median(r)))), 0.02)
+        gram = a[keep].T @ a[keep]
+        if np.linalg.cond(gram) > 1e8:
+            return None
+        se = sigma * np.sqrt(np.diag(np.linalg.inv(gram)))
+        coef = np.zeros(3)
+        coef[use] = fit
+        weak = [j for k, j in enumerate(use) if j > 0 and abs(fit[k]) <= 3.0 * se[k]]
+        if not weak:
+            return (float(coef[0]), float(coef[1]), float(coef[2])), r
+        use = [j for j in use if j not in weak]
+    return None
+
+
+def moved_rows(image: ArrayLike, offset_px: float, tilt_px: float = 0.0,
+               stretch_px: float = 0.0) -> np.ndarray:
+    """``image`` ``(H, W)`` or ``(H, W, C)`` moved up by ``offset_px + tilt_px u +
+    stretch_px v`` rows at ``(x, y)`` (see :class:`RowOffset`; linear interpolation,
+    the border row repeated): what the right view would show were its rows the left's.
+    Same dtype.
 
     >>> moved_rows(np.arange(12, dtype=np.float32).reshape(4, 3), 1.0)[:, 0].tolist()
     [3.0, 6.0, 9.0, 9.0]
+    >>> moved_rows(np.arange(12, dtype=np.float32).reshape(4, 3), 0.0, 1.0)[0].tolist()
+    [0.0, 1.0, 5.0]
     """
     im = np.asarray(image)
     h, w = im.shape[:2]
-    shift = np.float32([[1.0, 0.0, 0.0], [0.0, 1.0, float(offset_px)]])
+    cx, cy = 0.5 * (w - 1), 0.5 * (h - 1)
+    a = float(tilt_px) / max(cx, 1.0)  # rows per column
+    b = float(stretch_px) / max(cy, 1.0)  # rows per row
+    shift = np.float32([[1.0, 0.0, 0.0],
+                        [a, 1.0 + b, float(offset_px) - a * cx - b * cy]])
     return cv2.warpAffine(im, shift, (w, h), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP,
                           borderMode=cv2.BORDER_REPLICATE)

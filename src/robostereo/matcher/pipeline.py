@@ -425,15 +425,15 @@ def match_stereo(
         rows = row_offset(a, b, el.row[acc], el.x[acc], fields["edge_disparity"][acc])
         t["rows_check"] = time.perf_counter() - t2
         if rows is not None and rows.misaligned:
-            warn_input(f"the rows of the two views disagree by {rows.offset_px:+.2f} px at "
-                       f"{rows.n_places} matched places (the right view "
-                       f"{'lower' if rows.offset_px > 0 else 'higher'}): not epipolar lines; "
-                       "matched again with the right view moved (check the rectification, "
-                       "calibration or poses)")
+            warn_input(f"the rows of the two views disagree by {rows.describe()} at "
+                       f"{rows.n_places} matched places: not epipolar lines; matched again "
+                       "with the right view moved (check the rectification, calibration or "
+                       "poses)")
             say("rows disagree: matching again")
-            b = moved_rows(b, rows.offset_px)
+            move = (rows.offset_px, rows.tilt_px, rows.stretch_px)
+            b = moved_rows(b, *move)
             if valid_right is not None:
-                moved = moved_rows(np.asarray(valid_right, np.float32), rows.offset_px)
+                moved = moved_rows(np.asarray(valid_right, np.float32), *move)
                 valid_right = moved >= 0.999  # every pixel it reads was valid
             del fields, el, er  # the first match is not held while the second is made
             fields, el, er = match_once(a, b, lo, hi, p, valid_left, valid_right, say, t,
