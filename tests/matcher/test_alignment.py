@@ -26,7 +26,7 @@ def _textured(seed: int, shape=(160, 240)) -> np.ndarray:
     return cv2.GaussianBlur(rng.integers(0, 256, shape).astype(np.uint8), (0, 0), 1.2)
 
 
-@pytest.mark.parametrize("dy", [0.0, 0.6, -1.3, 2.0])
+@pytest.mark.parametrize("dy", [0.0, 0.6, -1.3, 2.0, 3.6, -4.4])
 def test_row_offset_finds_a_known_offset_on_texture(dy):
     left = _textured(1)
     right = _moved_down(np.roll(left, -11, axis=1), dy)  # 11 px disparity
@@ -52,7 +52,7 @@ def test_track_kernel_reports_structure_and_motion():
     right = np.roll(np.roll(left, -5, axis=1), 1, axis=0)
     px = np.array([50, 60, 70, 80, 2], np.int64)  # the last is too near the border
     py = np.array([50, 60, 70, 80, 2], np.int64)
-    strength, dx, dy, ok = track_kernel(left, right, px, py, np.full(5, 5.0), 5, 10)
+    strength, dx, dy, ok = track_kernel(left, right, px, py, np.full(5, 5.0), 5, 10, 3)
     assert strength[4] == 0 and not ok[4]
     assert np.all(strength[:4] > 0)
     tracked = ok[:4]
@@ -61,7 +61,7 @@ def test_track_kernel_reports_structure_and_motion():
     assert np.allclose(dy[:4][tracked], 1.0, atol=0.05)
     flat = np.zeros((40, 40))
     s, _, _, ok_flat = track_kernel(flat, flat, np.array([20], np.int64),
-                                    np.array([20], np.int64), np.zeros(1), 5, 10)
+                                    np.array([20], np.int64), np.zeros(1), 5, 10, 3)
     assert s[0] == 0 and not ok_flat[0]
 
 
@@ -170,6 +170,21 @@ def test_real_scene_with_tilted_rows_is_warned_about_and_kept_right(real_scenes)
     assert res.row_offset.misaligned and res.row_offset.tilt_px < -0.5
     cov, false = _scored(res, s.gt_disparity)
     assert false <= 0.015 and cov >= cov0 - 0.05
+
+
+@pytest.mark.parametrize("dy", [4.0, -4.0])
+def test_rows_four_pixels_apart_are_read_on_every_real_scene(real_scenes, dy):
+    """Lucas-Kanade alone reaches a pixel or two on real texture (cloth3 read a 4 px
+    move down as 0.9 px, venus one up as 1.3 px); the whole-row search before it reads
+    every developer scene within 0.5 px."""
+    for name, s in real_scenes.items():
+        moved = _moved_down(s.right, dy)
+        first = match_stereo(s.left, moved, s.disparity_range,
+                             params=MatchParameters(rows_check=False))
+        acc = first.accepted
+        r = row_offset(s.left, moved, first.left_edges.row[acc], first.left_edges.x[acc],
+                       first.edge_disparity[acc])
+        assert r is not None and r.misaligned and abs(r.offset_px - dy) < 0.5, (name, r)
 
 
 def test_the_right_views_valid_pixels_move_with_it():

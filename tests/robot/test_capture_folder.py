@@ -239,3 +239,33 @@ def test_a_pose_near_the_float_range_gives_no_numpy_warning(block_sim):
             replace(block_sim.capture, pose_left=far)
         except InputError:
             pass
+
+
+def test_a_hand_eye_turned_about_the_optical_axis_is_warned_about(tmp_path, capsys):
+    """A hand-eye 2 degrees off about the camera's optical axis puts the rectified rows
+    of the six-axis pulley about 2.6 px apart: the first match's places are mostly wrong,
+    so the rows check must search whole rows to see it. `locate` warns (exit 0) and the
+    second match's points lie where the right hand-eye's do."""
+    from scipy.spatial.transform import Rotation
+
+    from robostereo.robot.capture import write_capture
+    from robostereo.robot.simulated import simulate_six_axis_capture
+
+    good = tmp_path / "good"
+    write_capture(good, simulate_six_axis_capture("pulley").capture)
+
+    def turned(data):
+        q = Rotation.from_quat(data["hand_eye"]["quaternion"])  # ROS order x, y, z, w
+        turn = q * Rotation.from_euler("z", 2.0, degrees=True)
+        data["hand_eye"]["quaternion"] = [float(v) for v in turn.as_quat()]
+
+    bad = _copy_with(good, tmp_path / "bad", turned)
+    assert main(["locate", str(good), "-o", str(tmp_path / "good.csv")]) == 0
+    assert "disagree" not in capsys.readouterr().err
+    assert main(["locate", str(bad), "-o", str(tmp_path / "bad.csv")]) == 0
+    assert "the rows of the two views disagree" in capsys.readouterr().err
+    z_good = np.genfromtxt(tmp_path / "good.csv", delimiter=",", names=True)["Z_w"]
+    z_bad = np.genfromtxt(tmp_path / "bad.csv", delimiter=",", names=True)["Z_w"]
+    assert z_bad.size > 0.8 * z_good.size
+    assert abs(np.median(z_bad) - np.median(z_good)) < 3.0
+    assert np.percentile(z_bad, 95) < np.percentile(z_good, 95) + 5.0

@@ -49,6 +49,9 @@ MIN_TRACKED: int = 30
 _MAX_PLACES = 120
 #: Lucas-Kanade window (pixels)
 _WINDOW = 11
+#: whole rows searched either side before Lucas-Kanade starts (its own reach is a pixel
+#: or two; a hand-eye 2 degrees off about the optical axis puts rows 2-3 px apart)
+_ROW_SEARCH = 5
 
 
 @dataclass(frozen=True)
@@ -170,12 +173,14 @@ def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
 
     Notes
     -----
-    1. Up to 120 of the matches, evenly spaced, on the images' grey levels (a colour image's
+    1. Up to 120 of the matches, evenly spaced (480 where fewer than
+       :data:`MIN_TRACKED` of those are tracked), on the images' grey levels (a colour image's
        green channel); at each, the smaller eigenvalue of the grey levels' structure
        tensor over an 11 x 11 window (central differences).
     2. Each place is tracked into the right view by Lucas-Kanade over that window
        (:func:`~robostereo.matcher.alignment_kernels.track_kernel`), starting at
-       ``(x - disparity, row)``.
+       ``(x - disparity, row + v0)``, ``v0`` the whole row offset within 5 px whose
+       window differs least.
     3. The better-structured half of the places whose track converged within 2 px of
        its match gives the median vertical motion and its spread.
     4. The same motions fitted by a plane ``offset + tilt u + stretch v`` (least squares,
@@ -200,38 +205,57 @@ def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
     if not y.shape == xs.shape == d.shape:
         raise InputError(f"rows, x and disparity must be of one length, got {y.size}, "
                          f"{xs.size} and {d.size}")
-    if y.size > _MAX_PLACES:  # evenly spaced
-        pick = np.arange(_MAX_PLACES) * (y.size - 1) // (_MAX_PLACES - 1)
-        y, xs, d = y[pick], xs[pick], d[pick]
-    keep = np.isfinite(xs) & np.isfinite(d)
-    y, xs, d = y[keep], xs[keep], d[keep]
-    if y.size < MIN_TRACKED:
-        return None
     # the grey levels as given (the green channel of a colour image: the rows' offset is
     # the same in every channel)
     ga = a[..., 1] if a.ndim == 3 else a
     gb = b[..., 1] if b.ndim == 3 else b
-    xi = np.rint(xs).astype(np.int64)
-    # -- 1.-2. structure and Lucas-Kanade at every place; the better-structured half kept
-    _, dx, dy, ok = track_kernel(ga, gb, xi, y.astype(np.int64), d, _WINDOW // 2, 10)
-    best = ok & (np.abs(dx + d) <= 2.0)
-    dy = dy[best]
-    if dy.size < MIN_TRACKED:
+    # -- 1.-2. structure and Lucas-Kanade at evenly spaced places, the better-structured
+    #    half kept; four times as many where too few of them are tracked (rows far
+    #    apart leave many first matches wrong)
+    for most in (_MAX_PLACES, 4 * _MAX_PLACES):
+        tracked = _tracked(ga, gb, y, xs, d, most)
+        if tracked is not None or y.size <= most:
+            break
+    if tracked is None:
         return None
+    xr, y, dy = tracked
     # -- 3. the median and its spread (the quartiles as the nearest order statistics)
     med, spread = _median_spread(dy)
     constant = RowOffset(med, spread, int(dy.size))
     # -- 4. a plane over the image, where its slopes are beyond their noise
     h, w = ga.shape[:2]
     # the places where the right view shows them: the rows' offset is the right view's
-    u = (xi[best] + dx[best] - 0.5 * (w - 1)) / max(0.5 * (w - 1), 1.0)
-    v = (y[best] - 0.5 * (h - 1)) / max(0.5 * (h - 1), 1.0)
+    u = (xr - 0.5 * (w - 1)) / max(0.5 * (w - 1), 1.0)
+    v = (y - 0.5 * (h - 1)) / max(0.5 * (h - 1), 1.0)
     plane = _plane(dy, u, v, med)
     if plane is None:
         return constant
     (offset, tilt, stretch), residuals = plane
     _, spread = _median_spread(residuals)
     return RowOffset(offset, spread, int(dy.size), tilt_px=tilt, stretch_px=stretch)
+
+
+def _tracked(ga: np.ndarray, gb: np.ndarray, y: np.ndarray, xs: np.ndarray, d: np.ndarray,
+             most: int) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """Up to `most` of the matches ``(xs, y, d)`` (n,), evenly spaced, tracked from `ga`
+    into `gb`: the right columns, the rows and the vertical motions of the places whose
+    track converged within 2 px of their match, (k,) each; None where fewer than
+    :data:`MIN_TRACKED`."""
+    if y.size > most:  # evenly spaced
+        pick = np.arange(most) * (y.size - 1) // (most - 1)
+        y, xs, d = y[pick], xs[pick], d[pick]
+    keep = np.isfinite(xs) & np.isfinite(d)
+    y, xs, d = y[keep], xs[keep], d[keep]
+    if y.size < MIN_TRACKED:
+        return None
+    xi = np.rint(xs).astype(np.int64)
+    _, dx, dy, ok = track_kernel(ga, gb, xi, y.astype(np.int64), d,
+                                 _WINDOW // 2, 10, _ROW_SEARCH)
+    best = ok & (np.abs(dx + d) <= 2.0)
+    if best.sum() < MIN_TRACKED:
+        return None
+    # where the right view shows the places: the rows' offset is the right view's
+    return (xi + dx)[best], y[best], dy[best]
 
 
 def _median_spread(values: np.ndarray) -> tuple[float, float]:

@@ -60,10 +60,43 @@ def _structure(left, x, y, half, gx, gy):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
-def track_kernel(left, right, px, py, disparity, half, iterations):  # type: ignore[no-untyped-def]
+def _row_search(left, right, x, y, u, half, search):  # type: ignore[no-untyped-def]
+    """The whole row offset ``v`` in ``-search .. search`` (0 first, then nearest first)
+    whose right window at ``(x + u, y + v)`` (``x + u`` rounded) has the least sum of
+    squared differences from the left window at ``(x, y)``; 0 where none fits in the
+    image."""
+    h, w = right.shape
+    n = 2 * half + 1
+    xr = math.floor(x + u + 0.5)
+    if xr - half < 0 or xr + half >= w:
+        return 0
+    best = 0
+    best_e = np.inf
+    for step in range(2 * search + 1):
+        v = (step + 1) // 2 * (1 if step % 2 else -1)  # 0, 1, -1, 2, -2, ...
+        if y + v - half < 0 or y + v + half >= h:
+            continue
+        e = 0.0
+        for j in range(n):
+            for i in range(n):
+                d = float(right[y + v - half + j, xr - half + i]) - float(
+                    left[y - half + j, x - half + i])
+                e += d * d
+        if e < best_e:
+            best_e = e
+            best = v
+    return best
+
+
+@kernel(nogil=True)
+def track_kernel(left, right, px, py, disparity, half, iterations,
+                 search):  # type: ignore[no-untyped-def]
     """Track the better-structured half of the left places ``(px, py)`` (M,) int64 into
-    ``right``, from ``(px - disparity, py)``, over ``(2 half + 1)^2`` windows (images
-    ``(H, W)``, any real type).
+    ``right``, from ``(px - disparity, py + v0)``, over ``(2 half + 1)^2`` windows (images
+    ``(H, W)``, any real type); ``v0`` is the whole row offset in ``-search .. search``
+    whose window differs least from the left one (sum of squared differences), so rows
+    several pixels apart are tracked too (Lucas-Kanade alone reaches about a pixel or
+    two).
 
     Returns ``strength, dx, dy, ok`` (M,) each: the smaller eigenvalue of the window's
     structure tensor (central differences; 0 for places too near the border), the
@@ -101,7 +134,7 @@ def track_kernel(left, right, px, py, disparity, half, iterations):  # type: ign
         if det <= 1e-12 * max(sxx * syy, 1.0):
             continue
         u = -disparity[k]
-        v = 0.0
+        v = float(_row_search(left, right, x, y, u, half, search))
         converged = False
         inside = True
         for _ in range(iterations):
