@@ -39,7 +39,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.errors import InputError, require_positive
+from robostereo.errors import InputError, require_positive, warn_input
 from robostereo.matcher.edges import check_edge_blur
 from robostereo.robot.multiview_search import (
     contradicted,
@@ -47,6 +47,11 @@ from robostereo.robot.multiview_search import (
     reference_edges,
     refine_points,
     search_rays,
+)
+from robostereo.robot.pose_check import (
+    EPIPOLAR_TOLERANCE_PX,
+    EpipolarCheck,
+    views_epipolar_checks,
 )
 from robostereo.robot.views import ViewsCapture
 
@@ -478,6 +483,9 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     parts: list[dict[str, Any]] = []
     order = reference_order(capture)
     depth_range = capture.depth_range_mm
+    # -- the poses against the images: corners of the first reference tracked into the
+    #    other views, their distance from the epipolar lines the poses give
+    _warn_poses(views_epipolar_checks(views, int(order[0]), depth_range))
     # the first reference's edge points serve the narrowing pass too
     first = reference_edges(views, int(order[0]), p.threshold, border, p.edge_lines)
     if p.range_step_px is not None:
@@ -521,6 +529,18 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                         pixel=cat["pixel"], depth_mm=cat["depth"], views=cat["views"],
                         residual_px=cat["rms"], window_cost=cat["combined"],
                         distinct=cat["distinct"], views_seen=cat["seen"].astype(np.intp))
+
+
+def _warn_poses(checks: list[EpipolarCheck]) -> None:
+    """A :class:`~robostereo.errors.PlausibilityWarning` naming the pair of views whose
+    tracked places lie farthest from their epipolar lines, where any pair disagrees."""
+    bad = [c for c in checks if c.disagrees]
+    if bad:
+        c = max(bad, key=lambda c: c.distance_px)
+        warn_input(f"views {c.view} and {c.other}: places tracked between them lie "
+                   f"{c.distance_px:.2f} px (median of {c.n_places}) off the epipolar lines "
+                   f"their poses give (at most {EPIPOLAR_TOLERANCE_PX} px expected): the "
+                   "poses or the hand-eye are off, and the located points may be wrong")
 
 
 def _scene_range(capture: ViewsCapture, views: Any, ref: int, edges: Any,
