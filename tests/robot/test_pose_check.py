@@ -61,11 +61,14 @@ def _turned(pose: SE3, degrees: float) -> SE3:
     return pose @ turn
 
 
+def _views(table, step_mm):
+    poses = tuple(as_se3(se3_from_scara(x, 0.0, 600.0)) for x in (-step_mm, 0.0, step_mm))
+    return tuple(_render(table, p) for p in poses), poses
+
+
 @pytest.fixture(scope="module")
 def views(table):
-    poses = tuple(as_se3(se3_from_scara(x, 0.0, 600.0)) for x in (-15.0, 0.0, 15.0))
-    images = tuple(_render(table, p) for p in poses)
-    return images, poses
+    return _views(table, 15.0)  # about 20 px of disparity
 
 
 def _capture(images, poses) -> ViewsCapture:
@@ -92,12 +95,27 @@ def test_right_poses_agree_and_a_turned_camera_does_not(views):
     prepared = prepare_views(_capture(images, poses), None)
     right = views_epipolar_checks(prepared, 1, (500.0, 700.0))
     assert len(right) == 2 and all(c.distance_px < 0.2 and not c.disagrees for c in right)
+    # one view's pose turned 1 degree about its optical axis: that pair only
     claimed = (poses[0], poses[1], _turned(poses[2], 1.0))
     wrong = views_epipolar_checks(prepare_views(_capture(images, claimed), None), 1,
                                   (500.0, 700.0))
     by_view = {c.other: c for c in wrong}
     assert by_view[2].disagrees and by_view[2].distance_px > 0.5
     assert not by_view[0].disagrees  # that pair's poses are right
+
+
+def test_a_hand_eye_turned_about_the_optical_axis_shows_as_its_angle(table, views):
+    """Every view turned alike (a hand-eye error): the views' relative rotations stay
+    right and the baseline turns in the camera's frame, so the places move off their
+    lines by the turn's angle; 20 px of motion put them 0.35 px off (harmless, no
+    verdict), 53 px 0.9 px."""
+    for (images, poses), far in ((views, False), (_views(table, 40.0), True)):
+        claimed = tuple(_turned(p, 1.0) for p in poses)
+        checks = views_epipolar_checks(prepare_views(_capture(images, claimed), None), 1,
+                                       (500.0, 700.0))
+        assert len(checks) == 2
+        for c in checks:
+            assert 0.7 < c.angle_deg < 1.3 and c.disagrees == far
 
 
 def test_an_untextured_view_gives_no_verdict():
@@ -110,9 +128,11 @@ def test_an_untextured_view_gives_no_verdict():
 
 def test_epipolar_check_validates_itself():
     with pytest.raises(InputError, match="distance_px"):
-        EpipolarCheck(0, 1, -0.1, 50)
+        EpipolarCheck(0, 1, -0.1, 0.1, 50)
+    with pytest.raises(InputError, match="angle_deg"):
+        EpipolarCheck(0, 1, 0.1, float("nan"), 50)
     with pytest.raises(InputError, match="n_places"):
-        EpipolarCheck(0, 1, 0.1, 2.5)
+        EpipolarCheck(0, 1, 0.1, 0.1, 2.5)
 
 
 def test_locate_views_warns_when_the_poses_disagree_with_the_images(views):

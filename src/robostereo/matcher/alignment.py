@@ -271,8 +271,12 @@ def _plane(dy: np.ndarray, u: np.ndarray, v: np.ndarray, start: float
            ) -> tuple[tuple[float, float, float], np.ndarray] | None:
     """``dy ~ offset + tilt u + stretch v`` (all (n,)), fitted robustly from the constant
     `start`; slopes within three standard errors of 0 are dropped and the rest refitted.
-    None where no slope is kept.  Returns the coefficients and the kept fit's residuals."""
+    None where no slope is kept, or where the plane leaves the places more scattered
+    than the constant does (robust deviations of all places: motions that are noise, say
+    tracks on texture that repeats down the image, can still show a slope beyond its
+    standard error).  Returns the coefficients and every place's residual."""
     design = np.column_stack([np.ones_like(u), u, v])
+    scatter_constant = _deviation(dy - start)
     use = [0, 1, 2]
     coef = np.array([start, 0.0, 0.0])
     while len(use) > 1:
@@ -280,13 +284,13 @@ def _plane(dy: np.ndarray, u: np.ndarray, v: np.ndarray, start: float
         fit = coef[use]
         for _ in range(2):  # leave out the places far off the current fit, refit
             r = dy - a @ fit
-            sigma = max(1.4826 * float(np.median(np.abs(r - np.median(r)))), 0.02)
+            sigma = max(_deviation(r), 0.02)
             keep = np.abs(r) <= 3.0 * sigma
             if keep.sum() < MIN_TRACKED:
                 return None
             fit = np.linalg.lstsq(a[keep], dy[keep], rcond=None)[0]
         r = dy[keep] - a[keep] @ fit
-        sigma = max(1.4826 * float(np.median(np.abs(r - np.median(r)))), 0.02)
+        sigma = max(_deviation(r), 0.02)
         gram = a[keep].T @ a[keep]
         if np.linalg.cond(gram) > 1e8:
             return None
@@ -295,9 +299,17 @@ def _plane(dy: np.ndarray, u: np.ndarray, v: np.ndarray, start: float
         coef[use] = fit
         weak = [j for k, j in enumerate(use) if j > 0 and abs(fit[k]) <= 3.0 * se[k]]
         if not weak:
-            return (float(coef[0]), float(coef[1]), float(coef[2])), r
+            residuals = dy - design @ coef
+            if _deviation(residuals) >= scatter_constant:
+                return None
+            return (float(coef[0]), float(coef[1]), float(coef[2])), residuals
         use = [j for j in use if j not in weak]
     return None
+
+
+def _deviation(r: np.ndarray) -> float:
+    """Robust standard deviation of `r` (n,): 1.4826 times its median absolute deviation."""
+    return 1.4826 * float(np.median(np.abs(r - np.median(r))))
 
 
 def moved_rows(image: ArrayLike, offset_px: float, tilt_px: float = 0.0,

@@ -49,6 +49,7 @@ from robostereo.robot.multiview_search import (
     search_rays,
 )
 from robostereo.robot.pose_check import (
+    EPIPOLAR_TOLERANCE_DEG,
     EPIPOLAR_TOLERANCE_PX,
     EpipolarCheck,
     views_epipolar_checks,
@@ -538,9 +539,11 @@ def _warn_poses(checks: list[EpipolarCheck]) -> None:
     if bad:
         c = max(bad, key=lambda c: c.distance_px)
         warn_input(f"views {c.view} and {c.other}: places tracked between them lie "
-                   f"{c.distance_px:.2f} px (median of {c.n_places}) off the epipolar lines "
-                   f"their poses give (at most {EPIPOLAR_TOLERANCE_PX} px expected): the "
-                   "poses or the hand-eye are off, and the located points may be wrong")
+                   f"{c.distance_px:.2f} px off the epipolar lines their poses give, "
+                   f"{c.angle_deg:.2f} degrees of their motion (medians of {c.n_places}; "
+                   f"at most {EPIPOLAR_TOLERANCE_PX} px or {EPIPOLAR_TOLERANCE_DEG} degrees "
+                   "expected): the poses or the hand-eye are off, and the located points "
+                   "may be wrong")
 
 
 def _scene_range(capture: ViewsCapture, views: Any, ref: int, edges: Any,

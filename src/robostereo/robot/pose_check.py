@@ -33,6 +33,7 @@ from robostereo.errors import InputError, require_finite, require_int
 from robostereo.robot.multiview_search import PreparedViews
 
 __all__ = [
+    "EPIPOLAR_TOLERANCE_DEG",
     "EPIPOLAR_TOLERANCE_PX",
     "MIN_PLACES",
     "EpipolarCheck",
@@ -42,8 +43,14 @@ __all__ = [
 ]
 
 #: places whose median distance from their epipolar lines exceeds this (pixels) are
-#: reported: on the simulated arms' right poses it is 0.01-0.1 px
+#: reported, if the angle does too: on the simulated arms' right poses it is 0.06-0.34 px
+#: at spans up to 40 mm and 0.5 px at 80 mm
 EPIPOLAR_TOLERANCE_PX: float = 0.5
+#: ... and whose median angle off the lines (their distance over how far they moved)
+#: exceeds this (degrees): 0.03-0.12 on the simulated six-axis arm's right poses, 0.25
+#: on the SCARA's (its reported poses' errors); a hand-eye turned 1 degree about the
+#: optical axis gives 1.0
+EPIPOLAR_TOLERANCE_DEG: float = 0.5
 #: least number of places tracked for a verdict
 MIN_PLACES: int = 30
 _MAX_CORNERS = 150
@@ -65,20 +72,28 @@ class EpipolarCheck:
     distance_px : float
         Median distance of the tracked places from the epipolar lines the poses
         predict, pixels (undistorted images).
+    angle_deg : float
+        Median angle of the places' motions off their lines: the distance over how far
+        each moved, degrees.  A camera turned about its optical axis by ``a`` degrees
+        gives about ``a``; noise and small pose errors give a distance that grows
+        with the motion, and a roughly constant angle.
     n_places : int
         Places tracked.
 
     Examples
     --------
-    >>> EpipolarCheck(0, 1, 2.4, 120).disagrees, EpipolarCheck(0, 1, 0.05, 120).disagrees
-    (True, False)
-    >>> EpipolarCheck(0, 1, 2.4, 12).disagrees  # too few places for a verdict
+    >>> EpipolarCheck(0, 1, 2.4, 1.1, 120).disagrees
+    True
+    >>> EpipolarCheck(0, 1, 0.05, 0.1, 120).disagrees, EpipolarCheck(0, 1, 0.6, 0.2, 120).disagrees
+    (False, False)
+    >>> EpipolarCheck(0, 1, 2.4, 1.1, 12).disagrees  # too few places for a verdict
     False
     """
 
     view: int
     other: int
     distance_px: float
+    angle_deg: float
     n_places: int
 
     def __post_init__(self) -> None:
@@ -87,13 +102,20 @@ class EpipolarCheck:
         require_finite("distance_px", self.distance_px)
         if self.distance_px < 0:
             raise InputError(f"distance_px must be >= 0, got {self.distance_px}")
+        require_finite("angle_deg", self.angle_deg)
+        if self.angle_deg < 0:
+            raise InputError(f"angle_deg must be >= 0, got {self.angle_deg}")
         require_int("n_places", self.n_places, minimum=0)
 
     @property
     def disagrees(self) -> bool:
         """At least :data:`MIN_PLACES` places, a median distance above
-        :data:`EPIPOLAR_TOLERANCE_PX`."""
-        return self.n_places >= MIN_PLACES and self.distance_px > EPIPOLAR_TOLERANCE_PX
+        :data:`EPIPOLAR_TOLERANCE_PX` and a median angle above
+        :data:`EPIPOLAR_TOLERANCE_DEG` (the distance alone grows with the span between
+        the views: a robot's reported poses have errors of their own, harmless to the
+        search, which 80 mm apart already give 0.5 px)."""
+        return (self.n_places >= MIN_PLACES and self.distance_px > EPIPOLAR_TOLERANCE_PX
+                and self.angle_deg > EPIPOLAR_TOLERANCE_DEG)
 
 
 def fundamental_from_poses(K: NDArray[np.float64], R_a: NDArray[np.float64],
@@ -229,7 +251,8 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
        level: a reach of a few pixels off the line), and back; kept where the track
        back ends within 0.5 px of the corner.
     4. The distance of each tracked place from the corner's epipolar line
-       (``F = fundamental_from_poses(...)``); the median.
+       (``F = fundamental_from_poses(...)``) and its angle (the distance over how far
+       the place moved); their medians.
 
     Examples
     --------
@@ -280,10 +303,13 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
     lines = pa @ F.T  # (n, 3): the epipolar line of each corner in the other view
     with np.errstate(divide="ignore", invalid="ignore"):
         dist = np.abs(np.sum(lines * pb, axis=1)) / np.hypot(lines[:, 0], lines[:, 1])
-    dist = dist[np.isfinite(dist)]
-    if dist.size < MIN_PLACES:
+    moved = np.linalg.norm(pb[:, :2] - pa[:, :2], axis=1)
+    keep = np.isfinite(dist) & (moved > 0)
+    if keep.sum() < MIN_PLACES:
         return None
-    return EpipolarCheck(int(view), int(other), float(np.median(dist)), int(dist.size))
+    angle = np.degrees(np.arctan2(dist[keep], moved[keep]))
+    return EpipolarCheck(int(view), int(other), float(np.median(dist[keep])),
+                         float(np.median(angle)), int(keep.sum()))
 
 
 def views_epipolar_checks(views: PreparedViews, ref: int,
