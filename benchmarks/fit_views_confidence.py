@@ -1,34 +1,33 @@
-"""Fit the N-view confidence model (logistic) on simulated scenes, leave one scene out.
+"""Fit the N-view confidence model (logistic) on simulated scenes, held out by seed.
 
-Run:  python benchmarks/fit_views_confidence.py
+Run:  python benchmarks/fit_views_confidence.py [--seeds 0,1,2] [--cache FILE.npz]
 
 Scenes (simulated, with ground truth): the hub-pulley from 5 views on a line, in a cross,
 from the six-axis arm on a line and in a cross (a third of its points seen by two views
 only) and from a pair of views (every point a two-view fit); the block from 5 views on a
-line and in a cross; a post before a printed plane (an occluder) from 5 views on a line.
-Each located point is right or wrong by
+line and in a cross; a post before a printed plane (an occluder) from 5 views on a line;
+each for every noise seed of `--seeds`.  Each located point is right or wrong by
 :func:`robostereo.robot.views_truth.views_correct`; every point is kept
 (``min_confidence=0``) and the capture's whole depth range searched
-(``range_step_px=None``: the narrowing itself keeps points by this confidence).
+(``range_step_px=None``: the narrowing itself keeps points by this confidence), so the
+features do not depend on the weights and `--cache` may keep them between runs.
 The features are those of :func:`robostereo.robot.multiview.views_confidence` (a two-view
-fit's residual is zero whatever its match, so the number of views enters as a feature:
-without the two two-view scenes the fit would have almost no two-view point to learn
-from); the weights are fitted by
-iteratively reweighted least squares (a logistic regression) on all scenes but one and
-scored on the one left out: the share of wrong points, the mean confidence, and the
-expected calibration error over ten bins.  The last line prints the weights fitted on
-every scene, which :data:`robostereo.robot.multiview.CONFIDENCE_WEIGHTS` holds.
+fit's residual is zero whatever its match, so the number of views enters as a feature,
+and whether views left out of the fit see the point and find an edge there); the
+weights are fitted by iteratively reweighted least squares (a logistic regression) on
+every seed but one and scored on the one left out (with one seed: every scene but one):
+the share of wrong points, the mean confidence, and the expected calibration error over
+ten bins (and that of the weights in the source).  The next line prints the weights
+fitted on every seed, which :data:`robostereo.robot.multiview.CONFIDENCE_WEIGHTS` holds.
 
 Then the least confidence of a reported point (``ViewsParameters.min_confidence``): the
-least level, in steps of 0.01, at which the mean over the six scenes of 5 views on a line
-or in a cross from the SCARA (every scene but the two two-view ones) of their false share
-among the points at or above it is at most 0.5 % (the issue's target; each scene counts
-once, however many points it has).  The two-view scenes teach the weights only: put in
-that mean, they raise the level to 0.94, which drops points the other scenes need (the
-occluder's plane points hidden in some views, fitted from three or four views at
-confidences near 0.9: found 29 % instead of 80 %).  Chosen on all scenes but one with
-the weights fitted on them, and scored on the one left out: its false share and the
-share of its right points kept; then chosen with the weights above (the default).
+least level, in steps of 0.01, at which each hub-pulley scene of 5 views (SCARA and
+six-axis arm, line and cross), on every seed fitted, has a false share among the points
+at or above it within the issue's target: 0.5 % from the SCARA, 1 % from the six-axis
+arm.  The pair, the block and the occluder teach the weights only.  Chosen on all seeds
+but one with the weights fitted on them and scored on the one left out (every scene:
+its false share and the share of its right points kept); then on every seed with the
+weights above (the default).
 """
 
 from __future__ import annotations
