@@ -236,7 +236,8 @@ def test_views_pulley_score_counts_the_true_points_of_a_distorted_camera_as_matc
     loc = LocatedViews(world=world, bound_mm=z + 1.0, confidence=z + 1.0,
                        view_count=np.full(m, 3), reference=np.full(m, ref),
                        pixel=grab, depth_mm=d[v, u], views=np.ones((m, 3), bool),
-                       residual_px=z, window_cost=z, distinct=z, views_seen=np.full(m, 2))
+                       residual_px=z, window_cost=z, distinct=z, views_seen=np.full(m, 2),
+                       views_checked=np.zeros(m, int), views_against=np.zeros(m, int))
     matched, false, matched_all = views_pulley_score(sim, loc)
     assert matched > 0.97 and matched_all > 0.97
     assert false < 0.01

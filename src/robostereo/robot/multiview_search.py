@@ -12,8 +12,9 @@
   the views combined robustly (the best half [2]_);
 * :func:`refine_points`: each view's sub-pixel edge point near the best depth, the
   3-D point refined by least squares over the views that agree, its bound;
-* :func:`contradicted`: whether a view left out of a point's fit finds no edge where
-  the point falls in it (a check of two-view fits, which cannot check themselves).
+* :func:`left_out_views`: the views left out of a point's fit that see it, and those
+  that find no edge there (a check of two-view fits, which cannot check themselves,
+  and evidence against any fit).
 
 References
 ----------
@@ -49,8 +50,8 @@ __all__ = [
     "RayMatches",
     "ReferenceEdges",
     "RefinedPoints",
-    "contradicted",
     "epipolar_sines",
+    "left_out_views",
     "prepare_views",
     "reference_edges",
     "refine_points",
@@ -648,11 +649,13 @@ def _carried_normals(affine: _F, normal: _F) -> _F:
         return n / np.maximum(np.linalg.norm(n, axis=2, keepdims=True), 1e-12)
 
 
-def contradicted(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: RayMatches,
-                 fit: RefinedPoints, check: NDArray[np.bool_], *, threshold: float,
-                 reject_px: float, border: int, lines: int = 2) -> NDArray[np.bool_]:
-    """Whether some other view left out of a point's fit has no edge where it sees the
-    point, for the points in `check`, shape (M,).
+def left_out_views(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: RayMatches,
+                   fit: RefinedPoints, check: NDArray[np.bool_], *, threshold: float,
+                   reject_px: float, border: int, lines: int = 2
+                   ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """``(looked, against)``: for the points in `check`, the other views left out of a
+    point's fit in which it falls inside the image, and those of them that have no edge
+    where they see it; int, shape (M,) each (0 outside `check`).
 
     Notes
     -----
@@ -665,14 +668,14 @@ def contradicted(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: Ra
     several pixels off the edge.  For each view not in the fit in which the point
     falls `border` pixels or more inside the image: the sub-pixel edge point
     (:func:`~robostereo.robot.multiview_kernels.edge_near`, within 2 px) nearest the
-    projection; the point is contradicted if there is none or it lies more than
+    projection; the view is against the point if there is none or it lies more than
     `reject_px` away along the normal.
     """
     m = len(edges)
-    out = np.zeros(m, bool)
+    looked, against = np.zeros(m, np.intp), np.zeros(m, np.intp)
     idx = np.nonzero(check & fit.ok)[0]
     if not len(idx):
-        return out
+        return looked, against
     h, w = views.smoothed.shape[1:]
     normals = _carried_normals(rays.affine[idx], edges.normal[idx])
     for v, j in enumerate(rays.others):
@@ -691,5 +694,6 @@ def contradicted(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: Ra
                                         border, lines)
         with np.errstate(invalid="ignore"):
             off = np.abs((ex - uv[ii, 0]) * nj[ii, 0] + (ey - uv[ii, 1]) * nj[ii, 1])
-        out[idx[ii]] |= ~found | ~(off <= reject_px)
-    return out
+        looked[idx[ii]] += 1
+        against[idx[ii]] += ~found | ~(off <= reject_px)
+    return looked, against
