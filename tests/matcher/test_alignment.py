@@ -102,6 +102,20 @@ def test_motions_that_are_noise_show_no_tilt(seed):
     assert r is None or (not r.varies and not r.misaligned)
 
 
+def test_places_in_a_narrow_band_give_no_slope():
+    """Places only in a band a fifth of the image wide: a slope read there would be
+    extrapolated fivefold to the side edges (the simulated block's noise became a 7.5 px
+    tilt that way), so none is fitted; the band's own offset is read."""
+    left = _textured(7, (200, 300))
+    left[:, :120] = 100
+    left[:, 180:] = 100
+    right = _tilted(np.roll(left, -11, axis=1), 1.5)
+    y, x = np.mgrid[15:185:4, 125:175:4]
+    r = row_offset(left, right, y.ravel(), x.ravel().astype(float), np.full(y.size, 11.0))
+    assert r is not None and not r.varies
+    assert abs(r.offset_px - 1.5 * (150 - 11 - 149.5) / 149.5) < 0.15
+
+
 def test_a_uniform_offset_has_no_tilt_or_stretch():
     left = _textured(5, (200, 300))
     right = _moved_down(np.roll(left, -11, axis=1), 0.7)

@@ -37,6 +37,7 @@ __all__ = [
     "EPIPOLAR_TOLERANCE_PX",
     "MIN_PLACES",
     "EpipolarCheck",
+    "corners_to_track",
     "epipolar_check",
     "fundamental_from_poses",
     "views_epipolar_checks",
@@ -53,7 +54,7 @@ EPIPOLAR_TOLERANCE_PX: float = 0.5
 EPIPOLAR_TOLERANCE_DEG: float = 0.5
 #: least number of places tracked for a verdict
 MIN_PLACES: int = 30
-_MAX_CORNERS = 150
+_MAX_CORNERS = 100
 #: spacing of the places compared along an epipolar line, pixels (Lucas-Kanade reaches
 #: the rest)
 _LINE_STEP_PX = 3.0
@@ -155,21 +156,9 @@ def fundamental_from_poses(K: NDArray[np.float64], R_a: NDArray[np.float64],
 
 
 def _as_bytes(image: NDArray[np.floating]) -> NDArray[np.uint8]:
-    """Grey levels on the thesis's 0..127 scale as 8-bit (OpenCV's tracker wants it)."""
-    return np.clip(np.rint(2.0 * np.asarray(image, np.float64)), 0, 255).astype(np.uint8)
-
-
-def _bilinear(image: NDArray[np.float32], x: NDArray[np.float64], y: NDArray[np.float64]
-              ) -> NDArray[np.float64]:
-    """``image`` (H, W) at ``(x, y)`` (any shape, clamped to the image), linear."""
-    h, w = image.shape
-    x = np.clip(x, 0.0, w - 1.001)
-    y = np.clip(y, 0.0, h - 1.001)
-    x0, y0 = np.floor(x).astype(np.intp), np.floor(y).astype(np.intp)
-    fx, fy = x - x0, y - y0
-    top = (1 - fx) * image[y0, x0] + fx * image[y0, x0 + 1]
-    bottom = (1 - fx) * image[y0 + 1, x0] + fx * image[y0 + 1, x0 + 1]
-    return (1 - fy) * top + fy * bottom
+    """Grey levels on the thesis's 0..127 scale as 8-bit (OpenCV's tracker wants it):
+    doubled, rounded and saturated."""
+    return cv2.convertScaleAbs(np.asarray(image, np.float32), alpha=2.0)
 
 
 def _along_lines(a: NDArray[np.float32], b: NDArray[np.float32], corners: NDArray[np.float64],
@@ -177,8 +166,9 @@ def _along_lines(a: NDArray[np.float32], b: NDArray[np.float32], corners: NDArra
                  R_b: NDArray[np.float64], C_b: NDArray[np.float64],
                  depth_range_mm: tuple[float, float]) -> NDArray[np.float64]:
     """For each corner (n, 2) of `a`, the place along its epipolar line in `b` (over the
-    depth range, :data:`_LINE_STEP_PX` apart) whose 7 x 7 window differs least from the
-    corner's (sum of squared differences): (n, 2), NaN where the line leaves `b`."""
+    depth range, :data:`_LINE_STEP_PX` apart, each at its nearest pixel) whose 7 x 7
+    window differs least from the corner's (sum of squared differences): (n, 2), NaN
+    where the line leaves `b`."""
     near, far = depth_range_mm
     rays = np.column_stack([corners, np.ones(len(corners))]) @ np.linalg.inv(K).T @ R_a.T
     ends = []
@@ -201,10 +191,11 @@ def _along_lines(a: NDArray[np.float32], b: NDArray[np.float32], corners: NDArra
                   & (uv[..., 1] >= half) & (uv[..., 1] <= h - half - 2))
         cx = np.rint(corners[sl, 0]).astype(np.intp)
         cy = np.rint(corners[sl, 1]).astype(np.intp)
-        patch = a[cy[:, None, None] + dy, cx[:, None, None] + dx]  # (m, 11, 11)
-        u = np.where(inside, uv[..., 0], half)[..., None, None] + dx
-        v = np.where(inside, uv[..., 1], half)[..., None, None] + dy
-        ssd = ((_bilinear(b, u, v) - patch[:, None]) ** 2).sum(axis=(2, 3))
+        patch = a[cy[:, None, None] + dy, cx[:, None, None] + dx]  # (m, 7, 7)
+        # the nearest pixels: the search needs a pixel, Lucas-Kanade does the rest
+        u = np.rint(np.where(inside, uv[..., 0], half)).astype(np.intp)[..., None, None] + dx
+        v = np.rint(np.where(inside, uv[..., 1], half)).astype(np.intp)[..., None, None] + dy
+        ssd = ((b[v, u] - patch[:, None]) ** 2).sum(axis=(2, 3))
         ssd = np.where(inside, ssd, np.inf)
         best = np.argmin(ssd, axis=1)
         found = np.isfinite(ssd[np.arange(len(best)), best])
@@ -213,11 +204,26 @@ def _along_lines(a: NDArray[np.float32], b: NDArray[np.float32], corners: NDArra
     return out
 
 
+def corners_to_track(image: NDArray[np.floating]) -> NDArray[np.float64] | None:
+    """Up to 100 Shi-Tomasi corners of `image` ``(H, W)`` (grey levels 0..127), at least
+    8 px apart and 12 px inside the border: ``(n, 2)`` as ``(x, y)``, or None where
+    there are fewer than :data:`MIN_PLACES`."""
+    a = _as_bytes(image)
+    h, w = a.shape
+    mask = np.zeros_like(a)
+    mask[12:h - 12, 12:w - 12] = 255
+    corners = cv2.goodFeaturesToTrack(a, maxCorners=_MAX_CORNERS, qualityLevel=0.01,
+                                      minDistance=8, blockSize=7, mask=mask)
+    if corners is None or len(corners) < MIN_PLACES:
+        return None
+    return corners.reshape(-1, 2).astype(np.float64)
+
+
 def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating],
                    K: NDArray[np.float64], pose: tuple[NDArray[np.float64], NDArray[np.float64]],
                    other_pose: tuple[NDArray[np.float64], NDArray[np.float64]],
-                   depth_range_mm: tuple[float, float], *, view: int = 0, other: int = 1
-                   ) -> EpipolarCheck | None:
+                   depth_range_mm: tuple[float, float], *, view: int = 0, other: int = 1,
+                   corners: NDArray[np.float64] | None = None) -> EpipolarCheck | None:
     """Track well-structured places of `image` into `other_image` and measure their
     distance from the epipolar lines that the two poses give.
 
@@ -233,6 +239,8 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
         ``(near, far)``: where along the rays the scene may be.
     view, other : int
         The views' indices, for the report.
+    corners : ndarray, shape (n, 2), optional
+        :func:`corners_to_track` of `image`, where already found.
 
     Returns
     -------
@@ -241,7 +249,7 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
 
     Notes
     -----
-    1. Up to 150 corners of `image` (Shi-Tomasi, at least 8 px apart, 12 px inside the
+    1. Up to 100 corners of `image` (Shi-Tomasi, at least 8 px apart, 12 px inside the
        border).
     2. Each corner's 7 x 7 window is compared along its epipolar line in
        `other_image`, every 3 px over the depth range, and the place of the least sum of squared
@@ -272,14 +280,11 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
     fa = np.asarray(image, np.float32)
     fb = np.asarray(other_image, np.float32)
     a, b = _as_bytes(fa), _as_bytes(fb)
-    h, w = a.shape
-    mask = np.zeros_like(a)
-    mask[12:h - 12, 12:w - 12] = 255
-    corners = cv2.goodFeaturesToTrack(a, maxCorners=_MAX_CORNERS, qualityLevel=0.01,
-                                      minDistance=8, blockSize=7, mask=mask)
-    if corners is None or len(corners) < MIN_PLACES:
-        return None
-    p0 = corners.reshape(-1, 2).astype(np.float64)
+    if corners is None:
+        corners = corners_to_track(fa)
+        if corners is None:
+            return None
+    p0 = np.asarray(corners, np.float64)
     start = _along_lines(fa, fb, p0, np.asarray(K, float), R_a, C_a, R_b, C_b,
                          depth_range_mm)
     seen = np.isfinite(start).all(axis=1)
@@ -331,13 +336,16 @@ def views_epipolar_checks(views: PreparedViews, ref: int,
     -------
     list of EpipolarCheck
     """
-    out = []
+    out: list[EpipolarCheck] = []
+    corners = corners_to_track(views.smoothed[ref])
+    if corners is None:
+        return out
     for o in range(views.smoothed.shape[0]):
         if o == ref:
             continue
         c = epipolar_check(views.smoothed[ref], views.smoothed[o], views.K,
                            (views.R[ref], views.C[ref]), (views.R[o], views.C[o]),
-                           depth_range_mm, view=ref, other=o)
+                           depth_range_mm, view=ref, other=o, corners=corners)
         if c is not None:
             out.append(c)
     return out
