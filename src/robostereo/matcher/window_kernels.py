@@ -144,6 +144,7 @@ class StreamSettings(NamedTuple):
     n_disparities: int
     truncation: np.int16  # largest gradient difference of a pixel pair
     pixel_cost_max: np.int16  # cost of a pair that leaves the image: 34 + truncation
+    ring_type: type  # the pixel costs' ring: np.uint8 where they fit a byte, else np.int16
     half_window: int
     vertical: bool  # windows half a window up and down too
     p1: int  # path penalties per window (sum of its pixels); p1 < 0: no paths
@@ -181,7 +182,8 @@ def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, 
     """Replace one ring row of pixel costs and update the column sums, for 1-D rows:
     ``p[x] = H(census_left[x], census_right[x]) + min(|sobel_left[x] - sobel_right[x]|,
     truncation)``.  The Hamming distances go through ``hamming`` so that the rest runs
-    in 16-bit vector lanes."""
+    in 16-bit vector lanes.  ``ring_row`` is uint8 where every pixel cost fits a byte,
+    int16 otherwise (``StreamSettings.ring_type``)."""
     n = column_sums.shape[0]
     for x in range(n):
         hamming[x] = np.int16(_popcount(census_left[x] ^ census_right[x]))
@@ -436,8 +438,9 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     Notes
     -----
     Census and Sobel rows are made as the pass needs them; pixel costs are kept for
-    the last ``2 * half_window + 1`` rows only (a ring), with their running column
-    sums, and window sums for as many rows.  A row that no edge point's window reads
+    the last ``2 * half_window + 1`` rows only (a ring, in bytes where they fit:
+    ``settings.ring_type``), with their running column sums, and window sums for as
+    many rows.  A row that no edge point's window reads
     (no edge point within ``half_window`` rows of it, ``2 * half_window`` with the
     windows above and below) is not made at all: the pass costs nothing over rows
     without edge points.
@@ -459,7 +462,8 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     ring_base = 4 * n_ring  # keeps ring indices of negative rows positive
 
     # -- buffers: the ring of pixel costs and window sums, the row's census and Sobel
-    ring = np.zeros((n_ring, nd, padded_width), np.int16)  # pixel costs, last n_ring rows
+    # pixel costs of the last n_ring rows, in uint8 where they fit (settings.ring_type)
+    ring = np.zeros((n_ring, nd, padded_width), settings.ring_type)
     column_sums = np.zeros((nd, padded_width), np.int16)   # their column sums
     boxes = np.zeros((n_ring, nd, padded_width), np.int16)  # window sums, last n_ring rows
     pair_sums = np.zeros(padded_width, np.int16)
@@ -474,7 +478,7 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
         np.full(1, -1, np.int64),
     )
     paths = p1 >= 0  # aggregate along the rows too (p1 < 0: not)
-    path_width = w if paths else 1
+    path_width = (w + PATH_COLUMN_STEP - 1) // PATH_COLUMN_STEP if paths else 1  # columns
     bin_size = max(1, (nd + PATH_MAX_DISPARITIES - 1) // PATH_MAX_DISPARITIES)
     n_bins = (nd + bin_size - 1) // bin_size
     path_costs = np.empty((path_width, n_bins), np.uint16)
