@@ -17,7 +17,14 @@ from robostereo.matcher.window_costs import (
     sobel_x,
     window_costs,
 )
-from robostereo.matcher.window_kernels import OUT_OF_VIEW, PATH_MAX_DISPARITIES
+from robostereo.matcher.window_kernels import (
+    OUT_OF_VIEW,
+    PATH_MAX_DISPARITIES,
+    STREAM_COLUMNS,
+    StreamImages,
+    StreamSettings,
+    stream_rows,
+)
 
 
 def _brute(left, right, rows, cols, d_lo, d_hi, vertical, trunc=64, *, placements=False):
@@ -140,6 +147,53 @@ def test_rows_far_from_edge_points_are_skipped_without_changing_costs(vertical):
     assert np.array_equal(wc.cost, ref[np.arange(len(rows)), k1])
     far = np.abs(np.arange(10)[None] - k1[:, None]) > 1
     assert np.array_equal(wc.second, np.where(far, ref, OUT_OF_VIEW).min(axis=1))
+
+
+@pytest.mark.parametrize("trunc", [221, 222, 300])
+def test_pixel_costs_beyond_a_byte_keep_their_value(trunc):
+    """Pixel costs are held in a byte up to a truncation of 221 (34 + 221 = 255) and
+    in int16 beyond it: either way the window costs equal brute force, on unrelated
+    images whose pixel costs reach the truncation's limit."""
+    rng = np.random.default_rng(11)
+    left = rng.uniform(0, 127, (30, 50)).astype(np.float32)
+    right = rng.uniform(0, 127, (30, 50)).astype(np.float32)
+    # gradient differences beyond every truncation tried: pixel costs of 34 + trunc
+    assert np.abs(sobel_x(left).astype(int) - sobel_x(right).astype(int)).max() > 300
+    rows, cols = np.array([4, 15, 15, 26]), np.array([20, 12, 40, 33])
+    wc = window_costs(left, right, rows, cols, (0, 9), gradient_truncation=trunc)
+    ref = _brute(left, right, rows, cols, 0, 9, True, trunc)
+    k1 = np.argmin(ref, axis=1)
+    i = np.arange(len(rows))
+    assert np.array_equal(wc.best, k1)
+    assert np.array_equal(wc.cost, ref[i, k1])
+    assert np.array_equal(wc.before, ref[i, k1 - 1])
+    assert np.array_equal(wc.after, np.where(k1 < 9, ref[i, np.minimum(k1 + 1, 9)],
+                                             OUT_OF_VIEW))
+    far = np.abs(np.arange(10)[None] - k1[:, None]) > 1
+    assert np.array_equal(wc.second, np.where(far, ref, OUT_OF_VIEW).min(axis=1))
+
+
+def test_byte_and_int16_rings_give_the_same_summary():
+    """The uint8 ring of pixel costs (default truncation) against the int16 one: every
+    column of the summary, paths and side columns included, is the same."""
+    left, right, _ = layered_pair(np.random.default_rng(6), height=120, width=160)
+    g = [np.asarray(im, np.float32) * np.float32(127 / 255) for im in (left, right)]
+    e = detect_edges(left, grey=to_grey(left))
+    mask = np.ones((1, 1), np.bool_)
+    images = StreamImages(g[0], g[1], mask, mask, False, False)
+    row_start = np.searchsorted(e.row, np.arange(g[0].shape[0] + 1)).astype(np.int64)
+    columns = np.ascontiguousarray(e.column, np.int32)
+    outs = []
+    for ring_type in (np.uint8, np.int16):
+        settings = StreamSettings(
+            d_min=2, n_disparities=30, truncation=np.int16(64), pixel_cost_max=np.int16(98),
+            ring_type=ring_type, half_window=4, vertical=True, p1=405, p2=2025,
+            path_row_step=5, sides=True)
+        out = np.full((len(columns), len(STREAM_COLUMNS)), -1, np.int32)
+        stream_rows(images, settings, row_start, columns, 0, g[0].shape[0], out)
+        outs.append(out)
+    assert len(columns) > 100 and np.all(outs[0][:, 0] >= 0)
+    assert np.array_equal(outs[0], outs[1])
 
 
 @pytest.mark.parametrize("threads", ["2", "3"])

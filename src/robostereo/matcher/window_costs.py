@@ -455,9 +455,15 @@ def window_costs(
             p1, p2 = round(pp[0] * area), round(pp[1] * area)
         # -- one pass down the image per band of rows, on threads (stream_rows)
         images = StreamImages(gl, gr, masks[0], masks[1], checks[0], checks[1])
+        # the ring of pixel costs in bytes where every cost fits one; not where both
+        # views are masked: a pair of two invalid pixels has a gradient difference that
+        # wraps in int16, a cost below zero that a byte cannot hold
+        byte_ring = 34 + trunc <= np.iinfo(np.uint8).max and not (checks[0] and checks[1])
         settings = StreamSettings(
             d_min=d_lo, n_disparities=nd, truncation=np.int16(trunc),
-            pixel_cost_max=np.int16(34 + trunc), half_window=HALF_WINDOW,
+            pixel_cost_max=np.int16(34 + trunc),
+            ring_type=np.uint8 if byte_ring else np.int16,
+            half_window=HALF_WINDOW,
             vertical=bool(vertical), p1=p1, p2=p2, path_row_step=PATH_ROW_STEP,
             sides=bool(sides))
         # bands of at least 64 rows, one per thread: a band repeats 2 * HALF_WINDOW rows

@@ -33,7 +33,9 @@ __all__ = [
     "HALF_WINDOW",
     "OUT_OF_VIEW",
     "PATH_COLUMN_STEP",
+    "PATH_LANES",
     "PATH_MAX_DISPARITIES",
+    "PATH_NONE",
     "PATH_ROW_STEP",
     "SIDE_COLUMNS",
     "STREAM_COLUMNS",
@@ -62,6 +64,13 @@ PATH_COLUMN_STEP = 2
 #: disparity stands for 2, 3, ... whole ones, its cost their least), so their cost stops
 #: growing with the range; the developer scenes (up to 97) are not binned
 PATH_MAX_DISPARITIES = 128
+
+#: a path row holds its disparities (bins) in whole blocks of this many uint16 lanes (an
+#: AVX2 register), so that a path step runs in vector registers without a scalar tail
+PATH_LANES = 16
+
+#: the path cost of a lane past the last disparity, and of a row end's missing neighbour
+PATH_NONE = 65535
 
 #: the last columns of :data:`STREAM_COLUMNS`: what each placement saw on its own, only
 #: with ``StreamSettings.sides`` (without it the summary array stops before them)
@@ -144,6 +153,7 @@ class StreamSettings(NamedTuple):
     n_disparities: int
     truncation: np.int16  # largest gradient difference of a pixel pair
     pixel_cost_max: np.int16  # cost of a pair that leaves the image: 34 + truncation
+    ring_type: type  # the pixel costs' ring: np.uint8 where they fit a byte, else np.int16
     half_window: int
     vertical: bool  # windows half a window up and down too
     p1: int  # path penalties per window (sum of its pixels); p1 < 0: no paths
@@ -181,7 +191,8 @@ def _pixel_update(column_sums, ring_row, census_left, census_right, sobel_left, 
     """Replace one ring row of pixel costs and update the column sums, for 1-D rows:
     ``p[x] = H(census_left[x], census_right[x]) + min(|sobel_left[x] - sobel_right[x]|,
     truncation)``.  The Hamming distances go through ``hamming`` so that the rest runs
-    in 16-bit vector lanes."""
+    in 16-bit vector lanes.  ``ring_row`` is uint8 where every pixel cost fits a byte,
+    int16 otherwise (``StreamSettings.ring_type``)."""
     n = column_sums.shape[0]
     for x in range(n):
         hamming[x] = np.int16(_popcount(census_left[x] ^ census_right[x]))
@@ -316,42 +327,110 @@ def _sides(boxes_up, boxes_mid, boxes_down, cost_all, best, best_cost, second, c
                                                                      right_best)
 
 
+@intrinsic
+def _path_block(typingctx, cost, cost_at, prev, prev_at, cur, least, p1, q,
+                n_in):  # type: ignore[no-untyped-def]
+    """One block of :data:`PATH_LANES` lanes of a path step (:func:`_path_step`) in
+    vector registers: ``cur[prev_at + i]`` for ``i < n_in`` from ``cost[cost_at + i]``
+    and ``prev[prev_at - 1 + i .. prev_at + 1 + i]``, :data:`PATH_NONE` for the lanes
+    ``n_in <= i < PATH_LANES`` (past the last disparity).
+
+    The neighbours come from the blocks before and after, loaded whole and shifted by
+    one lane in registers: a load that overlaps two earlier stores (``prev[k - 1]`` as
+    its own vector) cannot take their data from the store buffer, and every step of a
+    path waits for the one before, so those loads made a step several times slower."""
+    sig = types.void(cost, types.intp, prev, types.intp, cur, types.uint16, types.uint16,
+                     types.uint16, types.uint16)
+
+    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+        cost_a, cost_at, prev_a, prev_at, cur_a, least, p1, q, n_in = args
+        lanes = ir.VectorType(ir.IntType(16), PATH_LANES)
+        index = ir.VectorType(ir.IntType(32), PATH_LANES)
+
+        def block(i, array, at):  # the lanes at ``at`` of argument i's data
+            data = context.make_array(signature.args[i])(context, builder, array).data
+            return builder.bitcast(builder.gep(data, [at]), lanes.as_pointer())
+
+        def splat(value):
+            out = ir.Constant(lanes, ir.Undefined)
+            for j in range(PATH_LANES):
+                out = builder.insert_element(out, value, ir.Constant(ir.IntType(32), j))
+            return out
+
+        def least_of(a, b):
+            return builder.select(builder.icmp_unsigned("<", a, b), a, b)
+
+        step = ir.Constant(prev_at.type, PATH_LANES)
+        before = builder.load(block(2, prev_a, builder.sub(prev_at, step)), align=2)
+        mid = builder.load(block(2, prev_a, prev_at), align=2)
+        after = builder.load(block(2, prev_a, builder.add(prev_at, step)), align=2)
+        left = builder.shuffle_vector(  # prev[k - 1]
+            before, mid, ir.Constant(index, [PATH_LANES - 1 + j for j in range(PATH_LANES)]))
+        right = builder.shuffle_vector(  # prev[k + 1]
+            mid, after, ir.Constant(index, [1 + j for j in range(PATH_LANES)]))
+        low = splat(least)
+        near = builder.sub(least_of(left, right), low)
+        near = builder.add(least_of(near, splat(q)), splat(p1))
+        value = builder.add(builder.load(block(0, cost_a, cost_at), align=2),
+                            least_of(builder.sub(mid, low), near))
+        held = builder.icmp_unsigned(
+            "<", ir.Constant(lanes, list(range(PATH_LANES))), splat(n_in))
+        value = builder.select(held, value, splat(ir.Constant(ir.IntType(16), PATH_NONE)))
+        builder.store(value, block(4, cur_a, prev_at), align=2)
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
 @kernel(fastmath=True, nogil=True, inline="always")
-def _path_step(cost, prev, cur, p1, q):  # type: ignore[no-untyped-def]
+def _path_step(costs, x_cost, paths, x_prev, x_cur, nd, p1,
+               q):  # type: ignore[no-untyped-def]
     """One step of a scanline path (semi-global matching, [2]_ eq. 13):
-    ``cur[k] = cost[k] + min(prev[k], prev[k -/+ 1] + p1, min(prev) + p2) - min(prev)``
-    (``prev`` and ``cur`` distinct, ``nd >= 2``), as
-    ``cost[k] + min(prev[k] - least, min(prev[k -/+ 1] - least, q) + p1)`` with
+    ``cur[k] = cost[k] + min(prev[k], prev[k -/+ 1] + p1, min(prev) + p2) - min(prev)``,
+    as ``cost[k] + min(prev[k] - least, min(prev[k -/+ 1] - least, q) + p1)`` with
     ``least = min(prev)`` and ``q = p2 - p1``: every term stays within 0 ..
     ``max(cost) + p2``, so the whole numbers run in uint16 vector lanes (see
-    :func:`_scanline`)."""
-    nd = prev.shape[0]
-    least = prev[0]
-    for k in range(1, nd):
-        least = min(least, prev[k])
-    for k in range(1, nd - 1):
-        near = np.uint16(min(prev[k - 1], prev[k + 1]) - least)
-        near = np.uint16(min(near, q) + p1)
-        cur[k] = np.uint16(cost[k] + min(np.uint16(prev[k] - least), near))
-    near = np.uint16(min(np.uint16(prev[1] - least), q) + p1)
-    cur[0] = np.uint16(cost[0] + min(np.uint16(prev[0] - least), near))
-    near = np.uint16(min(np.uint16(prev[nd - 2] - least), q) + p1)
-    cur[nd - 1] = np.uint16(cost[nd - 1] + min(np.uint16(prev[nd - 1] - least), near))
+    :func:`_scanline`).
+
+    ``cost`` is row ``x_cost`` of ``costs`` (C, n), ``prev`` and ``cur`` the distinct
+    rows ``x_prev`` and ``x_cur`` of ``paths`` (C, n + 2 PATH_LANES), all uint16:
+    disparity ``k < nd`` is ``cost[k]`` and ``prev[PATH_LANES + k]``; ``n`` is
+    ``nd`` rounded up to a multiple of :data:`PATH_LANES`.  The lanes before and after
+    the disparities hold :data:`PATH_NONE`, and the step keeps them there, so that every
+    lane runs the same arithmetic without a branch: a neighbour of ``PATH_NONE`` is
+    never the nearer one, nor is it below the least.  The sums wrap in uint16 as they
+    always did (only window sums below zero can make them)."""
+    n = costs.shape[1]
+    prev = paths[x_prev]
+    least = prev[PATH_LANES]
+    for k in range(n):
+        least = min(least, prev[PATH_LANES + k])
+    cost, cur = costs[x_cost], paths[x_cur]
+    for k in range(0, n, PATH_LANES):
+        _path_block(cost, k, prev, PATH_LANES + k, cur, least, p1, q,
+                    np.uint16(min(nd - k, PATH_LANES)))
 
 
 @kernel(fastmath=True, nogil=True)
-def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left, from_right,
-              a, b, c, d):  # type: ignore[no-untyped-def]
+def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left,
+              from_right):  # type: ignore[no-untyped-def]
     """Window costs of one row aggregated along it, both ways (two paths of
     semi-global matching): ``L_left`` into ``from_left`` and ``L_right`` into
-    ``from_right``, both (W, nd) uint16.  The two paths are stepped in one loop
-    (independent chains), in uint16: a path cost is at most the largest window sum
-    (int16) plus ``p2`` (``0 <= p1 <= p2 <= 32768``), below 65536.  With ``bin_size > 1``
-    a path disparity is a bin of ``bin_size`` whole ones, its cost the least of theirs
-    (wide ranges).  ``costs`` (W, nd) uint16 receives the row's costs, ``a`` ... ``d``
-    (nd,) uint16 are the steps' buffers."""
+    ``from_right``, on every :data:`PATH_COLUMN_STEP`-th column.  The two paths are
+    stepped in one loop (independent chains), in uint16: a path cost is at most the
+    largest window sum (int16) plus ``p2`` (``0 <= p1 <= p2 <= 32768``), below 65536.
+    With ``bin_size > 1`` a path disparity is a bin of ``bin_size`` whole ones, its cost
+    the least of theirs (wide ranges).
+
+    ``costs`` (C, n) uint16 receives the row's costs, ``from_left`` and ``from_right``
+    (C, n + 2 PATH_LANES) uint16 the paths, disparity (bin) ``k`` at
+    ``[x, PATH_LANES + k]``, for ``C`` at least the columns of the paths and ``n`` the
+    disparities (bins) rounded up to :data:`PATH_LANES`; the caller fills all three
+    with :data:`PATH_NONE` once (see :func:`_path_step`), and this leaves every lane
+    that holds no disparity as it is.
+    """
     nd_fine = boxes.shape[0]
-    nd = a.shape[0]
+    nd = (nd_fine + bin_size - 1) // bin_size
     n_columns = (width + PATH_COLUMN_STEP - 1) // PATH_COLUMN_STEP
     q = np.uint16(p2 - p1)
     p1 = np.uint16(p1)
@@ -363,36 +442,21 @@ def _scanline(boxes, margin, width, bin_size, p1, p2, costs, from_left, from_rig
     else:
         for x in range(n_columns):
             for j in range(nd):
-                costs[x, j] = np.uint16(65535)
+                costs[x, j] = np.uint16(PATH_NONE)
         for k in range(nd_fine):
             src = boxes[k]
             j = k // bin_size
             for x in range(n_columns):
                 costs[x, j] = min(costs[x, j], np.uint16(src[margin + PATH_COLUMN_STEP * x]))
-    # the paths start at the row's two ends with the costs there
+    # the paths start at the row's two ends with the costs there, then step a column at
+    # a time, each into its own row of from_left, from_right
+    last = n_columns - 1
     for k in range(nd):
-        a[k] = costs[0, k]
-        from_left[0, k] = a[k]
-        c[k] = costs[n_columns - 1, k]
-        from_right[n_columns - 1, k] = c[k]
-    # both paths a column at a time: a, c hold the previous column, b, d the new (swapped)
-    if nd >= 2:
-        for x in range(1, n_columns):
-            xb = n_columns - 1 - x
-            if x % 2:
-                _path_step(costs[x], a, b, p1, q)
-                _path_step(costs[xb], c, d, p1, q)
-                from_left[x] = b
-                from_right[xb] = d
-            else:
-                _path_step(costs[x], b, a, p1, q)
-                _path_step(costs[xb], d, c, p1, q)
-                from_left[x] = a
-                from_right[xb] = c
-    else:
-        for x in range(n_columns):
-            from_left[x, 0] = costs[x, 0]
-            from_right[x, 0] = costs[x, 0]
+        from_left[0, PATH_LANES + k] = costs[0, k]
+        from_right[last, PATH_LANES + k] = costs[last, k]
+    for x in range(1, n_columns):
+        _path_step(costs, x, from_left, x - 1, x, nd, p1, q)
+        _path_step(costs, last - x, from_right, last - x + 1, last - x, nd, p1, q)
 
 
 @kernel(nogil=True)
@@ -436,8 +500,9 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     Notes
     -----
     Census and Sobel rows are made as the pass needs them; pixel costs are kept for
-    the last ``2 * half_window + 1`` rows only (a ring), with their running column
-    sums, and window sums for as many rows.  A row that no edge point's window reads
+    the last ``2 * half_window + 1`` rows only (a ring, in bytes where they fit:
+    ``settings.ring_type``), with their running column sums, and window sums for as
+    many rows.  A row that no edge point's window reads
     (no edge point within ``half_window`` rows of it, ``2 * half_window`` with the
     windows above and below) is not made at all: the pass costs nothing over rows
     without edge points.
@@ -459,7 +524,8 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
     ring_base = 4 * n_ring  # keeps ring indices of negative rows positive
 
     # -- buffers: the ring of pixel costs and window sums, the row's census and Sobel
-    ring = np.zeros((n_ring, nd, padded_width), np.int16)  # pixel costs, last n_ring rows
+    # pixel costs of the last n_ring rows, in uint8 where they fit (settings.ring_type)
+    ring = np.zeros((n_ring, nd, padded_width), settings.ring_type)
     column_sums = np.zeros((nd, padded_width), np.int16)   # their column sums
     boxes = np.zeros((n_ring, nd, padded_width), np.int16)  # window sums, last n_ring rows
     pair_sums = np.zeros(padded_width, np.int16)
@@ -474,16 +540,14 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
         np.full(1, -1, np.int64),
     )
     paths = p1 >= 0  # aggregate along the rows too (p1 < 0: not)
-    path_width = w if paths else 1
+    path_width = (w + PATH_COLUMN_STEP - 1) // PATH_COLUMN_STEP if paths else 1  # columns
     bin_size = max(1, (nd + PATH_MAX_DISPARITIES - 1) // PATH_MAX_DISPARITIES)
     n_bins = (nd + bin_size - 1) // bin_size
-    path_costs = np.empty((path_width, n_bins), np.uint16)
-    from_left = np.empty((path_width, n_bins), np.uint16)
-    from_right = np.empty((path_width, n_bins), np.uint16)
-    step_a = np.empty(n_bins, np.uint16)
-    step_b = np.empty(n_bins, np.uint16)
-    step_c = np.empty(n_bins, np.uint16)
-    step_d = np.empty(n_bins, np.uint16)
+    path_lanes = (n_bins + PATH_LANES - 1) // PATH_LANES * PATH_LANES
+    path_costs = np.full((path_width, path_lanes), PATH_NONE, np.uint16)
+    # bin j at PATH_LANES + j, a block of PATH_NONE on either side (_path_step)
+    from_left = np.full((path_width, path_lanes + 2 * PATH_LANES), PATH_NONE, np.uint16)
+    from_right = np.full((path_width, path_lanes + 2 * PATH_LANES), PATH_NONE, np.uint16)
     path_sum = np.empty(n_bins, np.int32)
     path_row = -1  # the row whose paths are in from_left, from_right
     column_sums[:, :m] = n_ring * pixel_cost_max
@@ -536,8 +600,7 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
                 y_path = min((y + path_step // 2) // path_step * path_step, h - 1)
             if y_path != path_row:
                 _scanline(boxes[(y_path + ring_base) % n_ring], m, w, bin_size,
-                          p1, p2, path_costs, from_left, from_right,
-                          step_a, step_b, step_c, step_d)
+                          p1, p2, path_costs, from_left, from_right)
                 path_row = y_path
 
         for i in range(row_start[y], row_start[y + 1]):
@@ -610,8 +673,8 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
                 #    one bin off
                 path_column = column // PATH_COLUMN_STEP
                 for j in range(n_bins):
-                    path_sum[j] = (np.int32(from_left[path_column, j])
-                                   + np.int32(from_right[path_column, j]))
+                    path_sum[j] = (np.int32(from_left[path_column, PATH_LANES + j])
+                                   + np.int32(from_right[path_column, PATH_LANES + j]))
                 # a bin is in view where one of its disparities is: k in k_lo .. k_hi
                 k_lo = max(column - d_min - w + 1, 0)
                 k_hi = min(column - d_min, nd - 1)
