@@ -173,6 +173,23 @@ def test_pixel_costs_beyond_a_byte_keep_their_value(trunc):
     assert np.array_equal(wc.second, np.where(far, ref, OUT_OF_VIEW).min(axis=1))
 
 
+@pytest.mark.parametrize("trunc", [64, 250])
+def test_a_pair_of_two_invalid_pixels_costs_the_most_too(trunc):
+    """Pixels outside both views' valid parts (say the fill of two rectified images):
+    every pair with one costs at least the truncation, a pair of two included (their
+    Sobel marks used to differ by more than int16 holds, wrapping to a cost below zero,
+    so that two masked regions matched each other best)."""
+    rng = np.random.default_rng(5)
+    left = rng.uniform(0, 127, (30, 60)).astype(np.float32)
+    right = rng.uniform(0, 127, (30, 60)).astype(np.float32)
+    valid = np.ones(left.shape, bool)
+    valid[:, :30] = False  # the same columns invalid in both views
+    rows, cols = np.array([10, 15, 20]), np.array([12, 14, 16])
+    wc = window_costs(left, right, rows, cols, (0, 8), gradient_truncation=trunc,
+                      valid_left=valid, valid_right=valid)
+    assert np.all(wc.cost >= 81 * trunc)
+
+
 def test_byte_and_int16_rings_give_the_same_summary():
     """The uint8 ring of pixel costs (default truncation) against the int16 one: every
     column of the summary, paths and side columns included, is the same."""

@@ -455,10 +455,10 @@ def window_costs(
             p1, p2 = round(pp[0] * area), round(pp[1] * area)
         # -- one pass down the image per band of rows, on threads (stream_rows)
         images = StreamImages(gl, gr, masks[0], masks[1], checks[0], checks[1])
-        # the ring of pixel costs in bytes where every cost fits one; not where both
-        # views are masked: a pair of two invalid pixels has a gradient difference that
-        # wraps in int16, a cost below zero that a byte cannot hold
-        byte_ring = 34 + trunc <= np.iinfo(np.uint8).max and not (checks[0] and checks[1])
+        # the ring of pixel costs in bytes where every cost fits one: a census distance
+        # of at most 34 bits, 64 where an invalid pixel's pattern meets another
+        most = (64 if checks[0] or checks[1] else 34) + trunc
+        byte_ring = most <= np.iinfo(np.uint8).max
         settings = StreamSettings(
             d_min=d_lo, n_disparities=nd, truncation=np.int16(trunc),
             pixel_cost_max=np.int16(34 + trunc),

@@ -31,6 +31,7 @@ from robostereo.matcher.window_pixel_kernels import pixel_row
 
 __all__ = [
     "HALF_WINDOW",
+    "INVALID_SOBEL",
     "OUT_OF_VIEW",
     "PATH_COLUMN_STEP",
     "PATH_LANES",
@@ -53,6 +54,12 @@ HALF_WINDOW = 4
 
 #: cost value of a disparity whose right pixel lies outside the image
 OUT_OF_VIEW = 2**30
+
+#: Sobel value of an invalid pixel (minus in the left view, plus in the right): any
+#: pair with one differs by more than any truncation, and a pair of two (16000 + 16000)
+#: still fits the int16 the difference is taken in (32000 each wrapped to a cost below
+#: zero, so that two masked regions matched each other best)
+INVALID_SOBEL = 16000
 
 #: paths run on every fifth row, over every second column (a step of the path is two
 #: columns); edge points read the nearest path row (at most two rows away, within the
@@ -465,10 +472,10 @@ def _load_row(images, y, pixels):  # type: ignore[no-untyped-def]
     ``pixels`` (:class:`RowPixels`), once per row."""
     if pixels.loaded_row[0] != y:
         pixel_row(images.grey_left, y, images.valid_left, images.check_left,
-                   np.uint64(0xAAAAAAAAAAAAAAAA), np.int16(-32000), pixels.census_left,
+                   np.uint64(0xAAAAAAAAAAAAAAAA), np.int16(-INVALID_SOBEL), pixels.census_left,
                    pixels.sobel_left, pixels.padded_rows)
         pixel_row(images.grey_right, y, images.valid_right, images.check_right,
-                   np.uint64(0x5555555555555555), np.int16(32000), pixels.census_right,
+                   np.uint64(0x5555555555555555), np.int16(INVALID_SOBEL), pixels.census_right,
                    pixels.sobel_right, pixels.padded_rows)
         pixels.loaded_row[0] = y
 
