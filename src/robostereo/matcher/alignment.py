@@ -230,7 +230,10 @@ def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
     # the places where the right view shows them: the rows' offset is the right view's
     u = (xr - 0.5 * (w - 1)) / max(0.5 * (w - 1), 1.0)
     v = (y - 0.5 * (h - 1)) / max(0.5 * (h - 1), 1.0)
-    plane = _plane(dy, u, v, med, _covers(u), _covers(v))
+    tilt, stretch = _covers(u), _covers(v)
+    if not (tilt or stretch) or _plain_rms(dy, u, v) < 0.75 * ROW_TOLERANCE_PX:
+        return constant  # no plane that the rows could be called apart by
+    plane = _plane(dy, u, v, med, tilt, stretch)
     if plane is None:
         return constant
     (offset, tilt, stretch), residuals = plane
@@ -268,6 +271,14 @@ def _median_spread(values: np.ndarray) -> tuple[float, float]:
     n = z.size
     return (float(0.5 * (z[(n - 1) // 2] + z[n // 2])),
             float(0.5 * (z[(3 * n) // 4] - z[n // 4])))
+
+
+def _plain_rms(dy: np.ndarray, u: np.ndarray, v: np.ndarray) -> float:
+    """The root mean square over the image of a plain least-squares plane through the
+    motions: where it is well under the tolerance (the rows as they should be), the
+    robust fit is not needed."""
+    coef = np.linalg.lstsq(np.column_stack([np.ones_like(u), u, v]), dy, rcond=None)[0]
+    return float(np.sqrt(coef[0] ** 2 + (coef[1] ** 2 + coef[2] ** 2) / 3.0))
 
 
 def _covers(t: np.ndarray) -> bool:
