@@ -126,6 +126,19 @@ def test_an_untextured_view_gives_no_verdict():
                           (500.0, 700.0)) is None
 
 
+def test_a_view_that_sees_none_of_the_lines_gives_no_verdict(views):
+    """The other view faces away: every corner's line lies behind it; no verdict, and
+    no warning from the arithmetic on the way."""
+    images, _ = views
+    a = prepare_views(_capture(images[:2], tuple(as_se3(se3_from_scara(x, 0.0, 600.0))
+                                                  for x in (0.0, 15.0))), None).smoothed[0]
+    away = (np.diag([1.0, -1.0, -1.0]), np.array([0.0, 0.0, 10000.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert epipolar_check(a, a, CAMERA.K, (np.eye(3), np.zeros(3)), away,
+                              (500.0, 700.0)) is None
+
+
 def test_epipolar_check_validates_itself():
     with pytest.raises(InputError, match="distance_px"):
         EpipolarCheck(0, 1, -0.1, 0.1, 50)

@@ -174,14 +174,19 @@ def _along_lines(a: NDArray[np.float32], b: NDArray[np.float32], corners: NDArra
     ends = []
     for z in (near, far):
         pc = (C_a + rays * z - C_b) @ R_b
-        ends.append(pc[:, :2] / pc[:, 2:3] * np.diag(K)[:2] + K[:2, 2])
-    length = float(np.nanmax(np.linalg.norm(ends[0] - ends[1], axis=1)))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ends.append(np.where(pc[:, 2:3] > 0, pc[:, :2] / pc[:, 2:3], np.nan)
+                        * np.diag(K)[:2] + K[:2, 2])
+    lengths = np.linalg.norm(ends[0] - ends[1], axis=1)
+    out = np.full((len(corners), 2), np.nan)
+    if not np.isfinite(lengths).any():  # no line in front of view b
+        return out
+    length = float(np.nanmax(lengths))
     n_steps = int(min(max(np.ceil(length / _LINE_STEP_PX), 2), 1000))
     inv = np.linspace(1.0 / near, 1.0 / far, n_steps)  # even in inverse depth
     half = 3
     dy, dx = np.mgrid[-half:half + 1, -half:half + 1]
     h, w = b.shape
-    out = np.full((len(corners), 2), np.nan)
     for c0 in range(0, len(corners), 32):  # a few corners at a time: bounded memory
         sl = slice(c0, c0 + 32)
         pc = (C_a + rays[sl, None, :] / inv[None, :, None] - C_b) @ R_b  # (m, s, 3)
