@@ -39,7 +39,7 @@ from collections.abc import Callable, Mapping
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import yaml
@@ -48,6 +48,9 @@ from robostereo.batch_workers import start_worker, stop_workers
 from robostereo.errors import InputError
 from robostereo.matcher.parallel import n_threads
 from robostereo.matcher.parameters import MatchParameters
+
+if TYPE_CHECKING:
+    from robostereo.matcher.pipeline import MatchResult
 
 __all__ = [
     "SUMMARY_COLUMNS",
@@ -355,7 +358,7 @@ def _run_capture(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
     }  # fmt: skip
 
 
-def _checks(res: Any) -> dict[str, Any]:
+def _checks(res: MatchResult) -> dict[str, Any]:
     """The summary's columns of the match's own checks (rows, grey levels)."""
     rows = res.row_offset
     return {

@@ -28,6 +28,7 @@ __all__ = [
     "require_finite",
     "require_int",
     "require_nonnegative",
+    "require_one_length",
     "require_positive",
     "require_range",
     "warn_input",
@@ -154,6 +155,26 @@ def require_int(name: str, value: Any, *, minimum: int | None = None) -> int:
     if minimum is not None and v < minimum:
         raise InputError(f"{name} must be an integer{bound}, got {v}")
     return v
+
+
+def _listed(items: Iterable[object]) -> str:
+    """``a, b and c``."""
+    words = [str(v) for v in items]
+    return words[0] if len(words) == 1 else f"{', '.join(words[:-1])} and {words[-1]}"
+
+
+def require_one_length(names: Iterable[str], *arrays: Any) -> None:
+    """Refuse 1-D arrays (anything with a ``size``) of different lengths, naming them.
+
+    >>> require_one_length(("rows", "x"), [1, 2], [3, 4])
+    >>> require_one_length(("rows", "x", "disparity"), [1, 2], [3], [4, 5])
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: rows, x and disparity must be of one length, got 2, 1 and 2
+    """
+    sizes = [len(a) for a in arrays]
+    if len(set(sizes)) > 1:
+        raise InputError(f"{_listed(names)} must be of one length, got {_listed(sizes)}")
 
 
 def require_range(name: str, value: Any) -> tuple[float, float]:

@@ -33,7 +33,7 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robostereo.errors import InputError, require_finite, require_int
+from robostereo.errors import InputError, require_finite, require_int, require_one_length
 from robostereo.matcher.alignment_kernels import track_kernel
 
 __all__ = ["MIN_TRACKED", "ROW_TOLERANCE_PX", "RowOffset", "moved_rows", "row_offset"]
@@ -205,9 +205,7 @@ def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
     y = np.asarray(rows, dtype=np.intp).ravel()
     xs = np.asarray(x, dtype=float).ravel()
     d = np.asarray(disparity, dtype=float).ravel()
-    if not y.shape == xs.shape == d.shape:
-        raise InputError(f"rows, x and disparity must be of one length, got {y.size}, "
-                         f"{xs.size} and {d.size}")
+    require_one_length(("rows", "x", "disparity"), y, xs, d)
     # the grey levels as given (the green channel of a colour image: the rows' offset is
     # the same in every channel)
     ga = a[..., 1] if a.ndim == 3 else a

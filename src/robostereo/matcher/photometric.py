@@ -32,7 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.errors import InputError, require_finite, require_int
+from robostereo.errors import InputError, require_finite, require_int, require_one_length
 from robostereo.matcher.confidence import isotonic
 from robostereo.matcher.edges import to_grey
 from robostereo.matcher.photometric_kernels import difference_kernel, places_kernel
@@ -159,9 +159,7 @@ def grey_pairs(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
     y = np.asarray(rows, dtype=np.intp).ravel()
     xs = np.asarray(x, dtype=float).ravel()
     d = np.asarray(disparity, dtype=float).ravel()
-    if not y.shape == xs.shape == d.shape:
-        raise InputError(f"rows, x and disparity must be of one length, got {y.size}, "
-                         f"{xs.size} and {d.size}")
+    require_one_length(("rows", "x", "disparity"), y, xs, d)
     h, w = a.shape[:2]
     # -- one pair per match and offset, where both pixels (and the right neighbour used
     #    for the interpolation) lie in the images
@@ -246,9 +244,7 @@ def _pairs(left_grey: ArrayLike, right_grey: ArrayLike
            ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     gl = np.asarray(left_grey, dtype=float).ravel()
     gr = np.asarray(right_grey, dtype=float).ravel()
-    if gl.shape != gr.shape:
-        raise InputError(f"left_grey and right_grey must be of one length, got {gl.size} "
-                         f"and {gr.size}")
+    require_one_length(("left_grey", "right_grey"), gl, gr)
     ok = np.isfinite(gl) & np.isfinite(gr)
     return gl[ok], gr[ok]
 

@@ -44,13 +44,13 @@ __all__ = [
 ]
 
 #: places whose median distance from their epipolar lines exceeds this (pixels) are
-#: reported, if the angle does too: on the simulated arms' right poses it is 0.06-0.34 px
-#: at spans up to 40 mm and 0.5 px at 80 mm
+#: reported, if the angle does too: on the simulated arms' right poses it is 0.05-0.32 px
+#: at spans up to 40 mm and 0.45 px at 80 mm
 EPIPOLAR_TOLERANCE_PX: float = 0.5
 #: ... and whose median angle off the lines (their distance over how far they moved)
-#: exceeds this (degrees): 0.03-0.12 on the simulated six-axis arm's right poses, 0.25
-#: on the SCARA's (its reported poses' errors); a hand-eye turned 1 degree about the
-#: optical axis gives 1.0
+#: exceeds this (degrees): 0.02-0.11 on the simulated six-axis arm's right poses,
+#: 0.22-0.26 on the SCARA's (its reported poses' errors); a hand-eye turned 1 degree
+#: about the optical axis gives 0.99-1.02
 EPIPOLAR_TOLERANCE_DEG: float = 0.5
 #: least number of places tracked for a verdict
 MIN_PLACES: int = 30
