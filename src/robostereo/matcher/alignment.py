@@ -190,6 +190,13 @@ def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
        if it leaves the places less scattered than the median does.  A slope is only
        fitted where the places span at least a quarter of the image in its direction
        (10th to 90th percentile): read from a narrow band, it would be extrapolated to the edges.
+    5. Where that estimate tilts or stretches, steps 1-4 again with twice as many
+       places: a slope's noise decides how far the second match moves the rows at the
+       edges (reindeer's rows tilted 1.17 px at the side edges were read as 0.72 px from
+       the 48 places the first reading tracked, and the second match stayed 1.15 % false;
+       as 0.97 px from 98, 0.52 %).  A constant offset is read well from the first
+       places; read from more, its small slopes can pass their standard errors without
+       being real (reindeer moved 2 px showed a 0.5 px tilt), so it is not read again.
 
     Examples
     --------
@@ -219,12 +226,26 @@ def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
             break
     if tracked is None:
         return None
-    xr, y, dy = tracked
+    estimate = _estimate(*tracked, ga.shape[:2])
+    # -- 5. a slope: read twice as many places (its noise is what decides how far the
+    #    second match moves the rows at the edges)
+    if estimate.varies and y.size > most:
+        again = _tracked(ga, gb, y, xs, d, 2 * most)
+        if again is not None:
+            estimate = _estimate(*again, ga.shape[:2])
+    return estimate
+
+
+def _estimate(xr: np.ndarray, y: np.ndarray, dy: np.ndarray, shape: tuple[int, ...]
+              ) -> RowOffset:
+    """The rows' offset from tracked places (right columns `xr`, rows `y`, vertical
+    motions `dy`, (n,) each) in images of `shape` ``(H, W)``: :func:`row_offset`'s
+    steps 3-4."""
     # -- 3. the median and its spread (the quartiles as the nearest order statistics)
     med, spread = _median_spread(dy)
     constant = RowOffset(med, spread, int(dy.size))
     # -- 4. a plane over the image, where its slopes are beyond their noise
-    h, w = ga.shape[:2]
+    h, w = shape
     # the places where the right view shows them: the rows' offset is the right view's
     u = (xr - 0.5 * (w - 1)) / max(0.5 * (w - 1), 1.0)
     v = (y - 0.5 * (h - 1)) / max(0.5 * (h - 1), 1.0)
@@ -234,9 +255,9 @@ def row_offset(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
     plane = _plane(dy, u, v, med, tilt, stretch)
     if plane is None:
         return constant
-    (offset, tilt, stretch), residuals = plane
+    (offset, tilt_px, stretch_px), residuals = plane
     _, spread = _median_spread(residuals)
-    return RowOffset(offset, spread, int(dy.size), tilt_px=tilt, stretch_px=stretch)
+    return RowOffset(offset, spread, int(dy.size), tilt_px=tilt_px, stretch_px=stretch_px)
 
 
 def _tracked(ga: np.ndarray, gb: np.ndarray, y: np.ndarray, xs: np.ndarray, d: np.ndarray,
