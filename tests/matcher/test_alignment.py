@@ -228,6 +228,16 @@ def test_real_scene_with_tilted_rows_is_warned_about_and_kept_right(real_scenes)
     assert false <= 0.015 and cov >= cov0 - 0.05
 
 
+def _read_after_a_first_match(scene, right: np.ndarray) -> RowOffset | None:
+    """The rows check's reading of ``scene.left`` against `right` at the accepted
+    matches of a first match without it."""
+    first = match_stereo(scene.left, right, scene.disparity_range,
+                         params=MatchParameters(rows_check=False))
+    acc = first.accepted
+    return row_offset(scene.left, right, first.left_edges.row[acc], first.left_edges.x[acc],
+                      first.edge_disparity[acc])
+
+
 def test_a_small_tilt_is_read_closely_on_every_real_scene(real_scenes):
     """Rows tilted by 0.2 degrees (0.7-1.3 px at the side edges): the places the first
     reading tracks read reindeer's tilt 0.45 px short (1.15 % false after the second
@@ -235,12 +245,7 @@ def test_a_small_tilt_is_read_closely_on_every_real_scene(real_scenes):
     for name, s in real_scenes.items():
         w = s.right.shape[1]
         tilt = np.tan(np.radians(0.2)) * 0.5 * (w - 1)
-        tilted = _tilted(s.right, tilt)
-        first = match_stereo(s.left, tilted, s.disparity_range,
-                             params=MatchParameters(rows_check=False))
-        acc = first.accepted
-        r = row_offset(s.left, tilted, first.left_edges.row[acc], first.left_edges.x[acc],
-                       first.edge_disparity[acc])
+        r = _read_after_a_first_match(s, _tilted(s.right, tilt))
         assert r is not None and abs(r.tilt_px - tilt) < 0.3, (name, tilt, r)
 
 
@@ -250,12 +255,7 @@ def test_rows_four_pixels_apart_are_read_on_every_real_scene(real_scenes, dy):
     move down as 0.9 px, venus one up as 1.3 px); the whole-row search before it reads
     every developer scene within 0.5 px."""
     for name, s in real_scenes.items():
-        moved = _moved_down(s.right, dy)
-        first = match_stereo(s.left, moved, s.disparity_range,
-                             params=MatchParameters(rows_check=False))
-        acc = first.accepted
-        r = row_offset(s.left, moved, first.left_edges.row[acc], first.left_edges.x[acc],
-                       first.edge_disparity[acc])
+        r = _read_after_a_first_match(s, _moved_down(s.right, dy))
         assert r is not None and r.misaligned and abs(r.offset_px - dy) < 0.5, (name, r)
 
 
