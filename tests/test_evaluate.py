@@ -145,6 +145,27 @@ def test_cli_evaluate_plots_curves_and_checks_options(data_dir: Path, tmp_path: 
     assert "--plot" in capsys.readouterr().err
 
 
+def test_cli_evaluate_rule_silhouette_forgives_what_the_project_rule_calls_false(
+        data_dir: Path, capsys) -> None:
+    """The silhouette rule looks at every pixel of the row within 2 px of the edge, a
+    superset of the project's three: the same points counted and matched, no more
+    false, and on reindeer (occluding contours matched with the nearer surface) fewer."""
+    docs = {}
+    for rule in ("project", "silhouette"):
+        assert main(["evaluate", str(data_dir / "reindeer"), "--no-sgbm", "--json",
+                     "--rule", rule]) == 0
+        docs[rule] = json.loads(capsys.readouterr().out)[0]
+        assert docs[rule]["rule"] == rule
+    p, s = (docs[r]["methods"]["robostereo"] for r in ("project", "silhouette"))
+    assert (p["counted"], p["matched"]) == (s["counted"], s["matched"])
+    assert s["false"] < p["false"]
+    cp, cs = (docs[r]["coverage_at_false"]["robostereo"] for r in ("project", "silhouette"))
+    assert all(cs[k] >= cp[k] for k in cp)
+    with pytest.raises(SystemExit) as stop:
+        main(["evaluate", str(data_dir / "reindeer"), "--rule", "fair"])
+    assert stop.value.code == 2 and "--rule" in capsys.readouterr().err
+
+
 def test_cli_evaluate_bad_scene_reports_and_goes_on(tmp_path: Path, data_dir: Path,
                                                     capsys) -> None:
     bad = tmp_path / "tsukuba"

@@ -41,6 +41,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.datasets import StereoScene
+from robostereo.errors import InputError
 from robostereo.evaluation_outlines import (
     OUTLINE_LEVELS,
     MethodPoints,
@@ -304,6 +305,9 @@ class SceneEvaluation:
         Both scoring rules near and away from depth steps, calibration, 3-D distances
         to the ground-truth surface and silhouette offsets
         (:mod:`robostereo.evaluation_outlines`).
+    rule : str
+        The rule of ``methods`` and ``curves`` (:data:`RULES`): ``"project"`` or
+        ``"silhouette"``.
     """
 
     name: str
@@ -315,6 +319,11 @@ class SceneEvaluation:
     methods: tuple[MethodFigures, ...]
     curves: dict[str, CoverageCurve] = field(default_factory=dict)
     outlines: OutlineFigures | None = None
+    rule: str = "project"
+
+    def __post_init__(self) -> None:
+        if self.rule not in RULES:
+            raise InputError(f"rule must be one of {', '.join(RULES)}, got {self.rule!r}")
 
     def coverage_at(self, method: str, max_false: float) -> float:
         """Coverage of ``method``'s curve at at most ``max_false`` false."""
@@ -325,7 +334,7 @@ class SceneEvaluation:
             "scene": self.name, "path": self.path, "width": self.image_size[0],
             "height": self.image_size[1], "min_disparity": self.disparity_range[0],
             "max_disparity": self.disparity_range[1], "edges_left": self.edges_left,
-            "edges_right": self.edges_right,
+            "edges_right": self.edges_right, "rule": self.rule,
             "methods": {m.method: m.as_dict() for m in self.methods},
             "coverage_at_false": {
                 name: {f"{100 * f:g}%": c.coverage_at(f) for f in CURVE_LEVELS}
@@ -513,8 +522,12 @@ def evaluate_scene(
         name=scene.name, path=str(scene.path) if scene.path is not None else "",
         image_size=(w, h), disparity_range=(float(lo), float(hi)),
         edges_left=len(e), edges_right=len(res.right_edges), methods=tuple(methods),
-        curves=curves, outlines=of,
+        curves=curves, outlines=of, rule=rule,
     )  # fmt: skip
+
+
+#: how the printed table names each rule
+_RULE_WORDS = {"project": "project's rule", "silhouette": "silhouette rule"}
 
 
 def _num(v: float | None, fmt: str) -> str:
@@ -526,8 +539,9 @@ def format_evaluation(ev: SceneEvaluation) -> str:
 
     >>> m = MethodFigures("robostereo", 100, 85, 1, 0.25, 0.0123)
     >>> ev = SceneEvaluation("s", "/d/s", (40, 30), (5.0, 14.0), 120, 118, (m,))
-    >>> print(format_evaluation(ev))
-    s: 40 x 30 px, disparity 5 .. 14 px, 120 left edge points (100 with ground truth)
+    >>> print(format_evaluation(ev))  # doctest: +NORMALIZE_WHITESPACE
+    s: 40 x 30 px, disparity 5 .. 14 px, 120 left edge points (100 with ground truth),
+    false by the project's rule
       method      matched   false  RMS px  time ms
       robostereo   85.0 %  1.18 %   0.250     12.3
     """
@@ -536,7 +550,7 @@ def format_evaluation(ev: SceneEvaluation) -> str:
     lines = [
         f"{ev.name}: {ev.image_size[0]} x {ev.image_size[1]} px, disparity "
         f"{ev.disparity_range[0]:g} .. {ev.disparity_range[1]:g} px, {ev.edges_left} left edge "
-        f"points ({counted} with ground truth)",
+        f"points ({counted} with ground truth), false by the {_RULE_WORDS[ev.rule]}",
         "  method      matched   false  RMS px  time ms"
         + ("  3-D RMS mm  3-D median mm" if three_d else ""),
     ]

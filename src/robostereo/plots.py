@@ -123,7 +123,8 @@ def plot_curves(ax: Any, ev: Any) -> Any:
     for f in CURVE_LEVELS:
         ax.axvline(100 * f, color="0.8", lw=0.8, zorder=0)
     ax.set_xlim(0, 10)
-    ax.set_xlabel("false matches (% of matched)")
+    rule = {"project": "the project's rule", "silhouette": "the silhouette rule"}[ev.rule]
+    ax.set_xlabel(f"false matches (% of matched, {rule})")
     ax.set_ylabel("coverage (% of edge points with ground truth)")
     ax.set_title(f"{ev.name}: {ev.edges_left} left edge points", fontsize=10)
     ax.legend(fontsize=8, loc="lower right")

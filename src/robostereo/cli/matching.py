@@ -207,8 +207,9 @@ def add_evaluate_parser(sub: Any) -> None:
         "evaluate", help="score the matcher and StereoSGBM on scenes with ground truth",
         description="For each scene folder (left/right/gt_disp_left as in the developer "
                     "set, or a Middlebury layout): edge points, % matched, % false by the "
-                    "project's rule, disparity RMS, and the same for StereoSGBM at the same "
-                    "pixels, with times; 3-D errors in mm with a Middlebury calib.txt.  Then "
+                    "project's rule (or --rule silhouette), disparity RMS, and the same for "
+                    "StereoSGBM at the same pixels, with times; 3-D errors in mm with a "
+                    "Middlebury calib.txt.  Then "
                     "both rules (the project's and the silhouette rule) near depth steps and "
                     "away, the confidence's calibration error, 3-D distances to the ground-"
                     "truth surface (with calib.txt) and silhouette offsets.",
@@ -226,6 +227,10 @@ def add_evaluate_parser(sub: Any) -> None:
                    help="only the default operating points (no SGBM settings sweep)")
     p.add_argument("--plot", type=Path, metavar="DIR",
                    help="write each scene's two curves as DIR/SCENE_curves.png")
+    p.add_argument("--rule", choices=("project", "silhouette"), default="project",
+                   help="the rule of the figures over all points and of the curves: the "
+                        "project's (default, kept for continuity) or the silhouette rule, "
+                        "fair to occluding contours; the outline figures give both")
     add_matcher_args(p)
     p.set_defaults(handler=run_evaluate)
 
@@ -256,7 +261,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
             try:
                 scene = load_scene(d, scale=args.scale)
                 ev = evaluate_scene(scene, disparity_range=drange, sgbm=not args.no_sgbm,
-                                    curve=not args.no_curves,
+                                    curve=not args.no_curves, rule=args.rule,
                                     params=replace(params, bit_depth=scene.bit_depth))
             except InputError as e:
                 print(f"robostereo: error: {e}", file=sys.stderr)
