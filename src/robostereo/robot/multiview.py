@@ -42,12 +42,12 @@ from numpy.typing import ArrayLike, NDArray
 from robostereo.errors import InputError, require_positive, warn_input
 from robostereo.matcher.edges import check_edge_blur
 from robostereo.robot.multiview_search import (
-    left_out_views,
     prepare_views,
     reference_edges,
     refine_points,
     search_rays,
 )
+from robostereo.robot.multiview_votes import left_out_views, vote_fits, votes_confidence
 from robostereo.robot.pose_check import (
     EPIPOLAR_TOLERANCE_DEG,
     EPIPOLAR_TOLERANCE_PX,
@@ -220,6 +220,7 @@ class ViewsParameters:
     min_confidence: float = 0.71
     range_step_px: float | None = 3.0
     opposite_edge_px: float | None = 4.0
+    edge_votes: int | None = 3
 
     def __post_init__(self) -> None:
         require_positive("threshold", self.threshold)
@@ -248,6 +249,10 @@ class ViewsParameters:
         check_edge_blur(self.edge_blur_px)
         if self.opposite_edge_px is not None:
             require_positive("opposite_edge_px", self.opposite_edge_px)
+        ev = self.edge_votes
+        if ev is not None and (isinstance(ev, bool) or not isinstance(ev, int | np.integer)
+                               or ev < 2):
+            raise InputError(f"edge_votes must be None or an integer >= 2, got {ev!r}")
         if not 0 <= self.min_epipolar_angle_deg < 90:
             raise InputError(f"min_epipolar_angle_deg must be in [0, 90), got "
                              f"{self.min_epipolar_angle_deg!r}")
@@ -287,7 +292,7 @@ class LocatedViews:
         Other views left out of the fit in which the point falls inside the image.
     views_against : ndarray of int, shape (M,)
         Those of them that find no edge where they see the point
-        (:func:`~robostereo.robot.multiview_search.left_out_views`).
+        (:func:`~robostereo.robot.multiview_votes.left_out_views`).
     """
 
     world: _F
@@ -395,7 +400,7 @@ def views_confidence(combined: ArrayLike, distinct: ArrayLike, residual_px: Arra
     against_share : array_like, shape (M,)
         Of the other views that see the point (those in the fit and those left out in
         which it falls inside the image), the share left out that find no edge where
-        they see it (:func:`~robostereo.robot.multiview_search.left_out_views`).
+        they see it (:func:`~robostereo.robot.multiview_votes.left_out_views`).
     unchecked : array_like, shape (M,)
         1 where a two-view fit has no other view in which the point falls, else 0.
 
@@ -535,6 +540,9 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                 ok[np.nonzero(ok)[0][~sure]] = False
                 parts.append({k: v[sure] for k, v in part.items()})
                 _claim(claimed, ref, rays.others, edges, fit, ok)
+            if p.edge_votes is not None and n > p.edge_votes and not ok.all():
+                _voted(parts, claimed, capture, views, ref, edges.subset(~ok), depth_range,
+                       p, border, float(sine_min))
         if progress is not None:
             progress(done + 1, n)
     if not parts:
@@ -618,10 +626,32 @@ def _checked(views: Any, ref: int, edges: Any, rays: Any, fit: Any, p: ViewsPara
     return ok, (looked, against)
 
 
+def _voted(parts: list[dict[str, Any]], claimed: NDArray[np.bool_], capture: ViewsCapture,
+           views: Any, ref: int, edges: Any, depth_range: tuple[float, float],
+           p: ViewsParameters, border: int, sine_min: float) -> None:
+    """The edge points the window search left that ``p.edge_votes`` views' edges agree on
+    (:func:`~robostereo.robot.multiview_votes.vote_fits`), added to `parts` and claimed."""
+    edges, rays, fit, ok = vote_fits(
+        views, ref, edges, depth_range, min_votes=int(p.edge_votes),  # type: ignore[arg-type]
+        min_sine=sine_min, threshold=p.threshold, reject_px=p.reject_px,
+        max_window_cost=p.max_window_cost, border=border, lines=p.edge_lines)
+    looks = left_out_views(views, ref, edges, rays, fit, ok, threshold=p.threshold,
+                           reject_px=p.reject_px, border=border, lines=p.edge_lines)
+    ok &= looks[1] == 0  # no window evidence: every view that sees the point must agree
+    if ok.any():
+        part = _collect(capture, views, ref, edges, rays, fit, ok, len(capture), looks,
+                        voted=True)
+        sure = part["conf"] >= p.min_confidence
+        ok[np.nonzero(ok)[0][~sure]] = False
+        parts.append({k: v[sure] for k, v in part.items()})
+        _claim(claimed, ref, rays.others, edges, fit, ok)
+
+
 def _collect(capture: ViewsCapture, views: Any, ref: int, edges: Any, rays: Any, fit: Any,
              ok: NDArray[np.bool_], n: int,
-             looks: tuple[NDArray[np.intp], NDArray[np.intp]]) -> dict[str, Any]:
-    """One reference's located points as arrays."""
+             looks: tuple[NDArray[np.intp], NDArray[np.intp]],
+             voted: bool = False) -> dict[str, Any]:
+    """One reference's located points as arrays (`voted`: placed by edge votes)."""
     m = int(ok.sum())
     seen = np.zeros((m, n), bool)
     seen[:, ref] = fit.used_reference[ok]
@@ -631,10 +661,11 @@ def _collect(capture: ViewsCapture, views: Any, ref: int, edges: Any, rays: Any,
     n_seen = np.isfinite(rays.costs[ok]).sum(axis=1)
     count = seen.sum(axis=1)
     looked, against = looks[0][ok], looks[1][ok]
-    conf = views_confidence(rays.combined[ok], rays.distinct[ok], fit.residual_rms[ok],
-                            (count - 1) / np.maximum(n_seen, 1), count <= 2,
-                            against / np.maximum(count - 1 + looked, 1),
-                            (count <= 2) & (looked == 0))
+    against_share = against / np.maximum(count - 1 + looked, 1)
+    conf = (votes_confidence(fit.residual_rms[ok]) if voted else
+            views_confidence(rays.combined[ok], rays.distinct[ok], fit.residual_rms[ok],
+                             (count - 1) / np.maximum(n_seen, 1), count <= 2,
+                             against_share, (count <= 2) & (looked == 0)))
     return {"world": world, "depth": fit.depth[ok], "rho_std": fit.rho_std_unit[ok],
             "views": seen, "ref": np.full(m, ref, np.intp), "pixel": pix,
             "combined": rays.combined[ok], "distinct": rays.distinct[ok],
