@@ -61,7 +61,12 @@ __all__ = [
 _F = NDArray[np.float64]
 
 VOTES_CONFIDENCE_WEIGHTS = (5.425, -16.551)
-"""Logistic weights of :func:`votes_confidence`: intercept, residual RMS (px)."""
+"""Logistic weights of :func:`votes_confidence`: intercept, residual RMS (px).
+
+Fitted by ``benchmarks/fit_votes_confidence.py --seeds 0,1,2,3`` on the six-axis arm's
+hub-pulley from 5 views on a line and in a cross, 2424 voted points, 45 of them wrong by
+the renderings' truth; with one seed held out at a time the expected calibration error
+was 0.008-0.010."""
 
 
 def _inside(uv: _F, h: int, w: int, border: int) -> NDArray[np.bool_]:
