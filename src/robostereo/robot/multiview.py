@@ -291,9 +291,11 @@ class LocatedViews:
     residual_px : ndarray, shape (M,)
         RMS of the fit's normal residuals, pixels.
     window_cost : ndarray, shape (M,)
-        The views' combined ``1 - ZNCC`` at the point's depth.
+        The views' combined ``1 - ZNCC`` at the point's depth (NaN: placed by edge votes,
+        ``ViewsParameters.edge_votes``).
     distinct : ndarray, shape (M,)
-        That cost over the best one at least three depth steps away (small: distinct).
+        That cost over the best one at least three depth steps away (small: distinct;
+        NaN: placed by edge votes).
     views_seen : ndarray of int, shape (M,)
         Other views whose image holds the point's window.
     views_checked : ndarray of int, shape (M,)
