@@ -9,8 +9,10 @@ line and in a cross; a post before a printed plane (an occluder) from 5 views on
 each for every noise seed of `--seeds`.  Each located point is right or wrong by
 :func:`robostereo.robot.views_truth.views_correct`; every point is kept
 (``min_confidence=0``) and the capture's whole depth range searched
-(``range_step_px=None``: the narrowing itself keeps points by this confidence), so the
-features do not depend on the weights and `--cache` may keep them between runs.
+(``range_step_px=None``: the narrowing itself keeps points by this confidence) and the
+points placed by edge votes left out (``edge_votes=None``; their confidence is fitted by
+``benchmarks/fit_votes_confidence.py``), so the features do not depend on the weights and
+`--cache` may keep them between runs.
 The features are those of :func:`robostereo.robot.multiview.views_confidence` (a two-view
 fit's residual is zero whatever its match, so the number of views enters as a feature,
 and whether views left out of the fit see the point and find an edge there); the
@@ -117,8 +119,9 @@ def main() -> int:
             if key + " x" not in cache:
                 sim = simulate_views(**{"count": 5, "span_mm": 80.0, "seed": seed, **kw})
                 # every point the search offers, over the capture's whole depth range
-                loc = locate_views(sim.capture, params=ViewsParameters(min_confidence=0.0,
-                                                                        range_step_px=None))
+                # (the window fits only: edge-voted points have their own confidence)
+                loc = locate_views(sim.capture, params=ViewsParameters(
+                    min_confidence=0.0, range_step_px=None, edge_votes=None))
                 cache[key + " x"] = confidence_features(loc)
                 cache[key + " y"] = views_correct(sim, loc).astype(float)
             x, y = cache[key + " x"], cache[key + " y"]

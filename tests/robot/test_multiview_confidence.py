@@ -4,7 +4,6 @@ import numpy as np
 import pytest
 
 from robostereo.robot.multiview import ViewsParameters, locate_views, views_confidence
-from robostereo.robot.simulated_views import simulate_views
 from robostereo.robot.views_truth import views_correct
 
 
@@ -20,11 +19,10 @@ def test_views_left_out_against_a_point_or_none_to_check_it_lower_its_confidence
 
 
 @pytest.fixture(scope="module")
-def six_axis_cross():
+def six_axis_cross(six_axis_pulley_cross):
     """The six-axis arm's hub-pulley from a cross of 5 views (a noise seed the confidence
     was not fitted on), every point the search offers."""
-    sim = simulate_views("pulley", count=5, pattern="cross", span_mm=80.0, robot="six-axis",
-                         seed=5)
+    sim = six_axis_pulley_cross
     return sim, locate_views(sim.capture, params=ViewsParameters(min_confidence=0.0))
 
 

@@ -11,10 +11,10 @@
   view's window scored (:func:`~robostereo.robot.multiview_kernels.sweep_costs`) and
   the views combined robustly (the best half [2]_);
 * :func:`refine_points`: each view's sub-pixel edge point near the best depth, the
-  3-D point refined by least squares over the views that agree, its bound;
-* :func:`left_out_views`: the views left out of a point's fit that see it, and those
-  that find no edge there (a check of two-view fits, which cannot check themselves,
-  and evidence against any fit).
+  3-D point refined by least squares over the views that agree, its bound.
+
+The checks by the views' edges (the views left out of a fit, and the edge points the
+window search leaves) are in :mod:`~robostereo.robot.multiview_votes`.
 
 References
 ----------
@@ -50,9 +50,13 @@ __all__ = [
     "RayMatches",
     "ReferenceEdges",
     "RefinedPoints",
+    "bilinear",
+    "carried_normals",
+    "depth_plane_maps",
     "epipolar_sines",
-    "left_out_views",
     "prepare_views",
+    "projection_terms",
+    "ray_directions",
     "reference_edges",
     "refine_points",
     "search_rays",
@@ -251,15 +255,15 @@ def reference_edges(views: PreparedViews, ref: int, threshold: float,
                           np.column_stack([nx, ny]), peak if pixel is not peak else None)
 
 
-def _rays(views: PreparedViews, ref: int, pixel: _F) -> _F:
+def ray_directions(views: PreparedViews, ref: int, pixel: _F) -> _F:
     """World directions ``d`` with ``C + d / rho`` at depth ``1 / rho`` along the
     reference's optical axis, shape (M, 3)."""
     hom = np.column_stack([pixel, np.ones(len(pixel))]) @ views.K_inv.T
     return hom @ views.R[ref].T
 
 
-def _projection_terms(views: PreparedViews, ref: int, others: NDArray[np.intp],
-                      rays: _F) -> tuple[_F, _F]:
+def projection_terms(views: PreparedViews, ref: int, others: NDArray[np.intp],
+                     rays: _F) -> tuple[_F, _F]:
     """``a, b`` (M, V, 3): the ray's point at ``rho`` projects to ``(a + rho b)`` (homog.)."""
     KR = views.K @ np.transpose(views.R[others], (0, 2, 1))  # (V, 3, 3)
     a = np.einsum("vij,mj->mvi", KR, rays)
@@ -267,14 +271,14 @@ def _projection_terms(views: PreparedViews, ref: int, others: NDArray[np.intp],
     return a, np.broadcast_to(b[None], a.shape).copy()
 
 
-def _affine(views: PreparedViews, ref: int, others: NDArray[np.intp], pixel: _F,
-            rho: float) -> _F:
+def depth_plane_maps(views: PreparedViews, ref: int, others: NDArray[np.intp],
+                     pixel: _F, rho: float) -> _F:
     """The depth plane's local map of reference pixel offsets to each view's, (M, V, 2, 2)."""
     out = np.empty((len(pixel), len(others), 2, 2))
     base = None
     for c, step in enumerate(((1.0, 0.0), (0.0, 1.0), (0.0, 0.0))):
         p = pixel + np.array(step)
-        world = views.C[ref] + _rays(views, ref, p) / rho
+        world = views.C[ref] + ray_directions(views, ref, p) / rho
         uv = np.stack([views.project(world, int(j))[0] for j in others], axis=1)  # (M, V, 2)
         if c < 2:
             out[:, :, :, c] = uv
@@ -284,7 +288,8 @@ def _affine(views: PreparedViews, ref: int, others: NDArray[np.intp], pixel: _F,
     return out - base[:, :, :, None]
 
 
-def _bilinear(img: NDArray[np.float32], x: _F, y: _F) -> _F:
+def bilinear(img: NDArray[np.float32], x: _F, y: _F) -> _F:
+    """`img` (H, W) at the points ``(x, y)`` (any shape), bilinear, clipped to the image."""
     h, w = img.shape
     x, y = np.clip(x, 0, w - 1.001), np.clip(y, 0, h - 1.001)
     x0, y0 = np.floor(x).astype(np.intp), np.floor(y).astype(np.intp)
@@ -378,14 +383,14 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
     ox, oy = np.meshgrid(r, r)
     offs = np.column_stack([ox.ravel(), oy.ravel()])
     px = edges.pixel
-    patch = _bilinear(views.smoothed[ref], px[:, 0:1] + offs[None, :, 0],
+    patch = bilinear(views.smoothed[ref], px[:, 0:1] + offs[None, :, 0],
                       px[:, 1:2] + offs[None, :, 1])
     patch = patch - patch.mean(axis=1, keepdims=True)
     norm = np.linalg.norm(patch, axis=1, keepdims=True)
     patch = np.where(norm > 1e-9, patch / np.maximum(norm, 1e-9), 0.0).astype(np.float32)
-    rays = _rays(views, ref, px)
-    a, b = _projection_terms(views, ref, others, rays)
-    aff = _affine(views, ref, others, px, 2.0 / (near + far))
+    rays = ray_directions(views, ref, px)
+    a, b = projection_terms(views, ref, others, rays)
+    aff = depth_plane_maps(views, ref, others, px, 2.0 / (near + far))
     # -- a view along whose epipolar line the edge runs cannot tell depths apart: no vote
     mute = epipolar_sines(a, b, aff, edges.normal, 2.0 / (near + far)) < min_sine
     ratio = max(coarse_px / step_px, 1.0)
@@ -543,14 +548,14 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
     m, nv = len(edges), len(others)
     e_ref, n_ref = edges.pixel, edges.normal
     rho = rays.rho.copy()
-    world = views.C[ref] + _rays(views, ref, e_ref) / rho[:, None]
+    world = views.C[ref] + ray_directions(views, ref, e_ref) / rho[:, None]
     edge = np.full((m, nv, 2), np.nan)
     peak = edge.copy()  # the gradient's peaks, before any two-step fit
     normal = np.zeros((m, nv, 2))
     # views that fit about as well as the ones that voted (a hidden view fits worse)
     like = np.maximum(2.0 * rays.kept, KEPT_FLOOR)[:, None]
     cand = np.isfinite(rays.costs) & (rays.costs <= np.minimum(like, max_window_cost))
-    carried = _carried_normals(rays.affine, n_ref)  # (M, V, 2)
+    carried = carried_normals(rays.affine, n_ref)  # (M, V, 2)
     for v, j in enumerate(others):
         uv, z = views.project(world, int(j))
         npred = carried[:, v]
@@ -621,8 +626,8 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
         rms = np.sqrt((np.sum(w * r**2, axis=1) + use_ref * t**2) / (k + use_ref))
     eps_r = fit.eps_r
     p = e_ref + t[:, None] * n_ref
-    world = views.C[ref] + _rays(views, ref, p) / rho[:, None]
-    world2 = views.C[ref] + _rays(views, ref, p) / (rho + eps_r)[:, None]
+    world = views.C[ref] + ray_directions(views, ref, p) / rho[:, None]
+    world2 = views.C[ref] + ray_directions(views, ref, p) / (rho + eps_r)[:, None]
     sine = np.zeros(m)
     for v, j in enumerate(others):
         # the edge against the epipolar direction: d(residual)/d(rho) over the image speed
@@ -639,7 +644,7 @@ def refine_points(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: R
                          residual_rms=rms, rho_std_unit=rho_std, epipolar_sine=sine, ok=ok)
 
 
-def _carried_normals(affine: _F, normal: _F) -> _F:
+def carried_normals(affine: _F, normal: _F) -> _F:
     """The reference's edge normals (M, 2) carried into each other view by the depth
     plane's map `affine` (M, V, 2, 2; gradients map with its inverse transpose), unit,
     shape (M, V, 2)."""
@@ -647,53 +652,3 @@ def _carried_normals(affine: _F, normal: _F) -> _F:
         inv_t = np.linalg.inv(affine + 1e-12 * np.eye(2)).transpose(0, 1, 3, 2)
         n = np.einsum("mvij,mj->mvi", inv_t, normal)
         return n / np.maximum(np.linalg.norm(n, axis=2, keepdims=True), 1e-12)
-
-
-def left_out_views(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: RayMatches,
-                   fit: RefinedPoints, check: NDArray[np.bool_], *, threshold: float,
-                   reject_px: float, border: int, lines: int = 2
-                   ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """``(looked, against)``: for the points in `check`, the other views left out of a
-    point's fit in which it falls inside the image, and those of them that have no edge
-    where they see it; int, shape (M,) each (0 outside `check`).
-
-    Notes
-    -----
-    A view along whose epipolar line the edge runs does not vote on the depth (its
-    window slides along the edge and fits at every depth, :func:`search_rays`), but it
-    still sees the edge: the fitted point must fall on an edge of the carried-over
-    orientation and polarity in it.  A wrong depth moves the point along the epipolar
-    line, which leaves the edge by the motion times the sine of their angle; on the
-    repeated rings of the hub-pulley a wrong two-view match lies tens of pixels away,
-    several pixels off the edge.  For each view not in the fit in which the point
-    falls `border` pixels or more inside the image: the sub-pixel edge point
-    (:func:`~robostereo.robot.multiview_kernels.edge_near`, within 2 px) nearest the
-    projection; the view is against the point if there is none or it lies more than
-    `reject_px` away along the normal.
-    """
-    m = len(edges)
-    looked, against = np.zeros(m, np.intp), np.zeros(m, np.intp)
-    idx = np.nonzero(check & fit.ok)[0]
-    if not len(idx):
-        return looked, against
-    h, w = views.smoothed.shape[1:]
-    normals = _carried_normals(rays.affine[idx], edges.normal[idx])
-    for v, j in enumerate(rays.others):
-        uv, z = views.project(fit.world[idx], int(j))
-        nj = normals[:, v]
-        look = (~fit.used[idx, v] & (z > 0) & np.isfinite(uv).all(axis=1)
-                & np.isfinite(nj).all(axis=1))
-        with np.errstate(invalid="ignore"):
-            look &= ((uv[:, 0] >= border) & (uv[:, 1] >= border)
-                     & (uv[:, 0] <= w - 1 - border) & (uv[:, 1] <= h - 1 - border))
-        ii = np.nonzero(look)[0]
-        if not len(ii):
-            continue
-        ex, ey, _, _, found = edge_near(views.fine_gx[j], views.fine_gy[j], uv[ii, 0],
-                                        uv[ii, 1], nj[ii, 0], nj[ii, 1], 2, threshold / 2.0,
-                                        border, lines)
-        with np.errstate(invalid="ignore"):
-            off = np.abs((ex - uv[ii, 0]) * nj[ii, 0] + (ey - uv[ii, 1]) * nj[ii, 1])
-        looked[idx[ii]] += 1
-        against[idx[ii]] += ~found | ~(off <= reject_px)
-    return looked, against

@@ -29,7 +29,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.errors import InputError, require_finite, require_int
+from robostereo.errors import InputError, require_finite, require_int, warn_input
 from robostereo.robot.multiview_search import PreparedViews
 
 __all__ = [
@@ -41,6 +41,7 @@ __all__ = [
     "epipolar_check",
     "fundamental_from_poses",
     "views_epipolar_checks",
+    "warn_disagreeing",
 ]
 
 #: places whose median distance from their epipolar lines exceeds this (pixels) are
@@ -354,3 +355,17 @@ def views_epipolar_checks(views: PreparedViews, ref: int,
         if c is not None:
             out.append(c)
     return out
+
+
+def warn_disagreeing(checks: list[EpipolarCheck]) -> None:
+    """A :class:`~robostereo.errors.PlausibilityWarning` naming the pair of views whose
+    tracked places lie farthest from their epipolar lines, where any pair disagrees."""
+    bad = [c for c in checks if c.disagrees]
+    if bad:
+        c = max(bad, key=lambda c: c.distance_px)
+        warn_input(f"views {c.view} and {c.other}: places tracked between them lie "
+                   f"{c.distance_px:.2f} px off the epipolar lines their poses give, "
+                   f"{c.angle_deg:.2f} degrees of their motion (medians of {c.n_places}; "
+                   f"at most {EPIPOLAR_TOLERANCE_PX} px or {EPIPOLAR_TOLERANCE_DEG} degrees "
+                   "expected): the poses or the hand-eye are off, and the located points "
+                   "may be wrong")
