@@ -104,11 +104,12 @@ def usable_pixels(valid: ArrayLike) -> NDArray[np.bool_]:
                      borderValue=1).astype(bool)
 
 
-#: pixels of a colour image converted at a time (a float buffer of 384 KiB, not a float
+#: pixels of a colour image converted at a time (a float buffer of 96 KiB, not a float
 #: copy of the whole image: the 3 MiB buffers of two images converted side by side were
-#: a third of the matcher's peak memory on a colour scene; a dozen calls an image still
-#: cost little next to the conversion; the grey levels do not depend on the block)
-_GREY_BLOCK_PIXELS = 1 << 15
+#: a third of the matcher's peak memory on a colour scene, and a 384 KiB block still a
+#: tenth of it on tsukuba; a few dozen calls an image cost about 0.02 ms more; the grey
+#: levels do not depend on the block)
+_GREY_BLOCK_PIXELS = 1 << 13
 
 
 def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
