@@ -447,7 +447,9 @@ def _place_finely(x: NDArray[np.float64], row: NDArray[np.integer],
     h = grey.shape[0]
     rad = weights.size // 2
     starts = np.arange(0, h, _FINE_STRIP_ROWS)
-    bounds = np.searchsorted(row, np.append(starts, h))
+    # the bounds in the rows' own dtype: int64 bounds would make numpy search an int64
+    # copy of the rows (8 bytes a point)
+    bounds = np.searchsorted(row, np.append(starts, h).astype(row.dtype))
     for a, lo, hi in zip(starts.tolist(), bounds[:-1].tolist(), bounds[1:].tolist(),
                          strict=True):
         if lo == hi:

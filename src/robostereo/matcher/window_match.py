@@ -251,7 +251,10 @@ def window_match(
     score = model or DEFAULT_MODEL
     n_lines = _n_lines(left, right)
     # the right points of line l: line_start[l] .. line_start[l + 1] - 1
-    line_start = np.searchsorted(np.asarray(right.line), np.arange(n_lines + 1)).astype(np.int64)
+    # (the lines sought in the right points' own dtype: no int64 copy of them)
+    lines = np.asarray(right.line)
+    line_start = np.searchsorted(lines, np.arange(n_lines + 1).astype(lines.dtype)).astype(
+        np.int64)
     # the evidence, a chunk of points at a time: each chunk's features in float64 while
     # its confidence is computed, then kept in float32 (the whole table in float64 was
     # the largest array of a match with many edge points)
