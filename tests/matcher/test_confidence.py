@@ -35,6 +35,37 @@ def test_isotonic_and_the_model():
     assert np.all(np.diff(p) >= 0) and 0.0 <= p[0] < p[-1] <= 1.0
 
 
+def _plain_score(m: ConfidenceModel, f: np.ndarray) -> np.ndarray:
+    """The score as the class documents it, in numpy (the kernel's reference)."""
+    col = {name: f[:, k] for k, name in enumerate(FEATURES)}
+    edge = m.right_edge_weight * col["right_edge"] + m.similarity_weight * col["similarity"]
+    windows = (np.minimum(col["uniqueness"], col["uniqueness_row"])
+               - (1.0 - col["left_right"]) + edge + m.row_agree_weight * col["row_agree"])
+    u = col["path_uniqueness"]
+    return np.where(col["path_agree"] > 0, windows + m.path_weight * u,
+                    np.where(swapped_matches(f), u - 1.0 + m.swap_weight + edge,
+                             windows - 1.0))
+
+
+def test_the_score_kernel_is_the_plain_score_bit_for_bit():
+    """Every case of the score (paths agree, swapped, kept), NaN features, weights that
+    round: the kernel's scores equal numpy's exactly (the confidences stay the same)."""
+    rng = np.random.default_rng(7)
+    f = rng.uniform(0, 1, (4000, len(FEATURES)))
+    for name in ("row_agree", "left_right", "right_edge", "path_agree", "path_swapped"):
+        f[:, FEATURES.index(name)] = rng.integers(0, 2, 4000)
+    f[::97, FEATURES.index("uniqueness_row")] = np.nan
+    f[::89, FEATURES.index("uniqueness")] = np.nan
+    m = ConfidenceModel((-1.0, 0.0, 1.0), (0.1, 0.5, 0.9), right_edge_weight=0.1 / 3,
+                        similarity_weight=0.7, row_agree_weight=1e-3, path_weight=0.3,
+                        swap_weight=0.61)
+    for model in (m, DEFAULT_MODEL):
+        got, want = model.score(f), _plain_score(model, f)
+        assert np.array_equal(got, want, equal_nan=True)
+        assert np.array_equal(model.score(f[::3]), want[::3], equal_nan=True)  # strided
+    assert np.isnan(got).sum() > 60 and {0.0, 1.0} <= set(np.round(f[:, 7]))
+
+
 def test_confidence_on_synthetic_occlusions_is_calibrated_and_informative():
     """Layered pairs the model was not fitted on: the confidence curve fitted on two
     pairs is calibrated on a third, and the most confident matches are the cleanest."""

@@ -337,3 +337,15 @@ def test_colour_converted_in_blocks_equals_the_whole_image_at_once():
     whole = cv2.cvtColor(rgb.astype(np.float32), cv2.COLOR_RGB2GRAY)
     whole *= np.float32(127 / 255)
     assert to_grey(rgb).tobytes() == whole.tobytes()
+
+
+def test_rows_are_the_lines_array_only_where_every_row_is_a_line():
+    """Row step 1 from row 0: ``row`` is ``line`` itself (no second array); any other
+    sampling keeps its own rows, ``line * row_step + row_offset``."""
+    img = np.random.default_rng(4).integers(0, 255, (40, 60)).astype(np.uint8)
+    e = detect_edges(img)
+    assert e.row is e.line and len(e) > 50
+    for step, offset in ((2, 0), (1, 3)):
+        s = detect_edges(img, row_step=step, row_offset=offset)
+        assert not np.shares_memory(s.row, s.line)
+        assert np.array_equal(s.row, s.line * step + offset) and len(s) > 20

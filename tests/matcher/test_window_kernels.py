@@ -5,7 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from robostereo.matcher.window_kernels import PATH_COLUMN_STEP, PATH_LANES, PATH_NONE, _scanline
+from robostereo.matcher.window_kernels import (
+    PATH_COLUMN_STEP,
+    PATH_LANES,
+    PATH_NONE,
+    _scanline,
+    right_partners,
+)
 
 
 def _paths_reference(bm, m, w, p1, p2, step):
@@ -92,3 +98,64 @@ def test_paths_wrap_in_uint16_as_they_did():
         return out
 
     assert np.array_equal(fwd, one(cost)) and np.array_equal(bwd, one(cost[::-1])[::-1])
+
+
+def _partners_reference(x_left, left_line, left_sign, d_par, seen, lo, hi, right_line,
+                        right_x, right_sign):
+    """The window matcher's right edge points and sub-pixel disparities, point by point
+    as its Notes 4 say: of the two right points around ``x - d`` on the line, the nearer
+    of the same sign; within half a pixel, the disparity from it."""
+    n = x_left.size
+    disparity, right_edge, partner = np.full(n, np.nan), np.full(n, -1), np.full(n, -1)
+    use = np.zeros(n)
+    for i in range(n):
+        x = x_left[i] - d_par[i]
+        on_line = np.flatnonzero(right_line == left_line[i])
+        best, dist = -1, np.inf
+        if np.isfinite(x) and on_line.size:
+            at = np.searchsorted(right_x[on_line], x)
+            for k in (at - 1, at):
+                if 0 <= k < on_line.size and right_sign[on_line[k]] == left_sign[i]:
+                    if abs(right_x[on_line[k]] - x) < dist:
+                        best, dist = on_line[k], abs(right_x[on_line[k]] - x)
+        d = d_par[i]
+        if dist <= 0.5:
+            partner[i], use[i], d = best, 1.0, x_left[i] - right_x[best]
+        if lo - 0.5 <= d <= hi + 0.5 and seen[i]:
+            disparity[i], right_edge[i] = d, partner[i]
+    return disparity, right_edge, partner, use
+
+
+def test_right_partners_are_the_plain_nearest_points():
+    """On a grid of quarter pixels (distances of exactly half a pixel, ties between the
+    two neighbours), lines without right points, NaN disparities and points not seen:
+    the kernel's partners, disparities and flags equal the plain reference's."""
+    rng = np.random.default_rng(11)
+    n_lines, n_right, n = 12, 300, 2000
+    right_line = np.sort(rng.integers(0, n_lines - 2, n_right)).astype(np.int32)  # 2 empty
+    right_x = np.empty(n_right)
+    for line in range(n_lines):
+        on = right_line == line
+        right_x[on] = np.sort(rng.choice(np.arange(0, 100, 0.25), on.sum(), replace=False))
+    right_sign = rng.choice(np.array([-1, 1], np.int8), n_right)
+    x_left = rng.integers(0, 480, n) * 0.25
+    left_line = rng.integers(0, n_lines, n).astype(np.int32)
+    left_sign = rng.choice(np.array([-1, 1], np.int8), n)
+    d_par = rng.integers(-40, 80, n) * 0.25
+    d_par[::37] = np.nan
+    seen = rng.uniform(0, 1, n) > 0.1
+    lo, hi = 0.0, 15.0
+    line_start = np.searchsorted(right_line, np.arange(n_lines + 1)).astype(np.int64)
+    disparity, right_edge, partner = np.empty(n), np.empty(n, np.intp), np.empty(n, np.int64)
+    feats = np.full((n, 4), 7.0)
+    right_partners(x_left, left_line, left_sign, d_par, seen, lo, hi, line_start, right_x,
+                   right_sign, disparity, right_edge, partner, feats, 2)
+    want = _partners_reference(x_left, left_line, left_sign, d_par, seen, lo, hi,
+                               right_line, right_x, right_sign)
+    assert np.array_equal(disparity, want[0], equal_nan=True)
+    assert np.array_equal(right_edge, want[1]) and np.array_equal(partner, want[2])
+    assert np.array_equal(feats[:, 2], want[3]) and np.all(feats[:, [0, 1, 3]] == 7.0)
+    # the cases the data was made to hold
+    dist = np.abs(x_left - d_par - right_x[np.maximum(partner, 0)])
+    assert np.any((partner >= 0) & (dist == 0.5)) and 0 < np.sum(partner >= 0) < n
+    assert np.any((partner >= 0) & np.isnan(disparity))

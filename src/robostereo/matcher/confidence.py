@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError, require_finite
+from robostereo.matcher.confidence_kernels import evidence_score
 
 __all__ = [
     "DEFAULT_MODEL",
@@ -59,6 +60,10 @@ FEATURES: tuple[str, ...] = (
     "path_swapped",    # they disagree and the paths' disparity was taken
 )
 _F = {name: k for k, name in enumerate(FEATURES)}
+#: the columns :func:`~robostereo.matcher.confidence_kernels.evidence_score` reads
+_SCORE_COLUMNS = np.array([_F[name] for name in (
+    "uniqueness", "uniqueness_row", "row_agree", "left_right", "right_edge", "similarity",
+    "path_uniqueness", "path_agree", "path_swapped")], np.int64)
 
 
 def isotonic(x: ArrayLike, y: ArrayLike, w: ArrayLike | None = None
@@ -172,15 +177,10 @@ class ConfidenceModel:
         f = np.asarray(features, dtype=float)
         if f.ndim != 2 or f.shape[1] != len(FEATURES):
             raise InputError(f"features must have shape (N, {len(FEATURES)}), got {f.shape}")
-        edge = (self.right_edge_weight * f[:, _F["right_edge"]]
-                + self.similarity_weight * f[:, _F["similarity"]])
-        windows = (np.minimum(f[:, _F["uniqueness"]], f[:, _F["uniqueness_row"]])
-                   - (1.0 - f[:, _F["left_right"]]) + edge
-                   + self.row_agree_weight * f[:, _F["row_agree"]])
-        u_path = f[:, _F["path_uniqueness"]]
-        return np.where(f[:, _F["path_agree"]] > 0, windows + self.path_weight * u_path,
-                        np.where(swapped_matches(f), u_path - 1.0 + self.swap_weight + edge,
-                                 windows - 1.0))
+        weights = np.array([self.right_edge_weight, self.similarity_weight,
+                            self.row_agree_weight, self.path_weight, self.swap_weight],
+                           dtype=np.float64)
+        return evidence_score(f, _SCORE_COLUMNS, weights)
 
     def __call__(self, features: ArrayLike) -> NDArray[np.float64]:
         """``P(correct)`` per row of ``features`` ``(N, F)``."""

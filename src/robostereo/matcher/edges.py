@@ -104,11 +104,12 @@ def usable_pixels(valid: ArrayLike) -> NDArray[np.bool_]:
                      borderValue=1).astype(bool)
 
 
-#: pixels of a colour image converted at a time (a float buffer of 384 KiB, not a float
+#: pixels of a colour image converted at a time (a float buffer of 96 KiB, not a float
 #: copy of the whole image: the 3 MiB buffers of two images converted side by side were
-#: a third of the matcher's peak memory on a colour scene; a dozen calls an image still
-#: cost little next to the conversion; the grey levels do not depend on the block)
-_GREY_BLOCK_PIXELS = 1 << 15
+#: a third of the matcher's peak memory on a colour scene, and a 384 KiB block still a
+#: tenth of it on tsukuba; a few dozen calls an image cost about 0.02 ms more; the grey
+#: levels do not depend on the block)
+_GREY_BLOCK_PIXELS = 1 << 13
 
 
 def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
@@ -245,7 +246,9 @@ class EdgeSet:
 
     All arrays have shape ``(N,)`` and are sorted by ``(line, x)``.  Indices are int32
     and the features computed in float32 are kept in float32 (the position and the
-    mean grey level, summed in float64, stay float64): 52 bytes a point.
+    mean grey level, summed in float64, stay float64): 52 bytes a point, 48 where every
+    row is a line (``row_step`` 1, ``row_offset`` 0: ``row`` is then the array ``line``
+    itself, so writing into one writes into both).
 
     Attributes
     ----------
@@ -444,7 +447,9 @@ def _place_finely(x: NDArray[np.float64], row: NDArray[np.integer],
     h = grey.shape[0]
     rad = weights.size // 2
     starts = np.arange(0, h, _FINE_STRIP_ROWS)
-    bounds = np.searchsorted(row, np.append(starts, h))
+    # the bounds in the rows' own dtype: int64 bounds would make numpy search an int64
+    # copy of the rows (8 bytes a point)
+    bounds = np.searchsorted(row, np.append(starts, h).astype(row.dtype))
     for a, lo, hi in zip(starts.tolist(), bounds[:-1].tolist(), bounds[1:].tolist(),
                          strict=True):
         if lo == hi:
@@ -471,9 +476,11 @@ def _strip_points(grey: NDArray[np.float32], threshold: np.float32, row_offset: 
     after of all the peaks, ``(N,)`` each, in line order.  Each strip's points are
     copied into arrays made with the room the strips so far foretell (remade larger
     where that falls short) and cut to size at the end, not joined from the strips'
-    parts (which would hold every point twice)."""
+    parts (which would hold every point twice).  Where every row is a line
+    (`row_step` 1, `row_offset` 0) the rows are the lines' array itself."""
     h = grey.shape[0]
     per_strip = max(1, _EDGE_STRIP_ROWS // row_step)
+    same_rows = row_step == 1 and row_offset == 0
     out: list[NDArray] = []
     n = 0
     for k0 in range(0, n_lines, per_strip):
@@ -485,6 +492,8 @@ def _strip_points(grey: NDArray[np.float32], threshold: np.float32, row_offset: 
         del strip
         part = strip_points(lines, threshold, BORDER, k0, row_offset, row_step, subpixel,
                             usable, check)
+        if same_rows:  # the rows (third) are the lines (first)
+            part = part[:2] + part[3:]
         k = part[0].shape[0]
         # room for the points the lines so far foretell for the whole image, a quarter
         # more; made again from the count so far where that was too little
@@ -499,6 +508,8 @@ def _strip_points(grey: NDArray[np.float32], threshold: np.float32, row_offset: 
         n += k
     for a in out:  # the room not used given back (realloc: no copy)
         a.resize(n, refcheck=False)
+    if same_rows:
+        out.insert(2, out[0])
     return out
 
 

@@ -416,7 +416,7 @@ def window_costs(
     h, w = gl.shape
     if r.shape != c.shape or r.ndim != 1:
         raise InputError("rows and columns must be 1-D arrays of one length")
-    if r.size and (np.any(np.diff(r) < 0) or r.min() < 0 or r.max() >= h or c.min() < 0
+    if r.size and (np.any(r[1:] < r[:-1]) or r.min() < 0 or r.max() >= h or c.min() < 0
                    or c.max() >= w):
         raise InputError("edge pixels must lie in the image and be sorted by row")
     r = np.ascontiguousarray(r, dtype=np.int32)  # an EdgeSet's are: no copy
@@ -441,7 +441,9 @@ def window_costs(
     names = STREAM_COLUMNS if sides else STREAM_COLUMNS[:-len(SIDE_COLUMNS)]
     out = np.full((n, len(names)), -1, np.int32)
     if n:
-        row_start = np.searchsorted(r, np.arange(h + 1)).astype(np.int64)  # (H + 1,)
+        # (H + 1,); rows sought as int32, as r: int64 ones would make numpy search an
+        # int64 copy of r (8 bytes a point, at the match's peak)
+        row_start = np.searchsorted(r, np.arange(h + 1, dtype=np.int32)).astype(np.int64)
         trunc = int(gradient_truncation)
         area = (2 * HALF_WINDOW + 1) ** 2
         # path penalties per window pixel -> per window sum

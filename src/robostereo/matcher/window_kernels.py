@@ -5,8 +5,9 @@ that leaves a summary of the window costs per left edge point, :func:`stream_row
 from the census and Sobel rows of :mod:`robostereo.matcher.window_pixel_kernels`) and
 of :mod:`robostereo.matcher.window_match` (the evidence read from that summary,
 :func:`evidence`, and the right edge point next to a disparity,
-:func:`nearest_on_lines`).  Only numba functions and the constants they compile in;
-the checks, bands and threads are in the Python modules that call them.
+:func:`nearest_on_lines`, :func:`right_partners`).  Only numba functions and the
+constants they compile in; the checks, bands and threads are in the Python modules
+that call them.
 
 References
 ----------
@@ -46,6 +47,7 @@ __all__ = [
     "StreamSummary",
     "evidence",
     "nearest_on_lines",
+    "right_partners",
     "stream_rows",
 ]
 
@@ -717,6 +719,29 @@ def stream_rows(images, settings, row_start, columns, y_first, y_last,
                                       else big)
 
 
+@kernel(nogil=True, inline="always")
+def _nearest_on_line(x, sign, first, end, right_x, right_sign):  # type: ignore[no-untyped-def]
+    """The right edge point of contrast sign ``sign`` among ``first .. end - 1`` (one
+    line, sorted by x) nearest to ``x`` of the two around it, and its distance
+    (``-1, inf``: none)."""
+    nearest = -1
+    distance = np.inf
+    at, top = first, end  # the first point at x or beyond (np.searchsorted, side left),
+    while at < top:       # searched here: numba's np.searchsorted made an array a call
+        mid = (at + top) >> 1
+        if right_x[mid] < x:
+            at = mid + 1
+        else:
+            top = mid
+    for j in (at - 1, at):  # the two right points around x on the line
+        if first <= j < end and right_sign[j] == sign:
+            dd = abs(right_x[j] - x)
+            if dd < distance:
+                distance = dd
+                nearest = j
+    return nearest, distance
+
+
 @kernel(nogil=True)
 def nearest_on_lines(left_line, left_sign, x_right, right_line, right_x, right_sign, n_lines
                      ):  # type: ignore[no-untyped-def]
@@ -732,15 +757,43 @@ def nearest_on_lines(left_line, left_sign, x_right, right_line, right_x, right_s
         line = left_line[i]
         if not np.isfinite(x) or line < 0 or line >= n_lines:
             continue
-        first, end = line_start[line], line_start[line + 1]
-        at = first + np.searchsorted(right_x[first:end], x)
-        for j in (at - 1, at):  # the two right points around x_right on the line
-            if first <= j < end and right_sign[j] == left_sign[i]:
-                dd = abs(right_x[j] - x)
-                if dd < distance[i]:
-                    distance[i] = dd
-                    nearest[i] = j
+        nearest[i], distance[i] = _nearest_on_line(x, left_sign[i], line_start[line],
+                                                   line_start[line + 1], right_x, right_sign)
     return nearest, distance
+
+
+@kernel(nogil=True)
+def right_partners(x_left, left_line, left_sign, d_par, seen, lo, hi, line_start, right_x,
+                   right_sign, disparity, right_edge, partner, features,
+                   column):  # type: ignore[no-untyped-def]
+    """The right edge point each left edge point's disparity lands on, and the
+    sub-pixel disparity from it, for ``K`` points at once (the window matcher's steps
+    4 and 5 after :func:`evidence`, in one pass, no temporary of every point).
+
+    Per point ``i``: the right edge point of its line and sign nearest to
+    ``x_left[i] - d_par[i]`` (:func:`nearest_on_lines`; ``line_start`` (L + 1,) the
+    right points of line ``l`` are ``line_start[l] .. line_start[l + 1] - 1``); within
+    half a pixel it is the partner, ``partner[i]`` (else -1), ``features[i, column]``
+    1 (else 0), and the disparity is ``x_left[i] - right_x[partner]`` instead of
+    ``d_par[i]``.  ``disparity[i]`` is NaN where that lies outside ``lo - 0.5 .. hi +
+    0.5`` or ``seen[i]`` is False; ``right_edge[i]`` the partner where the disparity is
+    kept, else -1."""
+    n_lines = line_start.shape[0] - 1
+    for i in range(x_left.shape[0]):
+        x = x_left[i] - d_par[i]
+        line = left_line[i]
+        j = -1
+        dist = np.inf
+        if np.isfinite(x) and 0 <= line < n_lines:
+            j, dist = _nearest_on_line(x, left_sign[i], line_start[line], line_start[line + 1],
+                                       right_x, right_sign)
+        use = dist <= 0.5
+        d = x_left[i] - right_x[j] if use else d_par[i]
+        kept = d >= lo - 0.5 and d <= hi + 0.5 and seen[i]
+        disparity[i] = d if kept else np.nan
+        features[i, column] = 1.0 if use else 0.0
+        partner[i] = j if use else -1
+        right_edge[i] = j if use and kept else -1
 
 
 @kernel(nogil=True)

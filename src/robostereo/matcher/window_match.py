@@ -31,7 +31,7 @@ from robostereo.matcher.window_costs import (
 from robostereo.matcher.window_kernels import (
     StreamSummary,
     evidence,
-    nearest_on_lines,
+    right_partners,
 )
 
 __all__ = [
@@ -77,8 +77,10 @@ CONTOUR_TOLERANCE = 1.0
 
 #: the evidence, the thesis's similarity of the right edge points found and the
 #: confidence are computed this many points at a time, so that their float64
-#: temporaries stay small whatever the number of edge points
-SIMILARITY_CHUNK = 1 << 14
+#: temporaries stay small whatever the number of edge points (a chunk's features in
+#: float64 are 320 KiB; at 16 384 points, 1.3 MiB, they and the similarity's
+#: temporaries were what put the synthetic 640 x 480 pair's peak over twice SGBM's)
+SIMILARITY_CHUNK = 1 << 12
 
 
 @dataclass(frozen=True)
@@ -112,24 +114,6 @@ class WindowMatch:
     features: NDArray[np.float32]
     confidence: NDArray[np.float64]
     costs: WindowCosts
-
-
-def _nearest_right_edge(left: EdgeSet, right: EdgeSet, x_right: NDArray[np.float64],
-                        k0: int, n_lines: int) -> tuple[NDArray[np.intp], NDArray[np.float64]]:
-    """Per left edge point ``k0 + k`` (``x_right`` ``(K,)``), the right edge point next to
-    ``x_right[k]`` on its line (the nearer of the two around it, if it has the same
-    contrast sign), and the distance (``inf`` where none); `n_lines` from
-    :func:`_n_lines`."""
-    k1 = k0 + x_right.shape[0]
-    if len(left) == 0 or len(right) == 0:
-        return np.full(k1 - k0, -1, dtype=np.intp), np.full(k1 - k0, np.inf)
-    idx, dist = nearest_on_lines(
-        np.ascontiguousarray(left.line[k0:k1], np.int32),
-        np.ascontiguousarray(left.sign[k0:k1], np.int8),
-        np.ascontiguousarray(x_right, np.float64), np.ascontiguousarray(right.line, np.int32),
-        np.ascontiguousarray(right.x, np.float64), np.ascontiguousarray(right.sign, np.int8),
-        n_lines)
-    return idx.astype(np.intp, copy=False), dist
 
 
 def search_costs(
@@ -266,6 +250,11 @@ def window_match(
     summary = StreamSummary(*(getattr(wc, name) for name in StreamSummary._fields))
     score = model or DEFAULT_MODEL
     n_lines = _n_lines(left, right)
+    # the right points of line l: line_start[l] .. line_start[l + 1] - 1
+    # (the lines sought in the right points' own dtype: no int64 copy of them)
+    lines = np.asarray(right.line)
+    line_start = np.searchsorted(lines, np.arange(n_lines + 1).astype(lines.dtype)).astype(
+        np.int64)
     # the evidence, a chunk of points at a time: each chunk's features in float64 while
     # its confidence is computed, then kept in float32 (the whole table in float64 was
     # the largest array of a match with many edge points)
@@ -276,9 +265,9 @@ def window_match(
     for k0 in range(0, n, SIMILARITY_CHUNK):
         k1 = min(n, k0 + SIMILARITY_CHUNK)
         f = np.zeros((k1 - k0, len(FEATURES)))
-        d, idx, c = _chunk(left, right, StreamSummary(*(a[k0:k1] for a in summary)), k0, f,
-                           d_lo, nd, lo, hi, n_lines, weights, profile_scale, score)
-        disparity[k0:k1], right_edge[k0:k1], conf[k0:k1] = d, idx, c
+        conf[k0:k1] = _chunk(left, right, StreamSummary(*(a[k0:k1] for a in summary)), k0, f,
+                             d_lo, nd, lo, hi, line_start, weights, profile_scale, score,
+                             disparity[k0:k1], right_edge[k0:k1])
         feats[k0:k1] = f
     return WindowMatch(disparity=disparity, right_edge=right_edge, features=feats,
                        confidence=conf, costs=wc)
@@ -293,34 +282,33 @@ def _n_lines(left: EdgeSet, right: EdgeSet) -> int:
 
 def _chunk(left: EdgeSet, right: EdgeSet, summary: StreamSummary, k0: int,
            feats: NDArray[np.float64], d_lo: int, nd: int, lo: float, hi: float,
-           n_lines: int, weights: SimilarityWeights | None, profile_scale: float | None,
-           score: ConfidenceModel
-           ) -> tuple[NDArray[np.float64], NDArray[np.intp], NDArray[np.float64]]:
+           line_start: NDArray[np.int64], weights: SimilarityWeights | None,
+           profile_scale: float | None, score: ConfidenceModel,
+           disparity: NDArray[np.float64], right_edge: NDArray[np.intp]
+           ) -> NDArray[np.float64]:
     """Steps 2-6 of :func:`window_match` for the left edge points ``k0 .. k0 + K - 1``
-    (``summary`` their window costs): their features into ``feats`` ``(K, F)``, and
-    their disparities, right edge points and confidences, ``(K,)`` each."""
+    (``summary`` their window costs): their features into ``feats`` ``(K, F)``, their
+    disparities and right edge points into ``disparity`` and ``right_edge`` ``(K,)``;
+    returns their confidences ``(K,)``.  ``line_start`` ``(L + 1,)``: the right edge
+    points of line ``l`` are ``line_start[l] .. line_start[l + 1] - 1``."""
     d_par, seen = evidence(summary, d_lo, nd, SWAP_UNIQUENESS, feats, _EVIDENCE_COLUMNS)
     k1 = k0 + d_par.shape[0]
-    x = left.x[k0:k1]
-    idx, dist = _nearest_right_edge(left, right, x - d_par, k0, n_lines)
-    use_edge = dist <= 0.5  # |d_edge - d_par|: a right edge point within half a pixel
-    del dist
-    # the sub-pixel disparity, made in place: from the right edge point where there is
-    # one, else the parabola's; NaN outside the range
-    disparity = d_par
-    if len(right):
-        np.subtract(x, right.x[np.maximum(idx, 0)], out=disparity, where=use_edge)
-    in_range = (disparity >= lo - 0.5) & (disparity <= hi + 0.5) & seen
-    disparity[~in_range] = np.nan
-    feats[:, _RIGHT_EDGE] = use_edge
-    sel = np.flatnonzero(use_edge)
-    feats[sel, _SIMILARITY] = pair_similarity(left, right, sel + k0, idx[sel], weights=weights,
-                                              profile_scale=profile_scale)[4]
-    right_edge = idx
-    right_edge[~(use_edge & in_range)] = -1
+    # the right edge point within half a pixel of the disparity (a partner), the
+    # sub-pixel disparity from it where there is one, else the parabola's; NaN outside
+    # the range
+    partner = np.empty(k1 - k0, np.int64)
+    right_partners(np.ascontiguousarray(left.x[k0:k1], np.float64),
+                   np.ascontiguousarray(left.line[k0:k1], np.int32),
+                   np.ascontiguousarray(left.sign[k0:k1], np.int8), d_par, seen, float(lo),
+                   float(hi), line_start, np.ascontiguousarray(right.x, np.float64),
+                   np.ascontiguousarray(right.sign, np.int8), disparity, right_edge, partner,
+                   feats, _RIGHT_EDGE)
+    sel = np.flatnonzero(partner >= 0)
+    feats[sel, _SIMILARITY] = pair_similarity(left, right, sel + k0, partner[sel],
+                                              weights=weights, profile_scale=profile_scale)[4]
     conf = score(feats)
     conf[~np.isfinite(disparity)] = np.nan
-    return disparity, right_edge, conf
+    return conf
 
 
 def contour_accepted(

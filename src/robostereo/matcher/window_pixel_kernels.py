@@ -64,7 +64,11 @@ def census_row(g, y, out, buf):  # type: ignore[no-untyped-def]
     ``g`` into ``out`` (W,), the borders replicated.  ``buf`` (5, W + 6) float32
     receives the five rows padded.  Bits in raster order of the neighbourhood (the
     first two in the high word); each pixel's 34 comparisons stay in registers, the
-    pixels in vector lanes as wide as the floats."""
+    pixels in vector lanes as wide as the floats.
+
+    The two words are made into 32-bit rows of their own and joined in a second loop:
+    made and joined in one loop, the compiler carried every comparison in 64-bit lanes,
+    half as many pixels a vector (about twice the time)."""
     h, w = g.shape
     for dy in range(5):
         src = g[min(max(y + dy - 2, 0), h - 1)]
@@ -74,9 +78,11 @@ def census_row(g, y, out, buf):  # type: ignore[no-untyped-def]
             b[k] = src[0]
             b[w + 3 + k] = src[w - 1]
     r0, r1, r2, r3, r4 = buf[0], buf[1], buf[2], buf[3], buf[4]
+    words = np.empty((2, w), np.uint32)  # the high and the low word of each pixel
+    high, low = words[0], words[1]
     for x in range(w):
         c = r2[x + 3]
-        hi = _bit(_bit(np.uint32(0), r0[x], c), r0[x + 1], c)
+        high[x] = _bit(_bit(np.uint32(0), r0[x], c), r0[x + 1], c)
         lo = np.uint32(0)
         for dx in range(2, 7):
             lo = _bit(lo, r0[x + dx], c)
@@ -89,7 +95,9 @@ def census_row(g, y, out, buf):  # type: ignore[no-untyped-def]
             lo = _bit(lo, r3[x + dx], c)
         for dx in range(7):
             lo = _bit(lo, r4[x + dx], c)
-        out[x] = (np.uint64(hi) << np.uint64(32)) | np.uint64(lo)
+        low[x] = lo
+    for x in range(w):
+        out[x] = (np.uint64(high[x]) << np.uint64(32)) | np.uint64(low[x])
 
 
 @kernel(nogil=True)
