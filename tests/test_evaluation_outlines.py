@@ -113,6 +113,7 @@ def test_cli_evaluate_json_keeps_its_keys_and_adds_outlines(data_dir: Path, caps
     assert keys[:11] == ["scene", "path", "width", "height", "min_disparity",
                          "max_disparity", "edges_left", "edges_right", "methods",
                          "coverage_at_false", "outlines"]
+    assert doc["rule"] == "project"  # the rule of "methods" and "coverage_at_false"
     o = doc["outlines"]
     assert o["definition"] == {"step_px": 2.0, "radius_px": 4, "connectivity": 4}
     for rule in ("project", "silhouette"):

@@ -334,12 +334,13 @@ class SceneEvaluation:
             "scene": self.name, "path": self.path, "width": self.image_size[0],
             "height": self.image_size[1], "min_disparity": self.disparity_range[0],
             "max_disparity": self.disparity_range[1], "edges_left": self.edges_left,
-            "edges_right": self.edges_right, "rule": self.rule,
+            "edges_right": self.edges_right,
             "methods": {m.method: m.as_dict() for m in self.methods},
             "coverage_at_false": {
                 name: {f"{100 * f:g}%": c.coverage_at(f) for f in CURVE_LEVELS}
                 for name, c in self.curves.items()},
             **({"outlines": self.outlines.as_dict()} if self.outlines is not None else {}),
+            "rule": self.rule,
         }  # fmt: skip
 
 
