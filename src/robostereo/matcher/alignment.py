@@ -33,7 +33,12 @@ import cv2
 import numpy as np
 from numpy.typing import ArrayLike
 
-from robostereo.errors import InputError, require_finite, require_int, require_one_length
+from robostereo.errors import (
+    require_finite,
+    require_int,
+    require_nonnegative,
+    require_one_length,
+)
 from robostereo.matcher.alignment_kernels import track_kernel
 
 __all__ = ["MIN_TRACKED", "ROW_TOLERANCE_PX", "RowOffset", "moved_rows", "row_offset"]
@@ -98,11 +103,9 @@ class RowOffset:
 
     def __post_init__(self) -> None:
         require_finite("offset_px", self.offset_px)
-        require_finite("spread_px", self.spread_px)
+        require_nonnegative("spread_px", self.spread_px)
         require_finite("tilt_px", self.tilt_px)
         require_finite("stretch_px", self.stretch_px)
-        if self.spread_px < 0:
-            raise InputError(f"spread_px must be >= 0, got {self.spread_px}")
         require_int("n_places", self.n_places, minimum=0)
 
     @property

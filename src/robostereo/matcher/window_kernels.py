@@ -5,7 +5,7 @@ that leaves a summary of the window costs per left edge point, :func:`stream_row
 from the census and Sobel rows of :mod:`robostereo.matcher.window_pixel_kernels`) and
 of :mod:`robostereo.matcher.window_match` (the evidence read from that summary,
 :func:`evidence`, and the right edge point next to a disparity,
-:func:`nearest_on_lines`, :func:`right_partners`).  Only numba functions and the
+:func:`right_partners`).  Only numba functions and the
 constants they compile in; the checks, bands and threads are in the Python modules
 that call them.
 
@@ -46,7 +46,6 @@ __all__ = [
     "StreamSettings",
     "StreamSummary",
     "evidence",
-    "nearest_on_lines",
     "right_partners",
     "stream_rows",
 ]
@@ -743,26 +742,6 @@ def _nearest_on_line(x, sign, first, end, right_x, right_sign):  # type: ignore[
 
 
 @kernel(nogil=True)
-def nearest_on_lines(left_line, left_sign, x_right, right_line, right_x, right_sign, n_lines
-                     ):  # type: ignore[no-untyped-def]
-    """Per left edge point ``i`` the right edge point of the same line and contrast sign
-    nearest to ``x_right[i]`` among the two around it, and its distance: ``(N,)`` int64
-    (-1: none) and float (``inf``).  Right edge points are sorted by line, then by x."""
-    n = left_line.shape[0]
-    nearest = np.full(n, -1, np.int64)
-    distance = np.full(n, np.inf)
-    line_start = np.searchsorted(right_line, np.arange(n_lines + 1))
-    for i in range(n):
-        x = x_right[i]
-        line = left_line[i]
-        if not np.isfinite(x) or line < 0 or line >= n_lines:
-            continue
-        nearest[i], distance[i] = _nearest_on_line(x, left_sign[i], line_start[line],
-                                                   line_start[line + 1], right_x, right_sign)
-    return nearest, distance
-
-
-@kernel(nogil=True)
 def right_partners(x_left, left_line, left_sign, d_par, seen, lo, hi, line_start, right_x,
                    right_sign, disparity, right_edge, partner, features,
                    column):  # type: ignore[no-untyped-def]
@@ -771,7 +750,7 @@ def right_partners(x_left, left_line, left_sign, d_par, seen, lo, hi, line_start
     4 and 5 after :func:`evidence`, in one pass, no temporary of every point).
 
     Per point ``i``: the right edge point of its line and sign nearest to
-    ``x_left[i] - d_par[i]`` (:func:`nearest_on_lines`; ``line_start`` (L + 1,) the
+    ``x_left[i] - d_par[i]`` (among the two around it; ``line_start`` (L + 1,) the
     right points of line ``l`` are ``line_start[l] .. line_start[l + 1] - 1``); within
     half a pixel it is the partner, ``partner[i]`` (else -1), ``features[i, column]``
     1 (else 0), and the disparity is ``x_left[i] - right_x[partner]`` instead of

@@ -41,7 +41,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.errors import InputError, require_positive
+from robostereo.errors import InputError, require_int, require_positive
 from robostereo.matcher.edges import check_edge_blur
 from robostereo.robot.multiview_search import (
     prepare_views,
@@ -257,10 +257,8 @@ class ViewsParameters:
         check_edge_blur(self.edge_blur_px)
         if self.opposite_edge_px is not None:
             require_positive("opposite_edge_px", self.opposite_edge_px)
-        ev = self.edge_votes
-        if ev is not None and (isinstance(ev, bool) or not isinstance(ev, int | np.integer)
-                               or ev < 2):
-            raise InputError(f"edge_votes must be None or an integer >= 2, got {ev!r}")
+        if self.edge_votes is not None:
+            require_int("edge_votes", self.edge_votes, minimum=2)
         if not 0 <= self.min_epipolar_angle_deg < 90:
             raise InputError(f"min_epipolar_angle_deg must be in [0, 90), got "
                              f"{self.min_epipolar_angle_deg!r}")
@@ -445,13 +443,20 @@ def confidence_features(located: LocatedViews) -> _F:
     window cost, distinctness, residual RMS (px), share of the other views used,
     two-view fit (1.0 or 0.0), share of the views that see the point left out and
     against it, unchecked two-view fit (1.0 or 0.0)."""
-    share = (located.view_count - 1) / np.maximum(located.views_seen, 1)
-    two = located.view_count <= 2
-    against = located.views_against / np.maximum(located.view_count - 1
-                                                 + located.views_checked, 1)
-    return np.column_stack([located.window_cost, located.distinct, located.residual_px,
-                            share, two, against, two & (located.views_checked == 0)]
-                           ).astype(float)
+    return _features(located.window_cost, located.distinct, located.residual_px,
+                     located.view_count, located.views_seen, located.views_checked,
+                     located.views_against)
+
+
+def _features(combined: _F, distinct: _F, residual_px: _F, view_count: NDArray[np.intp],
+              views_seen: NDArray[np.intp], looked: NDArray[np.intp],
+              against: NDArray[np.intp]) -> _F:
+    """:func:`confidence_features` from the points' fields, all (M,): (M, 7)."""
+    share = (view_count - 1) / np.maximum(views_seen, 1)
+    two = view_count <= 2
+    against_share = against / np.maximum(view_count - 1 + looked, 1)
+    return np.column_stack([combined, distinct, residual_px, share, two, against_share,
+                            two & (looked == 0)]).astype(float)
 
 
 def reference_order(capture: ViewsCapture) -> NDArray[np.intp]:
@@ -543,13 +548,8 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                                 drop_sigmas=p.drop_sigmas or math.inf)
             ok, looks = _checked(views, ref, edges, rays, fit, p, border, float(sine_min))
             if ok.any():
-                part = _collect(capture, views, ref, edges, rays, fit, ok, n, looks)
-                # the no-match label: a point less likely right than min_confidence is
-                # not reported and claims no edge point, so another reference may find it
-                sure = part["conf"] >= p.min_confidence
-                ok[np.nonzero(ok)[0][~sure]] = False
-                parts.append({k: v[sure] for k, v in part.items()})
-                _claim(claimed, ref, rays.others, edges, fit, ok)
+                _report(parts, claimed, _collect(capture, views, ref, edges, rays, fit, ok,
+                                                 n, looks), p, ref, edges, rays, fit, ok)
             if p.edge_votes is not None and n > p.edge_votes and not ok.all():
                 _voted(parts, claimed, capture, views, ref, edges.subset(~ok), depth_range,
                        p, border, float(sine_min))
@@ -635,12 +635,21 @@ def _voted(parts: list[dict[str, Any]], claimed: NDArray[np.bool_], capture: Vie
                            reject_px=p.reject_px, border=border, lines=p.edge_lines)
     ok &= looks[1] == 0  # no window evidence: every view that sees the point must agree
     if ok.any():
-        part = _collect(capture, views, ref, edges, rays, fit, ok, len(capture), looks,
-                        voted=True)
-        sure = part["conf"] >= p.min_confidence
-        ok[np.nonzero(ok)[0][~sure]] = False
-        parts.append({k: v[sure] for k, v in part.items()})
-        _claim(claimed, ref, rays.others, edges, fit, ok)
+        _report(parts, claimed, _collect(capture, views, ref, edges, rays, fit, ok,
+                                         len(capture), looks, voted=True),
+                p, ref, edges, rays, fit, ok)
+
+
+def _report(parts: list[dict[str, Any]], claimed: NDArray[np.bool_], part: dict[str, Any],
+            p: ViewsParameters, ref: int, edges: Any, rays: Any, fit: Any,
+            ok: NDArray[np.bool_]) -> None:
+    """Add `part`'s points (the true entries of `ok`) to `parts` and claim their edge
+    points; the no-match label: one less likely right than ``p.min_confidence`` is left
+    out and claims nothing (`ok` cleared), so another reference may find it."""
+    sure = part["conf"] >= p.min_confidence
+    ok[np.nonzero(ok)[0][~sure]] = False
+    parts.append({k: v[sure] for k, v in part.items()})
+    _claim(claimed, ref, rays.others, edges, fit, ok)
 
 
 def _collect(capture: ViewsCapture, views: Any, ref: int, edges: Any, rays: Any, fit: Any,
@@ -657,11 +666,10 @@ def _collect(capture: ViewsCapture, views: Any, ref: int, edges: Any, rays: Any,
     n_seen = np.isfinite(rays.costs[ok]).sum(axis=1)
     count = seen.sum(axis=1)
     looked, against = looks[0][ok], looks[1][ok]
-    against_share = against / np.maximum(count - 1 + looked, 1)
     conf = (votes_confidence(fit.residual_rms[ok]) if voted else
-            views_confidence(rays.combined[ok], rays.distinct[ok], fit.residual_rms[ok],
-                             (count - 1) / np.maximum(n_seen, 1), count <= 2,
-                             against_share, (count <= 2) & (looked == 0)))
+            views_confidence(*_features(rays.combined[ok], rays.distinct[ok],
+                                        fit.residual_rms[ok], count, n_seen, looked,
+                                        against).T))
     return {"world": world, "depth": fit.depth[ok], "rho_std": fit.rho_std_unit[ok],
             "views": seen, "ref": np.full(m, ref, np.intp), "pixel": pix,
             "combined": rays.combined[ok], "distinct": rays.distinct[ok],

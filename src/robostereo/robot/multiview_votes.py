@@ -272,10 +272,7 @@ def left_out_views(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: 
         uv, z = views.project(fit.world[idx], int(j))
         nj = normals[:, v]
         look = (~fit.used[idx, v] & (z > 0) & np.isfinite(uv).all(axis=1)
-                & np.isfinite(nj).all(axis=1))
-        with np.errstate(invalid="ignore"):
-            look &= ((uv[:, 0] >= border) & (uv[:, 1] >= border)
-                     & (uv[:, 0] <= w - 1 - border) & (uv[:, 1] <= h - 1 - border))
+                & np.isfinite(nj).all(axis=1) & _inside(uv, h, w, border))
         ii = np.nonzero(look)[0]
         if not len(ii):
             continue

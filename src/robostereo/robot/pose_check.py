@@ -29,7 +29,11 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.errors import InputError, require_finite, require_int, warn_input
+from robostereo.errors import (
+    require_int,
+    require_nonnegative,
+    warn_input,
+)
 from robostereo.robot.multiview_search import PreparedViews
 
 __all__ = [
@@ -101,12 +105,8 @@ class EpipolarCheck:
     def __post_init__(self) -> None:
         require_int("view", self.view, minimum=0)
         require_int("other", self.other, minimum=0)
-        require_finite("distance_px", self.distance_px)
-        if self.distance_px < 0:
-            raise InputError(f"distance_px must be >= 0, got {self.distance_px}")
-        require_finite("angle_deg", self.angle_deg)
-        if self.angle_deg < 0:
-            raise InputError(f"angle_deg must be >= 0, got {self.angle_deg}")
+        require_nonnegative("distance_px", self.distance_px)
+        require_nonnegative("angle_deg", self.angle_deg)
         require_int("n_places", self.n_places, minimum=0)
 
     @property
