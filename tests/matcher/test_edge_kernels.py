@@ -25,15 +25,19 @@ def _numpy_peaks(s: np.ndarray, threshold: np.float32, m: int):
     return rows, cols + m
 
 
-@pytest.mark.parametrize("shape", [(40, 60), (3, 400), (9, 11), (6, 10)])
+@pytest.mark.parametrize("shape", [(40, 60), (3, 400), (9, 11), (6, 10), (7, 64), (5, 71)])
 def test_one_pass_peaks_equal_numpy_even_when_the_buffers_grow(shape):
     # noise has a peak every third or fourth pixel, far above the buffers' first size
     s = np.random.default_rng(3).uniform(0, 127, shape).astype(np.float32)  # (H, W)
+    if shape[1] in (64, 71):  # few levels: equal |g| side by side, the ties of the test
+        s = np.round(s / 16).astype(np.float32)
     thr = np.float32(2.0)
     got = gradient_peaks(s, thr, 5)
     want = _numpy_peaks(s, thr, 5)
     assert got[0].shape[0] == want[0].shape[0]
     if shape[1] > 11:
+        assert got[0].shape[0] > shape[0]  # peaks on most rows to compare
+    if shape[1] > 11 and shape[1] not in (64, 71):
         assert got[0].shape[0] > max(256, shape[0] * shape[1] // 16)  # the buffers grew
     for a, b in zip(got, want, strict=True):
         assert a.dtype == np.int64 and np.array_equal(a, b)
