@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import pytest
 
@@ -10,6 +11,7 @@ from robostereo.matcher.edge_kernels import (
     connect_sorted,
     gradient_peaks,
     mean5_at,
+    rgb_to_grey,
 )
 
 
@@ -118,3 +120,36 @@ def test_fine_positions_inside_and_at_the_ends_equal_a_plain_python_placement():
     fine_positions(got, row, column, sign, vert[1:], 1, weights, 0.05, 0, row.shape[0])
     assert np.mean(got != x) > 0.3  # points inside and at the ends moved
     assert got.tobytes() == want.tobytes()
+
+
+def _fma_machine() -> bool:
+    from llvmlite import binding
+
+    features = binding.get_host_cpu_features()
+    return bool(features.get("fma") and features.get("avx2"))
+
+
+def test_rgb_to_grey_equals_numpy_rounded_once_per_multiply_add():
+    rgb = np.random.default_rng(11).integers(0, 256, (5, 37, 3), np.uint8)
+    out = np.full((5, 37), -1.0, np.float32)
+    rgb_to_grey(rgb.reshape(5, -1), out, 32)
+    # float64 holds each product and sum exactly: one rounding to float32, as an FMA
+    r, g, b = (rgb[..., k].astype(np.float64) for k in range(3))
+    c0, c1, c2 = (np.float64(np.float32(c)) for c in (0.299, 0.587, 0.114))
+    inner = np.float32(r * c0 + (g.astype(np.float32) * np.float32(c1)).astype(np.float64))
+    want = np.float32(b * c2 + inner.astype(np.float64))
+    assert np.array_equal(out[:, :32], want[:, :32])
+    assert (out[:, 32:] == -1.0).all()  # the tail is left to OpenCV
+    rounded_twice = np.float32(np.float32(b * c2) + inner)  # an FMA is not a mul and add
+    assert not np.array_equal(out[:, :32], rounded_twice[:, :32])
+
+
+@pytest.mark.skipif(not _fma_machine(), reason="OpenCV's loops use FMA only with AVX2/FMA")
+@pytest.mark.parametrize("width", [1, 7, 8, 29, 61, 741])
+def test_grey_conversion_gives_opencv_values(width):
+    from robostereo.matcher.edges import _colour_to_grey, _cv_grey, _kernel_grey
+
+    rgb = np.random.default_rng(width).integers(0, 256, (6, width, 3), np.uint8)
+    want = cv2.cvtColor(rgb.astype(np.float32), cv2.COLOR_RGB2GRAY)
+    for got in (_kernel_grey(rgb), _cv_grey(rgb), _colour_to_grey(rgb)):
+        assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
