@@ -98,14 +98,31 @@ def test_blurred_span_equals_the_sums_tap_by_tap_inside_and_at_the_ends(taps):
         assert out.tobytes() == _span_reference(vert, c, weights).tobytes(), c
 
 
-def test_fine_positions_inside_and_at_the_ends_equal_a_plain_python_placement():
+@pytest.mark.parametrize(("taps", "width"), [(1, 40), (7, 40), (11, 40), (7, 5), (11, 7)])
+def test_blur_row_equals_the_sums_tap_by_tap_at_every_column(taps, width):
+    from robostereo.matcher.edge_kernels import blur_row
+
+    rng = np.random.default_rng(taps + width)
+    vert = rng.uniform(0, 127, width).astype(np.float32)
+    weights = rng.uniform(0.01, 0.3, taps).astype(np.float32)
+    out = np.full(width, np.nan, np.float32)
+    blur_row(vert, weights, out)
+    want = [_span_reference(vert, c, weights)[3] for c in range(width)]  # column c: index 3
+    assert out.tobytes() == np.array(want, np.float32).tobytes()
+
+
+@pytest.mark.parametrize(("taps", "width", "step"), [(5, 30, 1), (7, 30, 1), (7, 200, 60)])
+def test_fine_positions_inside_and_at_the_ends_equal_a_plain_python_placement(taps, width,
+                                                                               step):
+    # rows of many points are blurred whole, rows of a few (step 60) point by point
     from robostereo.matcher.edge_kernels import fine_offset, fine_positions
 
     rng = np.random.default_rng(11)
-    vert = rng.uniform(0, 127, (6, 30)).astype(np.float32)
-    weights = np.array([0.05, 0.25, 0.4, 0.25, 0.05], np.float32)
-    row = np.repeat(np.arange(1, 5), 26).astype(np.int32)
-    column = np.tile(np.arange(2, 28), 4).astype(np.int32)
+    vert = rng.uniform(0, 127, (6, width)).astype(np.float32)
+    weights = rng.uniform(0.05, 0.4, taps).astype(np.float32)
+    columns = np.arange(2, width - 2, step)
+    row = np.repeat(np.arange(1, 5), columns.shape[0]).astype(np.int32)
+    column = np.tile(columns, 4).astype(np.int32)
     sign = np.where(rng.random(row.shape[0]) < 0.5, 1, -1).astype(np.int8)
     x = column + rng.uniform(-0.5, 0.5, row.shape[0])
     want = x.copy()
