@@ -234,12 +234,12 @@ def _row_flags(s, threshold, m, mag, flags):  # type: ignore[no-untyped-def]
 @kernel(nogil=True)
 def _row_scan(flags, i, columns):  # type: ignore[no-untyped-def]
     """Columns of the marked entries of ``flags`` (``(8 K,)`` uint8, 0 or 1) into
-    ``columns`` from index ``i``, ascending; the next index.  Eight flags are read as
-    one 64-bit word: most words hold no peak and are passed over at once."""
-    words = flags.view(np.uint64)
-    for k in range(words.shape[0]):
-        if words[k] != 0:
-            for x in range(8 * k, 8 * k + 8):
+    ``columns`` from index ``i``, ascending; the next index.  Eight flags are tested at
+    once (one branch): most groups hold no peak and are passed over."""
+    for k in range(0, flags.shape[0], 8):
+        if (flags[k] | flags[k + 1] | flags[k + 2] | flags[k + 3] | flags[k + 4]
+                | flags[k + 5] | flags[k + 6] | flags[k + 7]):
+            for x in range(k, k + 8):
                 if flags[x]:
                     columns[i] = x
                     i += 1
