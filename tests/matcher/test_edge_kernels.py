@@ -170,3 +170,50 @@ def test_grey_conversion_gives_opencv_values(width):
     want = cv2.cvtColor(rgb.astype(np.float32), cv2.COLOR_RGB2GRAY)
     for got in (_kernel_grey(rgb), _cv_grey(rgb), _colour_to_grey(rgb)):
         assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
+
+
+@pytest.mark.parametrize("taps", [3, 7, 13])
+def test_blur_column_equals_numpy_rounded_once_per_multiply_add(taps):
+    from robostereo.matcher.edge_kernels import blur_column
+
+    rng = np.random.default_rng(taps)
+    grey = rng.uniform(0, 127, (taps + 4, 21)).astype(np.float32)
+    half = rng.uniform(0.01, 0.3, taps // 2 + 1).astype(np.float32)
+    weights = np.concatenate([half[:0:-1], half])  # symmetric, centre half[0]
+    rad = taps // 2
+    padded = np.pad(grey, ((rad, rad), (0, 0)), mode="reflect")  # = BORDER_REFLECT_101
+    for y in (0, rad, grey.shape[0] - 1):
+        out = np.empty(21, np.float32)
+        blur_column(grey, y, weights, 16, out)
+        col = padded[y:y + taps].astype(np.float64)  # rows y - rad .. y + rad
+        # columns 0..15: each multiply-add rounded once (float64 holds it exactly)
+        acc = np.float32(col[rad] * np.float64(weights[rad]))
+        tail = np.float32(np.float32(weights[rad]) * grey[y])
+        for k in range(1, rad + 1):
+            pair = np.float32(col[rad + k] + col[rad - k])
+            acc = np.float32(pair.astype(np.float64) * np.float64(weights[rad + k]) + acc)
+            tail = np.float32(tail + np.float32(weights[rad + k] * pair))
+        assert out[:16].tobytes() == acc[:16].tobytes(), y
+        assert out[16:].tobytes() == tail[16:].tobytes(), y  # the scalar tail: twice
+
+
+@pytest.mark.skipif(not _fma_machine(), reason="OpenCV's loops use FMA only with AVX2/FMA")
+@pytest.mark.parametrize("blur", [0.5, 0.85, 2.0])
+def test_fine_positions_from_grey_equal_those_from_opencvs_column_blur(blur):
+    from robostereo.matcher.edge_kernels import fine_positions, fine_positions_grey
+    from robostereo.matcher.edges import _ONE, fine_weights
+
+    rng = np.random.default_rng(3)
+    grey = cv2.GaussianBlur(rng.uniform(0, 127, (30, 83)).astype(np.float32), (0, 0), 1.5)
+    weights = fine_weights(blur)
+    row = np.repeat(np.arange(30), 20).astype(np.int32)
+    column = np.tile(np.arange(3, 80, 4) + 1, 30)[:row.shape[0]].astype(np.int32)
+    sign = np.where(rng.random(row.shape[0]) < 0.5, 1, -1).astype(np.int8)
+    x = column + rng.uniform(-0.5, 0.5, row.shape[0])
+    vert = cv2.sepFilter2D(grey, -1, _ONE, weights, borderType=cv2.BORDER_REFLECT_101)
+    want = x.copy()
+    fine_positions(want, row, column, sign, vert, 0, weights, 0.05, 0, row.shape[0])
+    got = x.copy()
+    fine_positions_grey(got, row, column, sign, grey, weights, 0.05, 80)
+    assert np.mean(want != x) > 0.1  # many points moved
+    assert got.tobytes() == want.tobytes()

@@ -31,6 +31,7 @@ __all__ = [
     "FINE_DEAD_ZONE_PX",
     "SIDE_OFFSET",
     "SPAN_COLUMNS",
+    "blur_column",
     "blur_row",
     "blurred_span",
     "connect",
@@ -38,6 +39,7 @@ __all__ = [
     "edge_points",
     "fine_offset",
     "fine_positions",
+    "fine_positions_grey",
     "fma32",
     "gradient_peaks",
     "mean5_at",
@@ -567,27 +569,87 @@ def fine_positions(x, row, column, sign, vert, first_row, weights, dead_zone, lo
     pass the row's ends, blur their own (:func:`blurred_span`).  The same values
     either way."""
     span = np.empty(7, np.float32)
-    w = vert.shape[1]
-    blurred = np.empty(w, np.float32)
-    one = np.float32(1.0)
+    blurred = np.empty(vert.shape[1], np.float32)
     i = lo
     while i < hi:
-        r = row[i]
         j = i + 1
-        while j < hi and row[j] == r:
+        while j < hi and row[j] == row[i]:
             j += 1
-        line = vert[r - first_row]
-        whole = (j - i) * SPAN_COLUMNS >= w
-        if whole:
-            blur_row(line, weights, blurred)
-        for k in range(i, j):
-            c = column[k]
-            sg = one if sign[k] > 0 else -one
-            if whole and 3 <= c and c + 4 <= w:
-                x[k] = _moved(x[k], c, sg, blurred[c - 3:c + 4], dead_zone)
-            else:
-                blurred_span(line, c, weights, span)
-                x[k] = _moved(x[k], c, sg, span, dead_zone)
+        _place_row(x, column, sign, vert[row[i] - first_row], weights, dead_zone, i, j,
+                   blurred, span)
+        i = j
+
+
+@kernel(nogil=True, inline="always")
+def _place_row(x, column, sign, line, weights, dead_zone, i, j, blurred,
+               span):  # type: ignore[no-untyped-def]
+    """:func:`fine_positions` of the points ``i .. j-1`` of one row, ``line`` ``(W,)``
+    its grey levels blurred down the columns; ``blurred`` ``(W,)`` and ``span``
+    ``(7,)`` float32 scratch."""
+    w = line.shape[0]
+    one = np.float32(1.0)
+    whole = (j - i) * SPAN_COLUMNS >= w
+    if whole:
+        blur_row(line, weights, blurred)
+    for k in range(i, j):
+        c = column[k]
+        sg = one if sign[k] > 0 else -one
+        if whole and 3 <= c and c + 4 <= w:
+            x[k] = _moved(x[k], c, sg, blurred[c - 3:c + 4], dead_zone)
+        else:
+            blurred_span(line, c, weights, span)
+            x[k] = _moved(x[k], c, sg, span, dead_zone)
+
+
+@kernel(nogil=True)
+def blur_column(grey, y, weights, n_fused, out):  # type: ignore[no-untyped-def]
+    """Row ``y`` of ``cv2.sepFilter2D(grey, -1, [1], weights,
+    borderType=BORDER_REFLECT_101)`` (a blur down the columns by the symmetric
+    ``weights`` ``(2 R + 1,)``) into ``out`` ``(W,)``, as OpenCV's symmetric column
+    filter sums it: ``w[R] v[0]``, then ``+ w[R + k] (v[k] + v[-k])`` for ``k = 1 ..
+    R``, rounded once each (an FMA) in its vector loop, columns ``0 .. n_fused - 1``,
+    twice in its scalar tail; rows beyond the image reflected."""
+    h, w = grey.shape
+    rad = weights.shape[0] // 2
+    n = min(n_fused, w)
+    centre = grey[y]
+    k0 = weights[rad]
+    zero = np.float32(0.0)
+    for x in range(n):
+        out[x] = fma32(centre[x], k0, zero)
+    for k in range(1, rad + 1):
+        a = grey[_reflect(y + k, h)]
+        b = grey[_reflect(y - k, h)]
+        kk = weights[rad + k]
+        for x in range(n):
+            out[x] = fma32(a[x] + b[x], kk, out[x])
+    for x in range(n, w):
+        acc = k0 * centre[x] + zero
+        for k in range(1, rad + 1):
+            acc = acc + weights[rad + k] * (grey[_reflect(y + k, h), x]
+                                            + grey[_reflect(y - k, h), x])
+        out[x] = acc
+
+
+@kernel(nogil=True)
+def fine_positions_grey(x, row, column, sign, grey, weights, dead_zone,
+                        n_fused):  # type: ignore[no-untyped-def]
+    """:func:`fine_positions` of all the points from the grey levels ``grey`` ``(H, W)``
+    float32 themselves: each row with points is blurred down the columns as it comes
+    (:func:`blur_column`, OpenCV's values where ``n_fused`` is its vector loop's
+    columns), in a buffer of one row; no blurred strip is made."""
+    span = np.empty(7, np.float32)
+    w = grey.shape[1]
+    blurred = np.empty(w, np.float32)
+    vert = np.empty(w, np.float32)
+    n = x.shape[0]
+    i = 0
+    while i < n:
+        j = i + 1
+        while j < n and row[j] == row[i]:
+            j += 1
+        blur_column(grey, row[i], weights, n_fused, vert)
+        _place_row(x, column, sign, vert, weights, dead_zone, i, j, blurred, span)
         i = j
 
 

@@ -19,7 +19,7 @@ connectivity) are the numba kernels of :mod:`robostereo.matcher.edge_kernels`.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cache
+from functools import cache, lru_cache
 
 import cv2
 import numpy as np
@@ -29,8 +29,10 @@ from robostereo.errors import InputError, require_int, require_positive
 from robostereo.matcher.edge_kernels import (
     FINE_DEAD_ZONE_PX,
     SIDE_OFFSET,
+    blur_column,
     connect,
     fine_positions,
+    fine_positions_grey,
     patterns,
     peak_links,
     rgb_to_grey,
@@ -476,17 +478,41 @@ def fine_weights(edge_blur_px: float | None) -> NDArray[np.float32] | None:
     return cv2.getGaussianKernel(size, float(edge_blur_px), cv2.CV_32F).ravel()
 
 
+@lru_cache(maxsize=16)
+def _kernel_blur_agrees(weights: bytes) -> bool:
+    """Whether :func:`blur_column` gives this machine's OpenCV values for the float32
+    `weights` (their bytes): symmetric (OpenCV's symmetric column filter) and equal on
+    a probe of random grey levels 61 columns wide (see :func:`_kernel_grey_agrees`;
+    OpenCV may also filter some sizes of kernel another way: the probe would tell)."""
+    wt = np.frombuffer(weights, np.float32)
+    if wt.size < 3 or not np.array_equal(wt, wt[::-1]):
+        return False
+    probe = np.random.default_rng(2).uniform(0, 127, (2 * wt.size + 3, 61)).astype(np.float32)
+    want = cv2.sepFilter2D(probe, -1, _ONE, wt, borderType=cv2.BORDER_REFLECT_101)
+    got = np.empty_like(probe)
+    for y in range(probe.shape[0]):
+        blur_column(probe, y, wt, 61 // _LANES * _LANES, got[y])
+    return bool(np.array_equal(got.view(np.uint32), want.view(np.uint32)))
+
+
 def _place_finely(x: NDArray[np.float64], row: NDArray[np.integer],
                   column: NDArray[np.integer], sign: NDArray[np.int8],
                   grey: NDArray[np.floating], weights: NDArray[np.float32]) -> None:
     """Move the edge points' ``x`` ``(N,)`` in place towards the gradient's peak on the
     grey levels blurred by `weights` (``edge_blur_px`` of :func:`detect_edges`).
 
-    The blur down the columns (OpenCV, fast) is made for strips of rows in turn, each
-    with the rows its blur reads beyond it, so no blurred image is held whole; a
-    strip's rows come out as they would from the whole image.  The points come row
-    by row (``row`` non-decreasing).
+    The points come row by row (``row`` non-decreasing).  Where
+    :func:`_kernel_blur_agrees`, each row with points is blurred down the columns in
+    the kernel as it comes (:func:`fine_positions_grey`): one call, no blurred rows
+    held but the one.  Else OpenCV blurs strips of rows in turn, each with the rows its
+    blur reads beyond it, so no blurred image is held whole; a strip's rows come out
+    as they would from the whole image.
     """
+    if (weights.size > 1 and grey.dtype == np.float32 and grey.flags.c_contiguous
+            and _kernel_blur_agrees(weights.tobytes())):
+        fine_positions_grey(x, row, column, sign, grey, weights, FINE_DEAD_ZONE_PX,
+                            grey.shape[1] // _LANES * _LANES)
+        return
     h = grey.shape[0]
     rad = weights.size // 2
     starts = np.arange(0, h, _FINE_STRIP_ROWS)
