@@ -236,15 +236,13 @@ def _row_flags(s, threshold, m, mag, flags):  # type: ignore[no-untyped-def]
 @kernel(nogil=True)
 def _row_scan(flags, i, columns):  # type: ignore[no-untyped-def]
     """Columns of the marked entries of ``flags`` (``(8 K,)`` uint8, 0 or 1) into
-    ``columns`` from index ``i``, ascending; the next index.  Eight flags are tested at
-    once (one branch): most groups hold no peak and are passed over."""
-    for k in range(0, flags.shape[0], 8):
-        if (flags[k] | flags[k + 1] | flags[k + 2] | flags[k + 3] | flags[k + 4]
-                | flags[k + 5] | flags[k + 6] | flags[k + 7]):
-            for x in range(k, k + 8):
-                if flags[x]:
-                    columns[i] = x
-                    i += 1
+    ``columns`` from index ``i``, ascending; the next index.  Without a branch: every
+    column is written at ``columns[i]`` and ``i`` moves on by its mark, so ``columns``
+    needs one entry of room beyond the marks.  Testing eight marks at a time, then
+    each, was 1.5x slower on motorcycle: the tests mispredict."""
+    for x in range(flags.shape[0]):
+        columns[i] = x
+        i += flags[x]
     return i
 
 
@@ -271,8 +269,8 @@ def gradient_peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
     if w - m > m:
         most = (w - 2 * m + 1) // 2 + 1  # peaks of a row: never two side by side
         for r in range(n_rows):
-            if cap - i < most:  # room for a whole row, so the row's scan never grows
-                cap = max(2 * cap, i + most)
+            if cap - i <= most:  # room for a whole row and one (the scan's last write)
+                cap = max(2 * cap, i + most + 1)
                 buf = _grown(buf, cap)
             i0 = i
             _row_flags(smoothed[r], threshold, m, mag, flags)
