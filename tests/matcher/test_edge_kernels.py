@@ -217,3 +217,21 @@ def test_fine_positions_from_grey_equal_those_from_opencvs_column_blur(blur):
     fine_positions_grey(got, row, column, sign, grey, weights, 0.05, 80)
     assert np.mean(want != x) > 0.1  # many points moved
     assert got.tobytes() == want.tobytes()
+
+
+@pytest.mark.parametrize("dtype", [np.uint8, np.int8, np.uint16, np.int16])
+def test_integer_greys_scale_in_one_pass_as_numpy_in_two(dtype):
+    from robostereo.matcher.edges import to_grey
+
+    info = np.iinfo(dtype)
+    img = np.random.default_rng(4).integers(info.min, info.max, (6, 13), endpoint=True)
+    img = img.astype(dtype)
+    for depth in (None, 7, 12):
+        scale = np.float32(127 / (2.0 ** (depth or info.bits) - 1)) if depth != 7 else None
+        want = img.astype(np.float32)
+        if scale is not None:
+            want *= scale
+        for view in (img, img[:, ::2]):  # contiguous and strided
+            got = to_grey(view, bit_depth=depth)
+            w = want if view is img else want[:, ::2]
+            assert got.dtype == np.float32 and got.tobytes() == np.ascontiguousarray(w).tobytes()

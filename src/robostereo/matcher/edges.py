@@ -36,6 +36,7 @@ from robostereo.matcher.edge_kernels import (
     patterns,
     peak_links,
     rgb_to_grey,
+    scaled_grey,
     strip_points,
 )
 
@@ -227,13 +228,15 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
             arr = arr[:, :, :3]
         grey = _colour_to_grey(arr)
     elif arr.ndim == 2:
-        with np.errstate(over="ignore"):
-            grey = arr.astype(np.float32)
+        grey = None  # integers a float32 holds exactly: converted and scaled below at once
+        if arr.dtype not in _EXACT_INTEGERS:
+            with np.errstate(over="ignore"):
+                grey = arr.astype(np.float32)
     else:
         raise InputError(
             f"{name} must be a grey (H, W) or colour (H, W, 3|4) image, got shape {arr.shape}"
         )
-    if grey.size == 0:
+    if arr.shape[0] * arr.shape[1] == 0:
         raise InputError(f"{name} is empty (shape {arr.shape})")
     unit_float = bit_depth is None and arr.dtype.kind == "f"
     if bit_depth is None:
@@ -247,6 +250,11 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
             bit_depth = 7
     if not 1 <= bit_depth <= 32:
         raise InputError(f"bit_depth must be in 1..32, got {bit_depth}")
+    if grey is None:  # one pass, the values of astype(float32) then *= the scale
+        grey = np.empty(arr.shape, np.float32)
+        scaled_grey(arr, np.float32(1.0) if bit_depth == 7 else np.float32(
+            (SEED_GREY_LEVELS - 1) / (2.0**bit_depth - 1)), grey)
+        return grey
     if arr.dtype.kind == "f" and not np.isfinite(grey).all():  # integers always are
         raise InputError(f"{name} contains NaN or infinite grey levels")
     if unit_float:
