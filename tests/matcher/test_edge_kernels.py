@@ -164,11 +164,11 @@ def test_rgb_to_grey_equals_numpy_rounded_once_per_multiply_add():
 @pytest.mark.skipif(not _fma_machine(), reason="OpenCV's loops use FMA only with AVX2/FMA")
 @pytest.mark.parametrize("width", [1, 7, 8, 29, 61, 741])
 def test_grey_conversion_gives_opencv_values(width):
-    from robostereo.matcher.edges import _colour_to_grey, _cv_grey, _kernel_grey
+    from robostereo.matcher.edges import _colour_to_grey
 
     rgb = np.random.default_rng(width).integers(0, 256, (6, width, 3), np.uint8)
     want = cv2.cvtColor(rgb.astype(np.float32), cv2.COLOR_RGB2GRAY)
-    for got in (_kernel_grey(rgb), _cv_grey(rgb), _colour_to_grey(rgb)):
+    for got in (_colour_to_grey(rgb, True), _colour_to_grey(rgb, False), _colour_to_grey(rgb)):
         assert np.array_equal(got.view(np.uint32), want.view(np.uint32))
 
 

@@ -123,10 +123,25 @@ _EXACT_INTEGERS = (np.uint8, np.int8, np.uint16, np.int16)
 _LANES = 8
 
 
-def _cv_grey(rgb: np.ndarray) -> NDArray[np.float32]:
-    """``cv2.cvtColor(rgb as float32, RGB2GRAY)`` a block of rows at a time."""
+def _colour_to_grey(rgb: np.ndarray, kernel: bool | None = None) -> NDArray[np.float32]:
+    """``cv2.cvtColor(rgb as float32, RGB2GRAY)``.  With `kernel` (by default for
+    C-contiguous RGB images of the integer dtypes a float32 holds exactly, where
+    :func:`_kernel_grey_agrees`) :func:`rgb_to_grey` reads the integers as they are
+    (one pass, about twice as fast) and OpenCV does the rows' tails; else OpenCV
+    converts a float32 copy of a block of rows at a time."""
+    if rgb.dtype == np.float32:
+        return cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2GRAY)
+    if kernel is None:
+        kernel = (rgb.dtype in _EXACT_INTEGERS and rgb.shape[2] == 3
+                  and rgb.flags.c_contiguous and _kernel_grey_agrees())
     h, w = rgb.shape[:2]
     grey = np.empty((h, w), np.float32)
+    if kernel:
+        n = w // _LANES * _LANES  # the columns of OpenCV's vector loop
+        rgb_to_grey(rgb.reshape(h, 3 * w), grey, n)
+        if n < w:
+            grey[:, n:] = cv2.cvtColor(rgb[:, n:].astype(np.float32), cv2.COLOR_RGB2GRAY)
+        return grey
     rows = max(1, _GREY_BLOCK_PIXELS // max(w, 1))
     buf = np.empty((min(h, rows), w, 3), np.float32)
     with np.errstate(over="ignore"):  # beyond float32: inf, refused by the caller
@@ -138,41 +153,14 @@ def _cv_grey(rgb: np.ndarray) -> NDArray[np.float32]:
     return grey
 
 
-def _kernel_grey(rgb: np.ndarray) -> NDArray[np.float32]:
-    """:func:`_cv_grey` of a C-contiguous ``(H, W, 3)`` integer image:
-    :func:`rgb_to_grey` for the columns of OpenCV's vector loop, OpenCV for the rest
-    (fewer than :data:`_LANES` a row)."""
-    h, w = rgb.shape[:2]
-    grey = np.empty((h, w), np.float32)
-    n = w // _LANES * _LANES
-    rgb_to_grey(rgb.reshape(h, 3 * w), grey, n)
-    if n < w:
-        grey[:, n:] = cv2.cvtColor(rgb[:, n:].astype(np.float32), cv2.COLOR_RGB2GRAY)
-    return grey
-
-
 @cache
 def _kernel_grey_agrees() -> bool:
-    """Whether :func:`_kernel_grey` gives this machine's OpenCV values, on a probe of
-    random colours (OpenCV's loops follow the processor: their lanes and whether they
-    round once in a multiply-add).  61 columns: a row's vector loop of 4, 8, 16 or 32
-    lanes would end at a different column (60, 56, 48, 32)."""
+    """Whether :func:`rgb_to_grey` gives this machine's OpenCV values (OpenCV's loops
+    follow the processor) on random colours, 61 columns: a vector loop of 4, 8, 16 or
+    32 lanes would end at a different column."""
     probe = np.random.default_rng(0).integers(0, 256, (4, 61, 3), np.uint8)
-    return bool(np.array_equal(_kernel_grey(probe).view(np.uint32),
-                               _cv_grey(probe).view(np.uint32)))
-
-
-def _colour_to_grey(rgb: np.ndarray) -> NDArray[np.float32]:
-    """``cv2.cvtColor(rgb as float32, RGB2GRAY)``: OpenCV's values, through
-    :func:`rgb_to_grey` (reading the integers as they are, one pass, about twice as
-    fast) for C-contiguous RGB images of the integer dtypes a float32 holds exactly,
-    where it gives them on this machine, else a block of rows at a time."""
-    if rgb.dtype == np.float32:
-        return cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2GRAY)
-    if (rgb.dtype in _EXACT_INTEGERS and rgb.shape[2] == 3 and rgb.flags.c_contiguous
-            and _kernel_grey_agrees()):
-        return _kernel_grey(rgb)
-    return _cv_grey(rgb)
+    return bool(np.array_equal(_colour_to_grey(probe, True).view(np.uint32),
+                               _colour_to_grey(probe, False).view(np.uint32)))
 
 
 def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "image") -> NDArray[
@@ -251,9 +239,8 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
     if not 1 <= bit_depth <= 32:
         raise InputError(f"bit_depth must be in 1..32, got {bit_depth}")
     if grey is None:  # one pass, the values of astype(float32) then *= the scale
-        grey = np.empty(arr.shape, np.float32)
-        scaled_grey(arr, np.float32(1.0) if bit_depth == 7 else np.float32(
-            (SEED_GREY_LEVELS - 1) / (2.0**bit_depth - 1)), grey)
+        scale = (SEED_GREY_LEVELS - 1) / (2.0**bit_depth - 1) if bit_depth != 7 else 1.0
+        scaled_grey(arr, np.float32(scale), grey := np.empty(arr.shape, np.float32))
         return grey
     if arr.dtype.kind == "f" and not np.isfinite(grey).all():  # integers always are
         raise InputError(f"{name} contains NaN or infinite grey levels")
@@ -489,9 +476,8 @@ def fine_weights(edge_blur_px: float | None) -> NDArray[np.float32] | None:
 @lru_cache(maxsize=16)
 def _kernel_blur_agrees(weights: bytes) -> bool:
     """Whether :func:`blur_column` gives this machine's OpenCV values for the float32
-    `weights` (their bytes): symmetric (OpenCV's symmetric column filter) and equal on
-    a probe of random grey levels 61 columns wide (see :func:`_kernel_grey_agrees`;
-    OpenCV may also filter some sizes of kernel another way: the probe would tell)."""
+    `weights` (their bytes): symmetric, and equal on random grey levels, 61 columns
+    (see :func:`_kernel_grey_agrees`; a size OpenCV filters another way fails too)."""
     wt = np.frombuffer(weights, np.float32)
     if wt.size < 3 or not np.array_equal(wt, wt[::-1]):
         return False
@@ -510,11 +496,10 @@ def _place_finely(x: NDArray[np.float64], row: NDArray[np.integer],
     grey levels blurred by `weights` (``edge_blur_px`` of :func:`detect_edges`).
 
     The points come row by row (``row`` non-decreasing).  Where
-    :func:`_kernel_blur_agrees`, each row with points is blurred down the columns in
-    the kernel as it comes (:func:`fine_positions_grey`): one call, no blurred rows
-    held but the one.  Else OpenCV blurs strips of rows in turn, each with the rows its
-    blur reads beyond it, so no blurred image is held whole; a strip's rows come out
-    as they would from the whole image.
+    :func:`_kernel_blur_agrees`, the kernel blurs each row with points down the columns
+    as it comes (:func:`fine_positions_grey`, one call).  Else OpenCV blurs strips of
+    rows in turn, each with the rows its blur reads beyond it, so no blurred image is
+    held whole; a strip's rows come out as they would from the whole image.
     """
     if (weights.size > 1 and grey.dtype == np.float32 and grey.flags.c_contiguous
             and _kernel_blur_agrees(weights.tobytes())):
