@@ -8,8 +8,9 @@ position, sign, magnitude, the grey levels either side); then, on all the peaks,
 (:func:`pattern_of`) and 5 x 5 mean grey (:func:`mean5_at`).  :func:`edge_points` does
 the same on a whole smoothed image at once.  :func:`connect` and :func:`patterns`
 serve :func:`robostereo.matcher.edges.connectivity` and
-:func:`robostereo.matcher.edges.pattern_type` on points in any order.  Only numba
-functions and the constants they compile in.
+:func:`robostereo.matcher.edges.pattern_type` on points in any order;
+:func:`rgb_to_grey` converts colour images to grey with OpenCV's values (:func:`fma32`).
+Only numba functions and the constants they compile in.
 
 References
 ----------
@@ -20,18 +21,26 @@ References
 from __future__ import annotations
 
 import numpy as np
+from llvmlite import ir
+from numba import types
+from numba.extending import intrinsic
 
 from robostereo.matcher.jit import kernel
 
 __all__ = [
     "FINE_DEAD_ZONE_PX",
     "SIDE_OFFSET",
+    "SPAN_COLUMNS",
+    "blur_column",
+    "blur_row",
     "blurred_span",
     "connect",
     "connect_sorted",
     "edge_points",
     "fine_offset",
     "fine_positions",
+    "fine_positions_grey",
+    "fma32",
     "gradient_peaks",
     "mean5_at",
     "pattern_of",
@@ -39,6 +48,8 @@ __all__ = [
     "peak_features",
     "peak_links",
     "peak_values",
+    "rgb_to_grey",
+    "scaled_grey",
     "strip_points",
 ]
 
@@ -52,6 +63,51 @@ SIDE_OFFSET = 4
 #: raised the depth RMS from 1.17 to 1.66 mm); the pull of texture at an outline moves
 #: the edge by tenths of a pixel.  0.05 leaves the block's edges where they were.
 FINE_DEAD_ZONE_PX = 0.05
+
+
+@intrinsic
+def fma32(typingctx, a, b, c):  # type: ignore[no-untyped-def]
+    """``a * b + c`` in float32 rounded once (LLVM's ``llvm.fma.f32``): what OpenCV's
+    vector loops compute on processors with FMA (``v_fma``, ``v_muladd``)."""
+    sig = types.float32(types.float32, types.float32, types.float32)
+
+    def codegen(context, builder, signature, args):  # type: ignore[no-untyped-def]
+        f32 = ir.FloatType()
+        fn = builder.module.declare_intrinsic("llvm.fma", [f32], ir.FunctionType(f32, [f32] * 3))
+        return builder.call(fn, args)
+
+    return sig, codegen
+
+
+@kernel(nogil=True)
+def rgb_to_grey(rgb, out, n):  # type: ignore[no-untyped-def]
+    """Grey levels ``0.299 R + 0.587 G + 0.114 B`` of columns ``0 .. n-1`` of an integer
+    RGB image, its rows flat (``(H, 3 W)``, ``R G B R G B ...``), into ``out`` ``(H, W)``
+    float32, as ``cv2.cvtColor(rgb as float32, COLOR_RGB2GRAY)`` computes them in its
+    vector loop (two FMAs in this order); the columns from ``n`` on (the loop's scalar
+    tail) are left to OpenCV.  Reads the integers as they are, no float copy of the
+    image; the flat rows let the compiler vectorise the three interleaved reads."""
+    c0 = np.float32(0.299)
+    c1 = np.float32(0.587)
+    c2 = np.float32(0.114)
+    for y in range(rgb.shape[0]):
+        row = rgb[y]
+        o = out[y]
+        for x in range(n):
+            o[x] = fma32(np.float32(row[3 * x + 2]), c2,
+                         fma32(np.float32(row[3 * x]), c0, np.float32(row[3 * x + 1]) * c1))
+
+
+@kernel(nogil=True)
+def scaled_grey(img, scale, out):  # type: ignore[no-untyped-def]
+    """``out[:] = img.astype(float32) * scale`` for an integer image ``img`` ``(H, W)``
+    whose values a float32 holds exactly: one pass, no float copy (float32 ``scale``;
+    the same values as the two passes)."""
+    for y in range(img.shape[0]):
+        row = img[y]
+        o = out[y]
+        for x in range(img.shape[1]):
+            o[x] = np.float32(row[x]) * scale
 
 
 @kernel(nogil=True)
@@ -170,19 +226,36 @@ def _abs_g(s, x):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True)
-def _row_peaks(s, threshold, m, i, columns):  # type: ignore[no-untyped-def]
-    """Columns of the peaks of row ``s`` into ``columns`` from index ``i``; the next
-    index.  ``|g|`` is computed once per pixel and kept for the three columns the test
-    sees."""
-    prev = _abs_g(s, m - 1)
-    cur = _abs_g(s, m)
-    for x in range(m, s.shape[0] - m):
-        nxt = _abs_g(s, x + 1)
-        if cur >= threshold and cur > prev and cur >= nxt:
-            columns[i] = x
-            i += 1
-        prev = cur
-        cur = nxt
+def _row_flags(s, threshold, m, mag, flags):  # type: ignore[no-untyped-def]
+    """Mark the peaks of row ``s`` ``(W,)``: ``flags[x]`` 1 where column ``x`` (``m`` to
+    ``W - m - 1``) is one, else 0 (other entries untouched).
+
+    Two passes without branches, which the compiler vectorises: ``|g|`` of columns
+    ``m - 1 .. W - m`` into ``mag`` (``mag[k]`` is column ``m - 1 + k``), then the
+    three tests of each column, one byte each.  A scan that tests the columns one by
+    one, branching on each, was about 2x slower: the tests' outcomes are too irregular
+    to predict."""
+    n = s.shape[0] - 2 * m + 2
+    half = np.float32(0.5)
+    s0 = s[m - 2:]
+    for k in range(n):
+        mag[k] = abs((s0[k + 2] - s0[k]) * half)
+    f0 = flags[m:]
+    for k in range(n - 2):
+        c = mag[k + 1]
+        f0[k] = np.uint8(c >= threshold) & np.uint8(c > mag[k]) & np.uint8(c >= mag[k + 2])
+
+
+@kernel(nogil=True)
+def _row_scan(flags, i, columns):  # type: ignore[no-untyped-def]
+    """Columns of the marked entries of ``flags`` (``(8 K,)`` uint8, 0 or 1) into
+    ``columns`` from index ``i``, ascending; the next index.  Without a branch: every
+    column is written at ``columns[i]`` and ``i`` moves on by its mark, so ``columns``
+    needs one entry of room beyond the marks.  Testing eight marks at a time, then
+    each, was 1.5x slower on motorcycle: the tests mispredict."""
+    for x in range(flags.shape[0]):
+        columns[i] = x
+        i += flags[x]
     return i
 
 
@@ -194,23 +267,27 @@ def gradient_peaks(smoothed, threshold, m):  # type: ignore[no-untyped-def]
     least ``m >= 2`` pixels inside the borders (float32 arithmetic, as NumPy's on the
     same arrays).  Returns their lines and columns, ``(N,)`` int64 each, sorted.
 
-    One pass over the image (:func:`_row_peaks`); the columns go into an int32 buffer
-    that grows (doubles) before a row that might not fit, never inside a row's loop.
-    The gradients at the peaks are not kept: :func:`peak_features` computes them again
-    from ``smoothed``, the same float32 values, so that the buffer is 4 bytes a peak."""
+    Each row is marked (:func:`_row_flags`) and its marks scanned (:func:`_row_scan`);
+    the columns go into an int32 buffer that grows (doubles) before a row that might
+    not fit, never inside a row.  The gradients at the peaks are not kept:
+    :func:`peak_features` computes them again from ``smoothed``, the same float32
+    values, so that the buffer is 4 bytes a peak."""
     n_rows, w = smoothed.shape
     cap = max(256, n_rows * w // 16)  # 6% of the pixels: few images grow it
     buf = np.empty(cap, np.int32)
     counts = np.zeros(n_rows, np.int64)
+    mag = np.empty(w, np.float32)
+    flags = np.zeros((w + 7) // 8 * 8, np.uint8)  # 0 outside columns m .. w - m - 1
     i = 0
     if w - m > m:
         most = (w - 2 * m + 1) // 2 + 1  # peaks of a row: never two side by side
         for r in range(n_rows):
-            if cap - i < most:  # room for a whole row, so the row's loop never grows
-                cap = max(2 * cap, i + most)
+            if cap - i <= most:  # room for a whole row and one (the scan's last write)
+                cap = max(2 * cap, i + most + 1)
                 buf = _grown(buf, cap)
             i0 = i
-            i = _row_peaks(smoothed[r], threshold, m, i, buf)
+            _row_flags(smoothed[r], threshold, m, mag, flags)
+            i = _row_scan(flags, i, buf)
             counts[r] = i - i0
     line = np.empty(i, np.int64)
     column = np.empty(i, np.int64)
@@ -430,34 +507,161 @@ def _moved(x, c, sg, span, dead_zone):  # type: ignore[no-untyped-def]
     return x
 
 
+#: a point's seven blurred columns (:func:`blurred_span`) cost about what blurring this
+#: many columns of a whole row (:func:`blur_row`) does: a row with more points than its
+#: width over this is blurred whole (measured on motorcycle, cloth3 and the synthetic
+#: 1280 x 960 pair: about 4, 20 and 110 points a row of 626, 741 and 1280 columns)
+SPAN_COLUMNS = 48
+
+
+@kernel(nogil=True)
+def blur_row(vert, weights, out):  # type: ignore[no-untyped-def]
+    """Row ``vert`` ``(W,)`` blurred along the row by ``weights`` ``(2 R + 1,)`` into
+    ``out`` ``(W,)`` float32, borders reflected (``cv2.BORDER_REFLECT_101``): each
+    output the float32 sum ``0 + w[0] v[0] + w[1] v[1] + ...`` in that order, the
+    values of :func:`blurred_span` at the same columns.  The columns whose taps lie
+    inside the row are summed side by side (vectorised; seven taps unrolled), the
+    ``R`` at either end one by one."""
+    w = vert.shape[0]
+    nt = weights.shape[0]
+    rad = nt // 2
+    n = w - 2 * rad  # columns rad .. w - rad - 1 read inside the row
+    if n > 0:
+        o = out[rad:]
+        if nt == 7:
+            w0, w1, w2, w3, w4, w5, w6 = (weights[0], weights[1], weights[2], weights[3],
+                                          weights[4], weights[5], weights[6])
+            for x in range(n):
+                acc = np.float32(0.0) + w0 * vert[x]
+                acc += w1 * vert[x + 1]
+                acc += w2 * vert[x + 2]
+                acc += w3 * vert[x + 3]
+                acc += w4 * vert[x + 4]
+                acc += w5 * vert[x + 5]
+                acc += w6 * vert[x + 6]
+                o[x] = acc
+        else:
+            for x in range(n):
+                o[x] = np.float32(0.0)
+            for t in range(nt):
+                wt = weights[t]
+                vt = vert[t:]
+                for x in range(n):
+                    o[x] += wt * vt[x]
+    for x in range(min(rad, w)):
+        out[x] = _reflected_tap_sum(vert, x - rad, weights)
+    for x in range(max(w - rad, rad), w):
+        out[x] = _reflected_tap_sum(vert, x - rad, weights)
+
+
+@kernel(nogil=True, inline="always")
+def _reflected_tap_sum(vert, x0, weights):  # type: ignore[no-untyped-def]
+    """``0 + w[0] v[x0] + w[1] v[x0 + 1] + ...`` in float32, each read reflected."""
+    w = vert.shape[0]
+    acc = np.float32(0.0)
+    for t in range(weights.shape[0]):
+        acc += weights[t] * vert[_reflect(x0 + t, w)]
+    return acc
+
+
 @kernel(nogil=True)
 def fine_positions(x, row, column, sign, vert, first_row, weights, dead_zone, lo,
                    hi):  # type: ignore[no-untyped-def]
     """Move the sub-pixel positions ``x[lo:hi]`` (in place) towards the peak of the
     gradient on the lightly blurred grey levels, by the part of the move beyond
     ``dead_zone``.  ``vert`` holds image rows ``first_row ..`` already blurred down the
-    columns (those of the points' ``row``); ``weights`` blur them along the row
-    (:func:`blurred_span`), ``sign`` is each point's contrast sign.
+    columns (those of the points' ``row``); ``weights`` blur them along the row,
+    ``sign`` is each point's contrast sign.
 
-    The points whose blur reads only inside the row come first, then (a second loop)
-    the few near the row's ends, whose reads are reflected: kept out of the first
-    loop, the reflection's branches do not slow it (about twice)."""
+    The points go a row at a time (a run of equal ``row``; any order is right, rows
+    in runs are fast).  A row with more than its width over :data:`SPAN_COLUMNS`
+    points is blurred whole (:func:`blur_row`, vectorised) and its points read their
+    seven columns from it; the points of a sparser row, and any whose seven columns
+    pass the row's ends, blur their own (:func:`blurred_span`).  The same values
+    either way."""
     span = np.empty(7, np.float32)
-    rad = weights.shape[0] // 2
-    w = vert.shape[1]
+    blurred = np.empty(vert.shape[1], np.float32)
+    i = lo
+    while i < hi:
+        j = i + 1
+        while j < hi and row[j] == row[i]:
+            j += 1
+        _place_row(x, column, sign, vert[row[i] - first_row], weights, dead_zone, i, j,
+                   blurred, span)
+        i = j
+
+
+@kernel(nogil=True, inline="always")
+def _place_row(x, column, sign, line, weights, dead_zone, i, j, blurred,
+               span):  # type: ignore[no-untyped-def]
+    """:func:`fine_positions` of the points ``i .. j-1`` of one row, ``line`` ``(W,)``
+    its grey levels blurred down the columns; ``blurred`` ``(W,)`` and ``span``
+    ``(7,)`` float32 scratch."""
+    w = line.shape[0]
     one = np.float32(1.0)
-    for i in range(lo, hi):
-        c = column[i]
-        x0 = c - 3 - rad
-        if x0 >= 0 and x0 + 7 + 2 * rad <= w:
-            _span_inside(vert[row[i] - first_row], x0, weights, span)
-            x[i] = _moved(x[i], c, one if sign[i] > 0 else -one, span, dead_zone)
-    for i in range(lo, hi):
-        c = column[i]
-        x0 = c - 3 - rad
-        if not (x0 >= 0 and x0 + 7 + 2 * rad <= w):
-            _span_reflected(vert[row[i] - first_row], x0, weights, span)
-            x[i] = _moved(x[i], c, one if sign[i] > 0 else -one, span, dead_zone)
+    whole = (j - i) * SPAN_COLUMNS >= w
+    if whole:
+        blur_row(line, weights, blurred)
+    for k in range(i, j):
+        c = column[k]
+        sg = one if sign[k] > 0 else -one
+        if whole and 3 <= c and c + 4 <= w:
+            x[k] = _moved(x[k], c, sg, blurred[c - 3:c + 4], dead_zone)
+        else:
+            blurred_span(line, c, weights, span)
+            x[k] = _moved(x[k], c, sg, span, dead_zone)
+
+
+@kernel(nogil=True)
+def blur_column(grey, y, weights, n_fused, out):  # type: ignore[no-untyped-def]
+    """Row ``y`` of ``cv2.sepFilter2D(grey, -1, [1], weights,
+    borderType=BORDER_REFLECT_101)`` (a blur down the columns by the symmetric
+    ``weights`` ``(2 R + 1,)``) into ``out`` ``(W,)``, as OpenCV's symmetric column
+    filter sums it: ``w[R] v[0]``, then ``+ w[R + k] (v[k] + v[-k])`` for ``k = 1 ..
+    R``, rounded once each (an FMA) in its vector loop, columns ``0 .. n_fused - 1``,
+    twice in its scalar tail; rows beyond the image reflected."""
+    h, w = grey.shape
+    rad = weights.shape[0] // 2
+    n = min(n_fused, w)
+    centre = grey[y]
+    k0 = weights[rad]
+    zero = np.float32(0.0)
+    for x in range(n):
+        out[x] = fma32(centre[x], k0, zero)
+    for k in range(1, rad + 1):
+        a = grey[_reflect(y + k, h)]
+        b = grey[_reflect(y - k, h)]
+        kk = weights[rad + k]
+        for x in range(n):
+            out[x] = fma32(a[x] + b[x], kk, out[x])
+    for x in range(n, w):
+        acc = k0 * centre[x] + zero
+        for k in range(1, rad + 1):
+            acc = acc + weights[rad + k] * (grey[_reflect(y + k, h), x]
+                                            + grey[_reflect(y - k, h), x])
+        out[x] = acc
+
+
+@kernel(nogil=True)
+def fine_positions_grey(x, row, column, sign, grey, weights, dead_zone,
+                        n_fused):  # type: ignore[no-untyped-def]
+    """:func:`fine_positions` of all the points from the grey levels ``grey`` ``(H, W)``
+    float32 themselves: each row with points is blurred down the columns as it comes
+    (:func:`blur_column`, OpenCV's values where ``n_fused`` is its vector loop's
+    columns), in a buffer of one row; no blurred strip is made."""
+    span = np.empty(7, np.float32)
+    w = grey.shape[1]
+    blurred = np.empty(w, np.float32)
+    vert = np.empty(w, np.float32)
+    n = x.shape[0]
+    i = 0
+    while i < n:
+        j = i + 1
+        while j < n and row[j] == row[i]:
+            j += 1
+        blur_column(grey, row[i], weights, n_fused, vert)
+        _place_row(x, column, sign, vert, weights, dead_zone, i, j, blurred, span)
+        i = j
 
 
 @kernel(nogil=True)

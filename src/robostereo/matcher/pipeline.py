@@ -29,7 +29,7 @@ from robostereo.matcher.candidates import (
     Candidates,
     assign_matches,
 )
-from robostereo.matcher.edges import EdgeSet
+from robostereo.matcher.edges import EdgeSet, to_grey
 from robostereo.matcher.parameters import (  # noqa: F401  (kept importable from here)
     DEFAULT_MIN_CONFIDENCE,
     METHODS,
@@ -468,3 +468,4 @@ def warm_up() -> None:
     match is timed like the others (``robostereo evaluate`` calls it)."""
     g = np.random.default_rng(0).integers(0, 255, (128, 96)).astype(np.uint8)
     match_stereo(g, np.roll(g, -2, axis=1), (0.0, 4.0))
+    to_grey(np.dstack([g, g, g]))  # and the colour conversion (and its check)
