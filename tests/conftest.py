@@ -14,9 +14,6 @@ sys.path.insert(0, str(Path(__file__).parent))
 from robostereo.datasets import StereoScene, available_scenes, find_data_dir, load_scene
 from robostereo.simulation.occluders import OccluderPair, occluder_pair
 
-#: the developer scenes every real-scene test runs on (all of ../shared/data/stereo)
-SCENES = ("tsukuba", "venus", "motorcycle", "cloth3", "reindeer", "wood2")
-
 
 @pytest.fixture(scope="session")
 def data_dir() -> Path:

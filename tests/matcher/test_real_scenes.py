@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from conftest import SCENES
+from developer_scenes import SCENES
 
 from robostereo.evaluation import (
     coverage_curve,
