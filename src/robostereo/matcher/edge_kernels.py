@@ -583,12 +583,20 @@ def fine_positions(x, row, column, sign, vert, first_row, weights, dead_zone, lo
     blurred = np.empty(vert.shape[1], np.float32)
     i = lo
     while i < hi:
-        j = i + 1
-        while j < hi and row[j] == row[i]:
-            j += 1
+        j = _row_end(row, i, hi)
         _place_row(x, column, sign, vert[row[i] - first_row], weights, dead_zone, i, j,
                    blurred, span)
         i = j
+
+
+@kernel(nogil=True, inline="always")
+def _row_end(row, i, hi):  # type: ignore[no-untyped-def]
+    """The end of the run of points ``i ..`` on row ``row[i]``: the first ``j <= hi``
+    past ``i`` whose row differs."""
+    j = i + 1
+    while j < hi and row[j] == row[i]:
+        j += 1
+    return j
 
 
 @kernel(nogil=True, inline="always")
@@ -656,9 +664,7 @@ def fine_positions_grey(x, row, column, sign, grey, weights, dead_zone,
     n = x.shape[0]
     i = 0
     while i < n:
-        j = i + 1
-        while j < n and row[j] == row[i]:
-            j += 1
+        j = _row_end(row, i, n)
         blur_column(grey, row[i], weights, n_fused, vert)
         _place_row(x, column, sign, vert, weights, dead_zone, i, j, blurred, span)
         i = j

@@ -238,9 +238,9 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
             bit_depth = 7
     if not 1 <= bit_depth <= 32:
         raise InputError(f"bit_depth must be in 1..32, got {bit_depth}")
-    if grey is None:  # one pass, the values of astype(float32) then *= the scale
-        scale = (SEED_GREY_LEVELS - 1) / (2.0**bit_depth - 1) if bit_depth != 7 else 1.0
-        scaled_grey(arr, np.float32(scale), grey := np.empty(arr.shape, np.float32))
+    scale = np.float32(1.0 if bit_depth == 7 else (SEED_GREY_LEVELS - 1) / (2.0**bit_depth - 1))
+    if grey is None:  # one pass: the values of astype(float32), then *= scale
+        scaled_grey(arr, scale, grey := np.empty(arr.shape, np.float32))
         return grey
     if arr.dtype.kind == "f" and not np.isfinite(grey).all():  # integers always are
         raise InputError(f"{name} contains NaN or infinite grey levels")
@@ -253,7 +253,7 @@ def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "imag
             )
         grey *= np.float32(SEED_GREY_LEVELS - 1)
     elif bit_depth != 7:
-        grey *= np.float32((SEED_GREY_LEVELS - 1) / (2.0**bit_depth - 1))
+        grey *= scale
     return grey
 
 
