@@ -27,17 +27,6 @@ __all__ = ["track_kernel"]
 
 
 @kernel(nogil=True)
-def _bilinear(image, x, y):  # type: ignore[no-untyped-def]
-    x0 = math.floor(x)
-    y0 = math.floor(y)
-    fx = x - x0
-    fy = y - y0
-    top = (1.0 - fx) * image[y0, x0] + fx * image[y0, x0 + 1]
-    bottom = (1.0 - fx) * image[y0 + 1, x0] + fx * image[y0 + 1, x0 + 1]
-    return (1.0 - fy) * top + fy * bottom
-
-
-@kernel(nogil=True)
 def _structure(left, x, y, half, gx, gy):  # type: ignore[no-untyped-def]
     """Central-difference gradients of the window at ``(x, y)`` into ``gx, gy`` and the
     structure tensor's entries ``sxx, syy, sxy``."""
@@ -113,6 +102,10 @@ def track_kernel(left, right, px, py, disparity, half, iterations,
     gx = np.empty((n, n))
     gy = np.empty((n, n))
     usable = np.zeros(m, np.bool_)
+    x0s = np.empty(n, np.int64)  # a step's bilinear sources and weights per column, row
+    y0s = np.empty(n, np.int64)
+    fxs = np.empty(n)
+    fys = np.empty(n)
     for k in range(m):
         x = px[k]
         y = py[k]
@@ -142,12 +135,27 @@ def track_kernel(left, right, px, py, disparity, half, iterations,
                     or y + v + half + 1 >= h):
                 inside = False
                 break
+            # bilinear samples of the right view at the window moved by (u, v): a
+            # column's source and weight are the same on every row, and a row's on
+            # every column, so they are made once a step
+            for i in range(n):
+                at = x - half + i + u
+                x0s[i] = math.floor(at)
+                fxs[i] = at - x0s[i]
+                at = y - half + i + v
+                y0s[i] = math.floor(at)
+                fys[i] = at - y0s[i]
             bx = 0.0
             by = 0.0
             for j in range(n):
+                y0 = y0s[j]
+                fy = fys[j]
                 for i in range(n):
-                    e = (_bilinear(right, x - half + i + u, y - half + j + v)
-                         - float(left[y - half + j, x - half + i]))
+                    x0 = x0s[i]
+                    fx = fxs[i]
+                    top = (1.0 - fx) * right[y0, x0] + fx * right[y0, x0 + 1]
+                    bottom = (1.0 - fx) * right[y0 + 1, x0] + fx * right[y0 + 1, x0 + 1]
+                    e = (1.0 - fy) * top + fy * bottom - float(left[y - half + j, x - half + i])
                     bx += e * gx[j, i]
                     by += e * gy[j, i]
             du = -(syy * bx - sxy * by) / det
