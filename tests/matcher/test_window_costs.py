@@ -13,6 +13,7 @@ from robostereo.matcher.window_costs import (
     COARSE_MARGIN,
     _halve,
     census_transform,
+    coarse_matches,
     coarse_range,
     sobel_x,
     window_costs,
@@ -282,6 +283,31 @@ def test_coarse_range_holds_the_scene_and_drops_the_rest():
         # some edge points at the far left are out of view; all the rest are kept
         assert lo <= np.quantile(true, 0.01) and hi >= np.quantile(true, 0.99)
         assert 0 <= lo and hi <= 26 + 2 * COARSE_MARGIN + 1
+
+
+def test_coarse_matches_lie_at_edge_points_near_their_true_disparity():
+    """The half-size matches are at (halved, doubled) edge pixels, nearly all within two
+    pixels of the true disparity there, and coarse_range is their hull widened by the
+    margin."""
+    rng = np.random.default_rng(23)
+    for _ in range(2):
+        left, right, gt = layered_pair(rng, height=200, width=360)
+        gl, gr = to_grey(left), to_grey(right)
+        e = detect_edges(left, threshold=8.0)
+        r, c, d = coarse_matches(gl, gr, e.row, e.column, (0, 150))
+        assert r.size > 0.2 * len(e.row) and r.shape == c.shape == d.shape
+        assert np.all(np.diff(r) >= 0) and np.all(r % 2 == 0) and np.all(c % 2 == 0)
+        edge_key = set(((e.row // 2) * 1000 + e.column // 2).tolist())
+        assert set(((r // 2) * 1000 + c // 2).tolist()) <= edge_key
+        # the truth at the 2 x 2 block's pixels: a match is right if one of them agrees
+        block = np.stack([gt[r + i, c + j] for i in (0, 1) for j in (0, 1)])
+        near = np.nanmin(np.abs(block - d), axis=0) <= 2
+        assert near.mean() > 0.95
+        lo, hi = coarse_range(gl, gr, e.row, e.column, (0, 150))
+        assert (lo, hi) == (max(0, d.min() - COARSE_MARGIN), min(150, d.max() + COARSE_MARGIN))
+    g = np.zeros((12, 30), np.float32)  # too small to halve into a window: none
+    assert all(a.size == 0 for a in coarse_matches(g, g, np.array([5]), np.array([9]),
+                                                   (0, 100)))
 
 
 def test_coarse_range_leaves_narrow_ranges_and_degenerate_input_whole():
