@@ -34,8 +34,10 @@ whole ``match_stereo``, its edge stage (both images), its window stage
 (``window_match``) and within that the half-size narrowing of a wide range, the
 window-cost pass (``window_costs``), the part of it the paths along the rows take (the
 pass without them subtracted) and the rest (evidence, right edge points, confidence),
-each timed alone in rounds as CPU time of the thread (``time.thread_time``: a loaded
-machine slows it little).
+the window-cost pass over one disparity (census, Sobel, rows and the per-point reading
+that do not grow with the range) and a third of ``MODE_SGBM_3WAY``'s time (the whole
+match's budget for 3x it), each timed alone in rounds as CPU time of the thread
+(``time.thread_time``: a loaded machine slows it little).
 Speed goals live here, never in the tests.
 """
 
@@ -209,6 +211,9 @@ def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, f
         "costs": lambda: window_costs(ga, gb, e.row, e.column, searched, path_penalties=paths),
         "no paths": lambda: window_costs(ga, gb, e.row, e.column, searched,
                                          path_penalties=None),
+        "one disparity": lambda: window_costs(ga, gb, e.row, e.column,
+                                              (searched[0], searched[0]), path_penalties=paths),
+        "3way": opencv_peer("sgbm-3way", left, right, rng),
     }
     times: dict[str, list[float]] = {k: [] for k in calls}
     for _ in range(repeat):
@@ -220,17 +225,25 @@ def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, f
     med = {k: 1000 * statistics.median(v) for k, v in times.items()}
     med["paths"] = med["costs"] - med["no paths"]
     med["rest"] = med["window"] - med["narrow"] - med["costs"]
+    med["3way/3"] = med["3way"] / 3
     return med
 
 
 def profile(pairs: list[str], repeat: int, params: MatchParameters) -> None:
     """Print where robostereo's time goes on each pair, one thread (module notes)."""
     os.environ["ROBOSTEREO_THREADS"] = "1"
-    keys = ("match", "edges", "window", "narrow", "costs", "paths", "rest")
+    import cv2
+
+    cv2.setNumThreads(1)
+    keys = ("match", "edges", "window", "narrow", "costs", "paths", "rest", "one disparity",
+            "3way/3")
     print(f"\nprofile, one thread: CPU ms (median of {repeat} rounds); edges: both images; "
           "window: narrow + costs (the window-cost pass, of which paths) + rest (evidence, "
-          "right edge points, confidence)")
-    head = f"{'pair':<20} " + " ".join(f"{'total' if k == 'match' else k:>7}" for k in keys)
+          "right edge points, confidence); one disparity: the window-cost pass over the "
+          "first disparity alone (the part that does not grow with the range); 3way/3: a "
+          "third of MODE_SGBM_3WAY's time, what the whole match may take for 3x it")
+    label = {"match": "total", "one disparity": "1 disp"}
+    head = f"{'pair':<20} " + " ".join(f"{label.get(k, k):>7}" for k in keys)
     print(head)
     print("-" * len(head))
     for name in pairs:
