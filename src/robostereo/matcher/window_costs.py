@@ -331,14 +331,10 @@ def coarse_range(
 
     Parameters
     ----------
-    grey_left, grey_right : ndarray, shape (H, W)
-    rows, columns : ndarray of int, shape (N,)
-        Left edge pixels, sorted by row.
-    disparity_range : tuple of int
-        ``(d_min, d_max)``, whole pixels, inclusive.
-    gradient_truncation : int
-    valid_left, valid_right : ndarray of bool, shape (H, W), optional
-        See :func:`window_costs`.
+    grey_left, grey_right, rows, columns, disparity_range, gradient_truncation
+        See :func:`coarse_matches`.
+    valid_left, valid_right
+        See :func:`coarse_matches`.
     margin : int
         Pixels added beyond the disparities found, each way.
 
