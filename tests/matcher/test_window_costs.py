@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from synthetic import layered_pair
 
 from robostereo.errors import InputError
@@ -11,7 +13,10 @@ from robostereo.matcher.edges import detect_edges, to_grey
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
 from robostereo.matcher.window_costs import (
     COARSE_MARGIN,
+    MIN_BAND_ROWS,
+    POINT_WORK_PX,
     _halve,
+    band_rows,
     census_transform,
     coarse_matches,
     coarse_range,
@@ -231,6 +236,50 @@ def test_bands_on_threads_give_the_same_costs(monkeypatch, threads):
         assert np.array_equal(getattr(one, name), getattr(two, name)), name
     assert np.array_equal(res1.edge_disparity, res2.edge_disparity, equal_nan=True)
     assert np.array_equal(res1.edge_confidence, res2.edge_confidence, equal_nan=True)
+
+
+@settings(max_examples=60, deadline=None)
+@given(counts=st.lists(st.integers(0, 60), min_size=1, max_size=700),
+       width=st.integers(8, 2000), bands=st.integers(1, 6))
+def test_band_rows_cover_the_image_in_bands_of_about_equal_work(counts, width, bands):
+    """Bands run from row 0 to H in order, at least MIN_BAND_ROWS rows each, no more than
+    asked for; unless a band was held to its least size, each band's work is within one
+    row's work (and the rows an edge point's windows reach) of an equal share."""
+    c = np.asarray(counts, np.int64)
+    h = c.size
+    ends = band_rows(np.r_[0, np.cumsum(c)], width, bands)
+    n = ends.size - 1
+    assert ends[0] == 0 and ends[-1] == h and 1 <= n <= bands
+    assert n == max(1, min(bands, h // MIN_BAND_ROWS))
+    if n == 1:
+        return
+    assert np.all(np.diff(ends) >= MIN_BAND_ROWS)
+    near = np.convolve((c > 0).astype(int), np.ones(17, int), "same") > 0
+    row_work = np.where(near, width, 0) + POINT_WORK_PX * c
+    work = np.add.reduceat(row_work, ends[:-1])
+    if work.sum() and np.all(np.diff(ends)[1:-1] > MIN_BAND_ROWS) and (
+            ends[1] > MIN_BAND_ROWS and h - ends[-2] > MIN_BAND_ROWS):
+        assert np.all(np.abs(work - work.sum() / n) <= 2 * row_work.max()), work
+
+
+def test_band_rows_follow_the_edge_points_and_keep_the_costs(monkeypatch):
+    """Edge points crowded in the lower half: the bands split where half the work is,
+    not half the rows, and the costs are those of one band."""
+    left, right, _ = layered_pair(np.random.default_rng(8), height=260, width=240)
+    g = [to_grey(im) for im in (left, right)]
+    e = detect_edges(left, threshold=8.0)
+    keep = (e.row >= 130) | (np.arange(len(e)) % 4 == 0)  # a quarter of the upper ones
+    r, c = e.row[keep], e.column[keep]
+    ends = band_rows(np.searchsorted(r, np.arange(261)).astype(np.int64), 240, 2)
+    assert ends[1] > 130 + 5
+    monkeypatch.setenv("ROBOSTEREO_THREADS", "1")
+    one = window_costs(*g, r, c, (0, 30))
+    monkeypatch.setenv("ROBOSTEREO_THREADS", "2")
+    two = window_costs(*g, r, c, (0, 30))
+    for name in ("best", "cost", "second", "before", "after", "best_row", "cost_row",
+                 "second_row", "in_view", "right_best", "best_path", "cost_path",
+                 "second_path", "before_path", "after_path"):
+        assert np.array_equal(getattr(one, name), getattr(two, name)), name
 
 
 def test_census_and_out_of_view():

@@ -43,6 +43,7 @@ References
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import cv2
@@ -69,8 +70,11 @@ from robostereo.matcher.window_pixel_kernels import (
 
 __all__ = [
     "COARSE_MARGIN",
+    "MIN_BAND_ROWS",
     "PATH_PENALTIES",
+    "POINT_WORK_PX",
     "WindowCosts",
+    "band_rows",
     "census_transform",
     "coarse_matches",
     "coarse_range",
@@ -231,6 +235,65 @@ def _halve(image: NDArray[np.generic], *, mask: bool = False) -> NDArray[np.gene
     # an area resize by exactly one half is the mean of each 2 x 2 block
     return cv2.resize(image[:2 * h, :2 * w].astype(np.float32, copy=False), (w, h),
                       interpolation=cv2.INTER_AREA)
+
+
+#: the work of an edge point's reading, in pixels of a row's pixel costs and sums (per
+#: disparity both): on motorcycle and the synthetic pairs a point's reading over the range
+#: took as long as 15-25 pixels' share of the pass
+POINT_WORK_PX = 20
+
+#: least rows of a band: a band makes 2 * HALF_WINDOW rows again that the band above made
+MIN_BAND_ROWS = 64
+
+
+def band_rows(row_start: NDArray[np.int64], width: int, n_bands: int) -> NDArray[np.int64]:
+    """Row bands of about equal work for the window pass's threads.
+
+    Parameters
+    ----------
+    row_start : ndarray of int64, shape (H + 1,)
+        The edge points of row ``y`` are ``row_start[y] .. row_start[y + 1] - 1``.
+    width : int
+        Image width ``W``.
+    n_bands : int
+        Bands wanted; fewer where the image has fewer than ``MIN_BAND_ROWS`` rows a band.
+
+    Returns
+    -------
+    ndarray of int64, shape (B + 1,)
+        Band ``j`` is the rows ``ends[j] .. ends[j + 1] - 1``; ``ends[0] = 0``,
+        ``ends[-1] = H``, every band at least :data:`MIN_BAND_ROWS` rows.
+
+    Notes
+    -----
+    A row's work is its pixels where an edge point's windows reach it (within
+    ``2 * HALF_WINDOW`` rows) plus :data:`POINT_WORK_PX` a point on it; the bands split
+    the sum into equal parts.  Bands do not change the result
+    (:func:`~robostereo.matcher.window_kernels.stream_rows` reads its rows by ``y``
+    alone); equal rows left a thread idle where edge points crowd one half (motorcycle:
+    6313 points above the middle, 3476 below, 19.7 against 12.5 ms).
+
+    Examples
+    --------
+    >>> counts = np.r_[np.full(200, 5), np.full(200, 40)]  # points crowd the lower half
+    >>> band_rows(np.r_[0, np.cumsum(counts)], 100, 2).tolist()
+    [0, 278, 400]
+    """
+    h = row_start.shape[0] - 1
+    n = max(1, min(int(n_bands), h // MIN_BAND_ROWS))
+    if n == 1:
+        return np.array([0, h], np.int64)
+    counts = np.diff(row_start)
+    reach = 2 * HALF_WINDOW
+    near = np.convolve((counts > 0).astype(np.int64), np.ones(2 * reach + 1, np.int64), "same")
+    work = np.cumsum(np.where(near > 0, width, 0) + POINT_WORK_PX * counts)
+    if work[-1] == 0:
+        return np.linspace(0, h, n + 1).round().astype(np.int64)
+    ends = np.searchsorted(work, work[-1] * np.arange(1, n) / n) + 1
+    # at least MIN_BAND_ROWS rows a band: clamped from the top, then from the bottom
+    ends = np.maximum(ends, MIN_BAND_ROWS * np.arange(1, n))
+    ends = np.minimum(ends, h - MIN_BAND_ROWS * np.arange(n - 1, 0, -1))
+    return np.r_[0, ends, h].astype(np.int64)
 
 
 def coarse_matches(
@@ -507,7 +570,6 @@ def window_costs(
                 raise InputError(f"path_penalties must be (P1, P2) with 0 <= P1 <= P2 <= 200 "
                                  f"per window pixel, got {path_penalties}")
             p1, p2 = round(pp[0] * area), round(pp[1] * area)
-        # -- one pass down the image per band of rows, on threads (stream_rows)
         images = StreamImages(gl, gr, masks[0], masks[1], checks[0], checks[1])
         # the ring of pixel costs in bytes where every cost fits one: a census distance
         # of at most 34 bits, 64 where an invalid pixel's pattern meets another
@@ -520,14 +582,15 @@ def window_costs(
             half_window=HALF_WINDOW,
             vertical=bool(vertical), p1=p1, p2=p2, path_row_step=PATH_ROW_STEP,
             sides=bool(sides))
-        # bands of at least 64 rows, one per thread: a band repeats 2 * HALF_WINDOW rows
-        n_bands = max(1, min(n_threads(), h // 64))
-        step = -(-h // n_bands)
+        # -- one pass down the image per band of rows, a band per thread, the bands of
+        #    about equal work (band_rows)
+        ends = band_rows(row_start, w, n_threads()).tolist()
 
-        def band(y0: int) -> None:
-            stream_rows(images, settings, row_start, c, y0, min(h, y0 + step), out)
+        def band(y0: int, y1: int) -> None:
+            stream_rows(images, settings, row_start, c, y0, y1, out)
 
-        run_all([lambda y0=y0: band(y0) for y0 in range(0, h, step)])
+        run_all([lambda y0=y0, y1=y1: band(y0, y1)
+                 for y0, y1 in itertools.pairwise(ends)])
     cols = dict(zip(names, out.T, strict=True))
     none = np.broadcast_to(np.int32(-1), (n,))  # -1 throughout, read-only, no memory
     cols.update({name: none for name in STREAM_COLUMNS if name not in cols})
