@@ -238,8 +238,8 @@ def _halve(image: NDArray[np.generic], *, mask: bool = False) -> NDArray[np.gene
 
 
 #: the work of an edge point's reading, in pixels of a row's pixel costs and sums (per
-#: disparity both): on motorcycle and the synthetic pairs a point's reading over the range
-#: took as long as 15-25 pixels' share of the pass
+#: disparity both): on motorcycle and synthetic 1280 x 960 a point's reading took as long
+#: as about 26 and 15 pixels' share of the pass
 POINT_WORK_PX = 20
 
 #: least rows of a band: a band makes 2 * HALF_WINDOW rows again that the band above made
