@@ -11,7 +11,8 @@ premise on every developer scene at its own range, one thread, without building 
 
 * ``half ms``: CPU time of the half-size pass
   (:func:`~robostereo.matcher.window_costs.coarse_matches`), ``full ms`` of the full
-  window pass over the whole range (median of ``--repeat`` rounds);
+  window pass over the whole range (median of ``--repeat`` rounds of both, as
+  ``bench_match.py`` times them);
 * per tile size ``RxC`` (rows x columns), each tile's range: the hull of the half-size
   matches whose windows reach it (within ``2 * HALF_WINDOW`` pixels), widened by
   ``--margin`` each way; a tile without one takes its eight neighbours' hull, else the
@@ -33,11 +34,11 @@ from __future__ import annotations
 
 import argparse
 import os
-import statistics
 import time
 from functools import partial
 
 import numpy as np
+from bench_match import _time_rounds
 from scipy.ndimage import maximum_filter, minimum_filter
 
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
@@ -72,16 +73,6 @@ def tile_ranges(rows: np.ndarray, columns: np.ndarray, disparities: np.ndarray,
     return lo, hi
 
 
-def _cpu_ms(fn, repeat: int) -> float:
-    times = []
-    for _ in range(repeat):
-        fn()
-        t = time.thread_time()
-        fn()
-        times.append(time.thread_time() - t)
-    return 1000 * statistics.median(times)
-
-
 def main() -> int:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--tiles", nargs="*", default=["32x64", "32x128", "64x128"],
@@ -107,8 +98,10 @@ def main() -> int:
         whole = (int(np.floor(res.disparity_range[0])), int(np.ceil(res.disparity_range[1])))
         # -- the half-size matches and the two passes' times
         r, c, d = coarse_matches(ga, gb, e.row, e.column, whole)
-        half = _cpu_ms(partial(coarse_matches, ga, gb, e.row, e.column, whole), args.repeat)
-        full = _cpu_ms(partial(window_costs, ga, gb, e.row, e.column, whole), args.repeat)
+        med = _time_rounds({"half": partial(coarse_matches, ga, gb, e.row, e.column, whole),
+                            "full": partial(window_costs, ga, gb, e.row, e.column, whole)},
+                           args.repeat, time.thread_time)
+        half, full = 1000 * med["half"][0], 1000 * med["full"][0]
         # -- the truth at the edge points, today's right matches
         truth = scene.gt_disparity[e.row, e.column]
         known = np.isfinite(truth) & (truth > 0)

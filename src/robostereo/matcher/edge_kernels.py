@@ -396,14 +396,20 @@ def _span_inside(vert, x0, weights, out):  # type: ignore[no-untyped-def]
 
 
 @kernel(nogil=True, inline="always")
+def _reflected_tap_sum(vert, x0, weights):  # type: ignore[no-untyped-def]
+    """``0 + w[0] v[x0] + w[1] v[x0 + 1] + ...`` in float32, each read reflected."""
+    w = vert.shape[0]
+    acc = np.float32(0.0)
+    for t in range(weights.shape[0]):
+        acc += weights[t] * vert[_reflect(x0 + t, w)]
+    return acc
+
+
+@kernel(nogil=True, inline="always")
 def _span_reflected(vert, x0, weights, out):  # type: ignore[no-untyped-def]
     """:func:`blurred_span` near the row's ends: each read reflected into the row."""
-    w = vert.shape[0]
     for j in range(out.shape[0]):
-        acc = np.float32(0.0)
-        for t in range(weights.shape[0]):
-            acc += weights[t] * vert[_reflect(x0 + j + t, w)]
-        out[j] = acc
+        out[j] = _reflected_tap_sum(vert, x0 + j, weights)
 
 
 @kernel(nogil=True, inline="always")
@@ -552,16 +558,6 @@ def blur_row(vert, weights, out):  # type: ignore[no-untyped-def]
         out[x] = _reflected_tap_sum(vert, x - rad, weights)
     for x in range(max(w - rad, rad), w):
         out[x] = _reflected_tap_sum(vert, x - rad, weights)
-
-
-@kernel(nogil=True, inline="always")
-def _reflected_tap_sum(vert, x0, weights):  # type: ignore[no-untyped-def]
-    """``0 + w[0] v[x0] + w[1] v[x0 + 1] + ...`` in float32, each read reflected."""
-    w = vert.shape[0]
-    acc = np.float32(0.0)
-    for t in range(weights.shape[0]):
-        acc += weights[t] * vert[_reflect(x0 + t, w)]
-    return acc
 
 
 @kernel(nogil=True)
