@@ -38,7 +38,7 @@ import numpy as np
 
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.errors import PlausibilityWarning
-from robostereo.evaluation_rules import rule_errors
+from robostereo.evaluation.rules import rule_errors
 from robostereo.matcher.photometric import (
     RESIDUAL_RATIO,
     grey_difference,

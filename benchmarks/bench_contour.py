@@ -10,7 +10,7 @@ kernels of :mod:`robostereo.matcher.contour_kernels` walk the contour K lines up
 (the edge stage's connectivity) and measure that, in the variants of :data:`VARIANTS`
 ("strong": neighbours whose best disparity is within 1 px and that the model accepts on
 their own evidence, / 2K).  CLI defaults otherwise; labels by the silhouette rule
-(:mod:`robostereo.evaluation_rules`); near a depth step = within 4 px of a ground-truth
+(:mod:`robostereo.evaluation.rules`); near a depth step = within 4 px of a ground-truth
 jump of more than 2 px; the six developer scenes of ../shared/data/stereo (or
 $ROBOSTEREO_DATA) and, for the fits, N synthetic layered pairs as
 ``benchmarks/fit_confidence.py`` uses them.
@@ -56,7 +56,7 @@ from robostereo.evaluation import (
     near_steps,
     rule_errors,
 )
-from robostereo.evaluation_visibility import HIDDEN, edge_visibility, left_visibility
+from robostereo.evaluation.visibility import HIDDEN, edge_visibility, left_visibility
 from robostereo.matcher.confidence import DEFAULT_MODEL, ConfidenceModel, fit_confidence
 from robostereo.matcher.contour_kernels import (
     chain_support,

@@ -16,7 +16,7 @@ false, for
 
 Rows are sorted with the scenes where robostereo's lead over SGBM at <= 3 % false is
 smallest first.  ``--rule`` picks the scoring rule (the project's, default, or the
-silhouette rule of :mod:`robostereo.evaluation_rules`); a second table splits each
+silhouette rule of :mod:`robostereo.evaluation.rules`); a second table splits each
 method's default point and curve between edge points near a depth step (within 4 px of
 a ground-truth jump of more than 2 px) and away, by the same rule.
 """

@@ -9,22 +9,22 @@ default (read at the same edge points).  Printed per pair and pooled:
 
 * % matched and % false near depth steps (within 4 px of a ground-truth jump of more
   than 2 px between 4-neighbours) and away, by the project's rule and by the silhouette
-  rule (:mod:`robostereo.evaluation_rules`);
+  rule (:mod:`robostereo.evaluation.rules`);
 * the pooled coverage at <= 1.65, 2 and 3 % false by the silhouette rule, near and away,
   and robostereo's ECE near and away;
 * the silhouette offsets of robostereo's matched edges (those matched with the nearer
   surface's disparity within 4 px of a boundary): signed median, median ``|offset|`` and
   the fraction above 1 px, against the exact boundaries and against boundaries read off
-  the ground-truth rows (:func:`robostereo.evaluation_outlines.row_boundaries`, as on
+  the ground-truth rows (:func:`robostereo.evaluation.outlines.row_boundaries`, as on
   real scenes), to show what pixel-sampled ground truth adds;
 * the edge localisation alone: the signed offsets of *every* left edge point within
   1.5 px of an exact boundary, matched or not
-  (:func:`robostereo.evaluation_outlines.boundary_offsets`), so that a bias of the
+  (:func:`robostereo.evaluation.outlines.boundary_offsets`), so that a bias of the
   localisation at steps between two textured surfaces is told from the acceptance's
   choice of which silhouette edges it keeps;
 * near steps over all edge points and over those the right view sees (by the pairs'
   exact occlusion masks, and by the ground truth z-buffered,
-  :mod:`robostereo.evaluation_visibility`), and the near-step points robostereo does
+  :mod:`robostereo.evaluation.visibility`), and the near-step points robostereo does
   not accept sorted by why: hidden in the other view, visibility unknown, no candidate,
   best disparity right but refused, best disparity wrong.
 """
@@ -48,7 +48,7 @@ from robostereo.evaluation import (
     sgbm_disparity,
     sgbm_sweep,
 )
-from robostereo.evaluation_outlines import (
+from robostereo.evaluation.outlines import (
     MethodPoints,
     OffsetSummary,
     RowBoundaries,
@@ -57,7 +57,7 @@ from robostereo.evaluation_outlines import (
     settings_curve,
     silhouette_offsets,
 )
-from robostereo.evaluation_visibility import (
+from robostereo.evaluation.visibility import (
     BREAKDOWN,
     HIDDEN,
     VISIBLE,

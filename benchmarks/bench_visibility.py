@@ -2,7 +2,7 @@
 
 Run:  python benchmarks/bench_visibility.py [--pairs N] [--no-experiment]
 
-1. Visibility from the ground truth (:mod:`robostereo.evaluation_visibility`) against
+1. Visibility from the ground truth (:mod:`robostereo.evaluation.visibility`) against
    the exact occlusion masks of N synthetic occluder pairs (seeds 0..N-1, 8): pixel
    agreement and intersection over union of the hidden pixels (the left border, whose
    right positions leave the image, set aside: the masks do not hold it).
@@ -36,9 +36,9 @@ import numpy as np
 
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.evaluation import sample_dense, sgbm_disparity
-from robostereo.evaluation_outlines import MethodPoints
-from robostereo.evaluation_rules import depth_step_mask, near_steps, rule_errors
-from robostereo.evaluation_visibility import (
+from robostereo.evaluation.outlines import MethodPoints
+from robostereo.evaluation.rules import depth_step_mask, near_steps, rule_errors
+from robostereo.evaluation.visibility import (
     BREAKDOWN,
     HIDDEN,
     VISIBLE,

@@ -13,7 +13,7 @@ one sample per left edge point with ground truth and a best disparity: the evide
 :data:`robostereo.matcher.confidence.FEATURES` and whether the match is right by the project's
 evaluation rule (``--rule project``, the default) or by the silhouette rule
 (``--rule silhouette``: right when within 1 px of the ground truth at any known pixel of
-the row within 2 px of the edge, :mod:`robostereo.evaluation_rules`).  Then
+the row within 2 px of the edge, :mod:`robostereo.evaluation.rules`).  Then
 
 1. for each real scene held out, the score weights are chosen on the *other* scenes
    (largest mean coverage at <= 2, 3 and 5 % false over a small grid) and the

@@ -4,15 +4,15 @@ Run:  python benchmarks/fit_votes_confidence.py [--seeds 0,1,2,3]
 
 Scenes (simulated, with ground truth): the six-axis arm's hub-pulley from 5 views on a
 line and in a cross over 80 mm, for every noise seed of `--seeds`, located with the
-default :class:`~robostereo.robot.multiview.ViewsParameters`; every point placed by edge
-votes (:func:`~robostereo.robot.multiview_votes.vote_fits`, a NaN ``window_cost``) is kept
+default :class:`~robostereo.robot.views.locate_views.ViewsParameters`; every point placed by edge
+votes (:func:`~robostereo.robot.views.edge_votes.vote_fits`, a NaN ``window_cost``) is kept
 (the module's weights are set so that none falls below the level while this runs) and
-is right or wrong by :func:`robostereo.robot.views_truth.views_correct`.  The feature is
+is right or wrong by :func:`robostereo.robot.simulated.views_truth.views_correct`.  The feature is
 the fit's residual RMS (px); the weights are fitted by iteratively reweighted least
 squares on every seed but one and scored on the one left out (points, wrong ones, mean
 confidence against the right share, the wrong ones at or above ``min_confidence``,
 expected calibration error over ten bins).  The last line prints the weights fitted on
-every seed, which :data:`robostereo.robot.multiview_votes.VOTES_CONFIDENCE_WEIGHTS` holds.
+every seed, which :data:`robostereo.robot.views.edge_votes.VOTES_CONFIDENCE_WEIGHTS` holds.
 """
 
 from __future__ import annotations
@@ -22,10 +22,10 @@ import argparse
 import numpy as np
 from fit_views_confidence import _ece, _fit
 
-import robostereo.robot.multiview_votes as votes
-from robostereo.robot.multiview import ViewsParameters, locate_views
-from robostereo.robot.simulated_views import simulate_views
-from robostereo.robot.views_truth import views_correct
+import robostereo.robot.views.edge_votes as votes
+from robostereo.robot.simulated.grab_views import simulate_views
+from robostereo.robot.simulated.views_truth import views_correct
+from robostereo.robot.views.locate_views import ViewsParameters, locate_views
 
 
 def main() -> int:

@@ -10,8 +10,10 @@ A refactoring that must not change results is checked by a snapshot before and a
 on every developer scene with each method (window with and without paths and narrowing,
 relaxation, the thesis's settings) and the edge list, ``rig`` on the scene with a
 calibration, ``evaluate --json`` (times removed), the SCARA and six-axis demos with their
-figures, ``capture`` + ``locate`` on both arms, ``simulate-handeye`` + ``handeye`` and
-``plan``.  Printed times are removed before comparing; every other byte must be equal.
+figures, ``capture`` + ``locate`` on both arms and on N-view captures (a line, a cross
+and a six-axis line), ``demo --views``, ``simulate-handeye`` + ``handeye`` and ``plan``
+(two views and ``--views auto``).  Printed times are removed before comparing; every
+other byte must be equal.
 ``compare`` exits 1 and names each file that differs.
 """
 
@@ -82,6 +84,16 @@ def write(out: Path, data: Path) -> None:
         _run(out, f"capture-{robot}", "capture", "--out", str(cap), "--robot", robot)
         _run(out, f"locate-{robot}", "locate", str(cap), "-o", str(out / f"located-{robot}.csv"),
              "--ply", str(out / f"located-{robot}.ply"))
+    for name, extra in [("views3", ["--views", "3", "--span", "40"]),
+                        ("cross5", ["--views", "5", "--pattern", "cross", "--scene", "pulley"]),
+                        ("six3", ["--views", "3", "--robot", "six-axis"])]:
+        cap = out / f"capture-{name}"
+        _run(out, f"capture-{name}", "capture", "--out", str(cap), *extra)
+        _run(out, f"locate-{name}", "locate", str(cap), "-o", str(out / f"located-{name}.csv"),
+             "--ply", str(out / f"located-{name}.ply"))
+    _run(out, "demo-views", "demo", "--views", "3", "--json")
+    _run(out, "plan-views", "plan", "--depth", "1000", "--accuracy", "1", "--views", "auto",
+         "--json")
     views = out / "handeye-views"
     _run(out, "simulate-handeye", "simulate-handeye", "--out", str(views), "--views", "10")
     _run(out, "handeye", "handeye", str(views), "-o", str(out / "handeye-camera.yaml"))

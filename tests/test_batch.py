@@ -181,20 +181,16 @@ def test_rig_calibration_of_another_size(tmp_path: Path) -> None:
 def test_capture_folder(tmp_path: Path, monkeypatch) -> None:
     root = tmp_path / "in"
     cap_dir = root / "cap"
-    capture = pytest.importorskip("robostereo.robot.capture")
     from robostereo.geometry.camera import Camera
     from robostereo.geometry.poses import Pose
+    from robostereo.robot.capture import Capture, write_capture
 
     left, right, _ = synthetic_pair(np.random.default_rng(3), height=120, width=320)
-    try:
-        c = capture.Capture(left=left, right=right, camera=Camera(image_size=(320, 120)),
-                            pose_left=Pose(-10.0, 0.0, 900.0, 0.0),
-                            pose_right=Pose(10.0, 0.0, 900.0, 0.0), bit_depth=8,
-                            disparity_range=RANGE)
-        root.mkdir()
-        capture.write_capture(cap_dir, c)
-    except (TypeError, AttributeError) as e:  # the capture module is still changing
-        pytest.skip(f"robostereo.robot.capture API differs: {e}")
+    c = Capture(left=left, right=right, camera=Camera(image_size=(320, 120)),
+                pose_left=Pose(-10.0, 0.0, 900.0, 0.0), pose_right=Pose(10.0, 0.0, 900.0, 0.0),
+                bit_depth=8, disparity_range=RANGE)
+    root.mkdir()
+    write_capture(cap_dir, c)
     rep = run_batch(root, tmp_path / "out", workers=1)
     assert rep.failed == (), rep.errors
     row = rep.rows[0]

@@ -215,10 +215,10 @@ def test_views_pulley_score_counts_the_true_points_of_a_distorted_camera_as_matc
     # the six-axis camera has lens distortion: the score must compare the edge points
     # and the located points in one image (a located point exactly at the truth of
     # every edge point of the central view is matched and right)
-    from robostereo.robot.multiview import LocatedViews
-    from robostereo.robot.multiview_search import prepare_views, reference_edges
-    from robostereo.robot.simulated_views import simulate_views
-    from robostereo.robot.views_truth import views_pulley_score
+    from robostereo.robot.simulated.grab_views import simulate_views
+    from robostereo.robot.simulated.views_truth import views_pulley_score
+    from robostereo.robot.views.locate_views import LocatedViews
+    from robostereo.robot.views.ray_search import prepare_views, reference_edges
 
     sim = simulate_views("pulley", count=3, span_mm=40.0, robot="six-axis")
     ref, cam = 1, sim.capture.camera

@@ -6,8 +6,8 @@ How many edge points a matcher gets right depends on how many wrong ones it lets
 through.  robostereo ranks its matches by their confidence, so lowering the accepted
 confidence traces a curve of coverage (matched share of the edge points with known
 ground truth) against the false rate; OpenCV's StereoSGBM, read at the same pixels,
-gives one point per setting (:data:`robostereo.evaluation.SGBM_SWEEP`).  Scored by the
-silhouette rule (:mod:`robostereo.evaluation_rules`) on a synthetic pair with occluders,
+gives one point per setting (:data:`robostereo.evaluation.scorer.SGBM_SWEEP`).  Scored by the
+silhouette rule (:mod:`robostereo.evaluation.rules`) on a synthetic pair with occluders,
 near depth steps and away from them.
 """
 
@@ -15,7 +15,7 @@ import matplotlib.pyplot as plt
 
 from robostereo import match_stereo
 from robostereo.evaluation import sgbm_curve
-from robostereo.evaluation_rules import coverage_curve, depth_step_mask
+from robostereo.evaluation.rules import coverage_curve, depth_step_mask
 from robostereo.simulation.occluders import occluder_pair
 
 pair = occluder_pair(seed=1)

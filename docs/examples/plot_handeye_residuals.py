@@ -3,7 +3,7 @@ Hand-eye calibration and its residuals
 ======================================
 
 A simulated six-axis arm shows its wrist camera a chessboard from 15 poses;
-:func:`robostereo.robot.handeye.calibrate_eye_in_hand` estimates the intrinsics
+:func:`robostereo.robot.handeye.calibrate.calibrate_eye_in_hand` estimates the intrinsics
 (OpenCV ``calibrateCamera``) and the flange-to-camera transform in closed form
 (AX = XB, Park-Martin), checks the motion pairs' residuals against what the corner
 noise can explain, and refines intrinsics, transform and board pose together on the
@@ -14,9 +14,9 @@ refinement; the title gives both estimates' error against the simulator's truth.
 import matplotlib.pyplot as plt
 import numpy as np
 
+from robostereo.robot.arms.sixaxis import WRIST_HAND_EYE
 from robostereo.robot.handeye import calibrate_eye_in_hand
-from robostereo.robot.simulated import simulate_handeye_views
-from robostereo.robot.sixaxis import WRIST_HAND_EYE
+from robostereo.robot.simulated.sixaxis_rig import simulate_handeye_views
 
 
 def error(estimate):

@@ -4,7 +4,7 @@ Locate the hub-pulley's edges from two robot views
 
 The thesis's second experiment (chapter 5): the simulated AdeptOne moves its forearm
 camera to two viewpoints 20 mm apart above a hub-pulley, grabs an image at each, and
-:func:`robostereo.robot.capture.locate` rectifies the pair (section 2.2), matches the
+:func:`robostereo.robot.capture.locate_pair.locate` rectifies the pair (section 2.2), matches the
 edge points with the default window matcher and triangulates them (eq. 6-9) into the
 robot's world frame.  Left: the matched edge points over the rectified left view,
 coloured by height; right: their eq. 9 depth bound.
@@ -15,7 +15,7 @@ import numpy as np
 
 from robostereo.plots import plot_matches
 from robostereo.robot.capture import locate
-from robostereo.robot.simulated_scara import simulate_capture
+from robostereo.robot.simulated.scara_rig import simulate_capture
 
 sim = simulate_capture("pulley", seed=0)
 located = locate(sim.capture)

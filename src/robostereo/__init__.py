@@ -47,7 +47,8 @@ The library, lowest layer first (a module imports only its own layer or lower on
 * :mod:`robostereo.matcher`: edges, candidates, relaxation, window costs and kernels,
   confidence, the pipeline (:func:`match_stereo`);
 * :mod:`robostereo.simulation`, :mod:`robostereo.evaluation`, :mod:`robostereo.rig`;
-* :mod:`robostereo.robot`: arms, capture folders, locating, hand-eye, planning.
+* :mod:`robostereo.robot`: arms, capture folders, locating (two and N views), hand-eye,
+  planning, the simulated robots.
 
 The application layer, which the library never imports: :mod:`robostereo.experiments`
 (the thesis's experiments and the demo), :mod:`robostereo.plots`, :mod:`robostereo.batch`
@@ -59,37 +60,87 @@ from robostereo import _moved
 # the 0.1 module paths (robostereo.pipeline, robostereo.camera, ...) for one more release
 _moved.install()
 
-from robostereo.errors import InputError, UnreachablePoseError
+from robostereo.errors import InputError, PlausibilityWarning, UnreachablePoseError
 from robostereo.evaluation import MatchScore, score_matches
+from robostereo.geometry.calibration import StereoCalibration
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3, Pose
 from robostereo.geometry.scara_rectification import EpipolarGeometry
 from robostereo.geometry.triangulation import StereoCamera, triangulate
+from robostereo.io.calibration_files import read_calibration
+from robostereo.io.images import load_image
 from robostereo.matcher.candidates import SimilarityWeights
 from robostereo.matcher.edges import EdgeSet, detect_edges
 from robostereo.matcher.parameters import MatchParameters
 from robostereo.matcher.pipeline import MatchResult, match_stereo
 from robostereo.matcher.relaxation import RelaxationParameters
+from robostereo.rig import RigResult, load_rig_pair, match_rig
+from robostereo.robot.capture import (
+    Capture,
+    Located,
+    LocateParameters,
+    locate_capture,
+    read_capture,
+    write_capture,
+)
+from robostereo.robot.handeye import calibrate_eye_in_hand, load_handeye_yaml
+from robostereo.robot.views import (
+    LocatedViews,
+    ViewsCapture,
+    ViewsParameters,
+    is_views_folder,
+    locate_views,
+    read_views_capture,
+    write_views_capture,
+)
 
 __version__ = "0.1.0"
 
-__all__ = [
-    "SE3",
-    "Camera",
+#: the names ``from robostereo import ...`` gives, by the user's path
+__all__ = [  # noqa: RUF022 - grouped by path, not sorted
+    # a rectified pair (thesis chapter 3)
     "EdgeSet",
-    "EpipolarGeometry",
-    "InputError",
     "MatchParameters",
     "MatchResult",
-    "MatchScore",
-    "Pose",
     "RelaxationParameters",
     "SimilarityWeights",
     "StereoCamera",
-    "UnreachablePoseError",
-    "__version__",
     "detect_edges",
     "match_stereo",
-    "score_matches",
     "triangulate",
+    # images and a calibrated rig
+    "RigResult",
+    "StereoCalibration",
+    "load_image",
+    "load_rig_pair",
+    "match_rig",
+    "read_calibration",
+    # a camera on an arm, two views (thesis chapters 2, 4, 5)
+    "SE3",
+    "Camera",
+    "Capture",
+    "EpipolarGeometry",
+    "LocateParameters",
+    "Located",
+    "Pose",
+    "calibrate_eye_in_hand",
+    "load_handeye_yaml",
+    "locate_capture",
+    "read_capture",
+    "write_capture",
+    # N views
+    "LocatedViews",
+    "ViewsCapture",
+    "ViewsParameters",
+    "is_views_folder",
+    "locate_views",
+    "read_views_capture",
+    "write_views_capture",
+    # scoring and errors
+    "InputError",
+    "MatchScore",
+    "PlausibilityWarning",
+    "UnreachablePoseError",
+    "__version__",
+    "score_matches",
 ]

@@ -54,6 +54,29 @@ MOVED: dict[str, tuple[str, ...]] = {
     "robostereo.robot.geometry": ("robostereo.geometry.pose_rectification",),
     # the command line by command group
     "robostereo.cli_robot": ("robostereo.cli.robot",),
+    # 0.2: robot/ by job (arms, capture, handeye, views, simulated), evaluation/ a package;
+    # robostereo.robot.capture, .handeye, .views, .simulated and robostereo.evaluation are
+    # packages now that export every name the old modules did
+    "robostereo.robot.scara": ("robostereo.robot.arms.scara",),
+    "robostereo.robot.sixaxis": ("robostereo.robot.arms.sixaxis",),
+    "robostereo.robot.capture_folder": ("robostereo.robot.capture.capture_folder",),
+    "robostereo.robot.handeye_views": ("robostereo.robot.handeye.boards",),
+    "robostereo.robot.handeye_refine": ("robostereo.robot.handeye.refine",),
+    "robostereo.robot.handeye_checks": ("robostereo.robot.handeye.checks",),
+    "robostereo.robot.views_folder": ("robostereo.robot.views.views_folder",),
+    "robostereo.robot.multiview": ("robostereo.robot.views.locate_views",),
+    "robostereo.robot.multiview_search": ("robostereo.robot.views.ray_search",),
+    "robostereo.robot.multiview_votes": ("robostereo.robot.views.edge_votes",),
+    "robostereo.robot.multiview_kernels": ("robostereo.robot.views.views_kernels",),
+    "robostereo.robot.pose_check": ("robostereo.robot.views.pose_check",),
+    "robostereo.robot.edge_profiles": ("robostereo.robot.views.edge_profiles",),
+    "robostereo.robot.edge_profile_kernels": ("robostereo.robot.views.edge_profile_kernels",),
+    "robostereo.robot.simulated_scara": ("robostereo.robot.simulated.scara_rig",),
+    "robostereo.robot.simulated_views": ("robostereo.robot.simulated.grab_views",),
+    "robostereo.robot.views_truth": ("robostereo.robot.simulated.views_truth",),
+    "robostereo.evaluation_rules": ("robostereo.evaluation.rules",),
+    "robostereo.evaluation_outlines": ("robostereo.evaluation.outlines",),
+    "robostereo.evaluation_visibility": ("robostereo.evaluation.visibility",),
 }
 
 

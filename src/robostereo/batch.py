@@ -9,7 +9,8 @@ An input is a folder, one of
   (:attr:`BatchOptions.calibration`) the images are the original ones of a calibrated
   rig and go through :func:`robostereo.rig.match_rig`;
 * a **capture folder**: ``capture.yaml``, ``left.png``, ``right.png`` as
-  ``robostereo capture`` writes it, processed by :func:`robostereo.robot.capture.locate_capture`.
+  ``robostereo capture`` writes it, processed by
+  :func:`robostereo.robot.capture.locate_pair.locate_capture`.
 
 :func:`run_batch` processes every input folder of a directory and writes, per input
 ``NAME``, ``OUT/NAME.csv`` (the matched points) [and ``OUT/NAME.ply``] and then

@@ -1,6 +1,6 @@
 """The thesis's experiments on the simulated AdeptOne (the thesis, chapters 4-5).
 
-The application layer over the simulated rig of :mod:`robostereo.robot.simulated_scara`
+The application layer over the simulated rig of :mod:`robostereo.robot.simulated.scara_rig`
 (:class:`RigSetup`, :func:`simulate_capture`, re-exported here):
 
 * :func:`run_block_experiment`: the accuracy test of 5.2 (table 5-1): the precision
@@ -32,8 +32,8 @@ from robostereo.evaluation import MatchScore, score_matches
 from robostereo.geometry.scara_rectification import EpipolarGeometry
 from robostereo.matcher.parameters import MatchParameters
 from robostereo.robot.capture import Located, LocateParameters, locate
-from robostereo.robot.multiview import ViewsParameters, locate_views
-from robostereo.robot.simulated_scara import (
+from robostereo.robot.simulated.grab_views import simulate_views
+from robostereo.robot.simulated.scara_rig import (
     SEED_LIFT_MM,
     RigSetup,
     SimulatedCapture,
@@ -41,12 +41,12 @@ from robostereo.robot.simulated_scara import (
     pulley_scene,
     simulate_capture,
 )
-from robostereo.robot.simulated_views import simulate_views
-from robostereo.robot.views_truth import (
+from robostereo.robot.simulated.views_truth import (
     views_block_truth,
     views_outline_coverage,
     views_pulley_score,
 )
+from robostereo.robot.views.locate_views import ViewsParameters, locate_views
 from robostereo.simulation import Box
 
 __all__ = [
@@ -84,7 +84,7 @@ class BlockHeight:
     ----------
     lift_mm : float
     located : Located
-        Everything :func:`robostereo.robot.capture.locate` found.
+        Everything :func:`robostereo.robot.capture.locate_pair.locate` found.
     true_depth_mm : float
         Depth of the block's top below the mid-baseline point (the true Z).
     true_x_mm : tuple of float
@@ -247,7 +247,8 @@ def run_block_experiment(
 
     Notes
     -----
-    For each height: :func:`simulate_capture`, :func:`robostereo.robot.capture.locate`, then
+    For each height: :func:`simulate_capture`,
+    :func:`robostereo.robot.capture.locate_pair.locate`, then
     the block's left and right top edges are found among the located points by their
     rectified column (within 2 px of the projected true edge, 3 rows inside the ends),
     and compared with the true top-face geometry.
@@ -284,7 +285,7 @@ class PulleyExperiment:
         Edge points (away from the fill) in the rectified images.
     scores : tuple of MatchScore
         Against the ground truth after 0, 1, ... iterations (evaluation rule of
-        :func:`robostereo.evaluation.score_matches`).
+        :func:`robostereo.evaluation.scorer.score_matches`).
     default_score : MatchScore or None
         robostereo's default matcher (the window method) on the same capture.
     """
@@ -309,12 +310,13 @@ def run_pulley_experiment(
 
     Notes
     -----
-    1. :func:`simulate_capture` of the pulley and :func:`robostereo.robot.capture.locate`.
+    1. :func:`simulate_capture` of the pulley and
+       :func:`robostereo.robot.capture.locate_pair.locate`.
     2. Ground truth: the left rendering's depth rectified with the left view's theta
        (nearest neighbour; a rotation about the optical axis keeps depth), as
        disparity ``fx D / depth``.
     3. For ``k = 0 .. iterations``: the matches accepted after ``k`` iterations, scored
-       with :func:`robostereo.evaluation.score_matches` over the left edge points (none
+       with :func:`robostereo.evaluation.scorer.score_matches` over the left edge points (none
        near the rectification's fill: the matcher is told which pixels are filled).
 
     References
@@ -486,9 +488,9 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
     Parameters
     ----------
     count, pattern, span_mm, robot, seed
-        :func:`~robostereo.robot.simulated_views.simulate_views`'s.
+        :func:`~robostereo.robot.simulated.grab_views.simulate_views`'s.
     params : ViewsParameters, optional
-        :func:`~robostereo.robot.multiview.locate_views`'s.
+        :func:`~robostereo.robot.views.locate_views.locate_views`'s.
 
     Returns
     -------
@@ -508,7 +510,7 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
     Notes
     -----
     1. For lifts 0 and 79.65 mm: :func:`simulate_views` of the block,
-       :func:`~robostereo.robot.multiview.locate_views`, :func:`views_block_truth`.
+       :func:`~robostereo.robot.views.locate_views.locate_views`, :func:`views_block_truth`.
     2. The hub-pulley the same way, :func:`views_pulley_score`.
 
     References

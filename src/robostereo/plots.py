@@ -105,7 +105,7 @@ def save_overlay(path: str | os.PathLike[str], image: ArrayLike, x: ArrayLike, y
 def plot_curves(ax: Any, ev: Any) -> Any:
     """Draw a scene's curves, coverage against false rate, on a Matplotlib ``ax``.
 
-    ``ev`` is a :class:`robostereo.evaluation.SceneEvaluation`: robostereo's curve (its
+    ``ev`` is a :class:`robostereo.evaluation.scorer.SceneEvaluation`: robostereo's curve (its
     confidence swept) as a line, SGBM's settings as squares, each default operating
     point as a cross; grey lines at the false rates compared.
     """

@@ -19,7 +19,7 @@ from synthetic import synthetic_pair
 from robostereo.cli import main
 from robostereo.io import remove_stale_parts
 from robostereo.robot.capture import write_capture
-from robostereo.robot.simulated_scara import RigSetup, block_scene, simulate_capture
+from robostereo.robot.simulated.scara_rig import RigSetup, block_scene, simulate_capture
 
 SRC = Path(__file__).resolve().parents[2] / "src"
 

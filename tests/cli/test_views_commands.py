@@ -14,7 +14,7 @@ import yaml
 
 from robostereo.cli import main
 from robostereo.geometry.camera import SEED_CAMERA
-from robostereo.robot.views_folder import read_views_capture
+from robostereo.robot.views.views_folder import read_views_capture
 
 
 def _contents(folder: Path) -> dict[Path, bytes | None]:
@@ -128,7 +128,7 @@ def _block_top_mm() -> float:
 
 def test_locate_on_a_views_folder_writes_each_point_with_bound_confidence_and_view_count(
         views_dir, tmp_path, capsys):
-    from robostereo.robot.multiview import locate_views
+    from robostereo.robot.views.locate_views import locate_views
 
     csv, ply = tmp_path / "p.csv", tmp_path / "p.ply"
     assert main(["locate", str(views_dir), "-o", str(csv), "--ply", str(ply)]) == 0
@@ -159,8 +159,8 @@ def test_a_two_view_folder_read_as_two_views_locates_as_today(tmp_path):
     from scipy.spatial import cKDTree
 
     from robostereo.robot.capture import locate_capture, write_capture
-    from robostereo.robot.multiview import locate_views
-    from robostereo.robot.simulated_scara import simulate_capture
+    from robostereo.robot.simulated.scara_rig import simulate_capture
+    from robostereo.robot.views.locate_views import locate_views
 
     d = write_capture(tmp_path / "two", simulate_capture("block", seed=0).capture)
     today = locate_capture(d)

@@ -8,7 +8,7 @@ import pytest
 from synthetic import render_profile
 
 from robostereo.errors import InputError
-from robostereo.evaluation_outlines import RowBoundaries, boundary_offsets
+from robostereo.evaluation.outlines import RowBoundaries, boundary_offsets
 from robostereo.matcher.edges import (
     SEED_KERNEL,
     detect_edges,

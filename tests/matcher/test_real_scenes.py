@@ -6,7 +6,7 @@ with one bound for all (no figure tuned to a scene), and the confidence model is
 checked leave-one-scene-out: refitted without a scene, it must still be calibrated on
 that scene and rank its matches as well as the shipped model.  The calibration is
 checked against the labels it was fitted with, the silhouette rule's
-(:mod:`robostereo.evaluation_rules`: an occluding contour matched with the nearer
+(:mod:`robostereo.evaluation.rules`: an occluding contour matched with the nearer
 surface is right).
 """
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from robostereo.robot.simulated_views import SimulatedViews, simulate_views
+from robostereo.robot.simulated.grab_views import SimulatedViews, simulate_views
 
 
 @pytest.fixture(scope="session")

@@ -21,9 +21,9 @@ from robostereo.robot.planning import (
     plan_views,
     views_baseline_factor,
 )
-from robostereo.robot.simulated import run_fused_block
-from robostereo.robot.simulated_scara import RigSetup, block_scene, simulate_capture
-from robostereo.robot.views import view_offsets
+from robostereo.robot.simulated.scara_rig import RigSetup, block_scene, simulate_capture
+from robostereo.robot.simulated.sixaxis_rig import run_fused_block
+from robostereo.robot.views.viewpoints import view_offsets
 
 
 def test_plan_inverts_eq9():

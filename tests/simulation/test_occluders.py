@@ -7,8 +7,8 @@ import pytest
 from scipy.ndimage import binary_dilation, map_coordinates
 
 from robostereo.errors import InputError
-from robostereo.evaluation_outlines import OffsetSummary, RowBoundaries, silhouette_offsets
-from robostereo.evaluation_rules import depth_step_mask, near_steps, score_matches
+from robostereo.evaluation.outlines import OffsetSummary, RowBoundaries, silhouette_offsets
+from robostereo.evaluation.rules import depth_step_mask, near_steps, score_matches
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
 from robostereo.simulation.occluders import Occluder, occluder_pair
 

@@ -124,7 +124,7 @@ def run_demo_command(args: argparse.Namespace) -> int:
 def _run_demo_six_axis(args: argparse.Namespace) -> int:
     from robostereo.io import check_outputs
     from robostereo.robot.handeye import save_handeye_yaml
-    from robostereo.robot.simulated import run_six_axis_block
+    from robostereo.robot.simulated.sixaxis_rig import run_six_axis_block
 
     for name in ("capture-low", "capture-high"):
         d = args.out / name
@@ -262,7 +262,7 @@ def run_capture_command(args: argparse.Namespace) -> int:
 def _run_capture_six_axis(args: argparse.Namespace, baseline: float) -> int:
     from robostereo.robot.capture import write_capture
     from robostereo.robot.handeye import load_handeye_yaml
-    from robostereo.robot.simulated import SixAxisViewpoints, simulate_six_axis_capture
+    from robostereo.robot.simulated.sixaxis_rig import SixAxisViewpoints, simulate_six_axis_capture
 
     camera = hand_eye = None
     if args.handeye is not None:
@@ -311,7 +311,7 @@ def run_locate_command(args: argparse.Namespace) -> int:
     for d in (args.capture, args.fuse):
         if d is not None and not d.is_dir():
             raise InputError(f"{d}: capture folder not found")
-    from robostereo.robot.views_folder import is_views_folder
+    from robostereo.robot.views.views_folder import is_views_folder
 
     if any(d is not None and is_views_folder(d) for d in (args.capture, args.fuse)):
         return run_locate_views(args)
@@ -508,7 +508,7 @@ def add_simulate_handeye_parser(sub: Any) -> None:
 
 def run_simulate_handeye(args: argparse.Namespace) -> int:
     from robostereo.robot.handeye import Charuco, write_views
-    from robostereo.robot.simulated import BOARD, simulate_handeye_views
+    from robostereo.robot.simulated.sixaxis_rig import BOARD, simulate_handeye_views
 
     require_at_least("--views", args.views, 3)
     if args.views > MAX_SIMULATED_VIEWS:

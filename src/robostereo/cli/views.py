@@ -34,7 +34,7 @@ __all__ = [
 ]
 
 MAX_VIEWS = 100
-"""Most views a command takes (:func:`~robostereo.robot.views.view_offsets`'s limit)."""
+"""Most views a command takes (:func:`~robostereo.robot.views.viewpoints.view_offsets`'s limit)."""
 
 DEFAULT_SPAN_MM = 80.0
 """Default ``--span``: the many-viewpoints targets' line of five views over 80 mm."""
@@ -44,7 +44,7 @@ _ROBOTS = {"adeptone": "scara", "six-axis": "six-axis"}
 
 def add_views_options(p: Any, *, plan: bool = False) -> None:
     """``--views``, ``--pattern`` and (not for ``plan``) ``--span`` on the parser `p`."""
-    from robostereo.robot.views import PATTERNS
+    from robostereo.robot.views.viewpoints import PATTERNS
 
     if plan:
         p.add_argument("--views", metavar="N|auto",
@@ -78,7 +78,7 @@ def check_views_options(args: argparse.Namespace) -> tuple[int, str, float]:
         ``--pattern`` or ``--span`` without ``--views``; ``--views`` out of 2..100; an
         unknown pattern; a span that is not > 0; a cross of fewer than 3 views.
     """
-    from robostereo.robot.views import PATTERNS
+    from robostereo.robot.views.viewpoints import PATTERNS
 
     span = getattr(args, "span", None)
     if args.views is None:
@@ -111,8 +111,8 @@ def _on(pattern: str) -> str:
 
 def views_capture(args: argparse.Namespace) -> int:
     """``capture --views N``: the simulated robot grabs N views into a views folder."""
-    from robostereo.robot.simulated_views import simulate_views
-    from robostereo.robot.views_folder import write_views_capture
+    from robostereo.robot.simulated.grab_views import simulate_views
+    from robostereo.robot.views.views_folder import write_views_capture
 
     count, pattern, span = check_views_options(args)
     if args.baseline != 20.0:
@@ -127,11 +127,11 @@ def views_capture(args: argparse.Namespace) -> int:
                              "the six-axis arm takes --tilt")
         if not 0 <= args.tilt < 80:
             raise InputError(f"--tilt must be in [0, 80) degrees, got {args.tilt}")
-        from robostereo.robot.simulated import SixAxisViewpoints
+        from robostereo.robot.simulated.sixaxis_rig import SixAxisViewpoints
 
         kw["viewpoints"] = SixAxisViewpoints(tilt_deg=args.tilt)
     else:
-        from robostereo.robot.simulated_scara import RigSetup
+        from robostereo.robot.simulated.scara_rig import RigSetup
 
         kw["setup"] = RigSetup(center_xy=(args.center[0], args.center[1]),
                                direction_deg=args.direction, roll_deg=args.roll)
@@ -162,7 +162,7 @@ def run_locate_views(args: argparse.Namespace) -> int:
     """``locate DIR`` on an N-view folder: every view as reference, the points merged,
     each with its bound, confidence and view count (CSV; optionally PLY)."""
     from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
-    from robostereo.robot.views_folder import read_views_capture, views_folder_files
+    from robostereo.robot.views.views_folder import read_views_capture, views_folder_files
 
     if args.fuse is not None:
         raise InputError(f"--fuse merges two-view captures; {args.capture} has N views "
@@ -171,7 +171,7 @@ def run_locate_views(args: argparse.Namespace) -> int:
     outs = check_outputs({"-o": output, "--ply": args.ply},
                          inputs=views_folder_files(args.capture))
     capture = read_views_capture(args.capture)
-    from robostereo.robot.multiview import locate_views
+    from robostereo.robot.views.locate_views import locate_views
 
     status, say = stage_reporter(sys.stderr.isatty())
     with status:
@@ -256,7 +256,7 @@ def run_plan_views(args: argparse.Namespace, camera: Any, extra: dict[str, float
                    near: float, far: float) -> int:
     """``plan --views N|auto``: the span (and count) of N views in a pattern."""
     from robostereo.robot.planning import plan_views
-    from robostereo.robot.views import PATTERNS
+    from robostereo.robot.views.viewpoints import PATTERNS
 
     text = str(args.views).strip().lower()
     views: int | None = None

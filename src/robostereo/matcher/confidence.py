@@ -16,7 +16,7 @@ no-match label's probability.  The model is *calibrated*: among matches given co
 ``p``, about a fraction ``p`` is right.  The weights of the score and the curve were
 chosen and fitted leave-one-scene-out on the six developer scenes and synthetic
 layered pairs by ``benchmarks/fit_confidence.py``, with labels
-from the silhouette rule (:mod:`robostereo.evaluation_rules`), which is fair to the
+from the silhouette rule (:mod:`robostereo.evaluation.rules`), which is fair to the
 edges of occluding contours matched with the nearer surface.
 
 References
@@ -334,7 +334,7 @@ def calibration_table(confidence: ArrayLike, correct: ArrayLike, *, bins: int = 
 
 #: fitted by ``python benchmarks/fit_confidence.py --rule silhouette --weights 0 0.6 0
 #: 0.5 0 --swap-curve``: the six developer scenes' matches pooled, labelled by the
-#: silhouette rule (:mod:`robostereo.evaluation_rules`: an occluding contour matched with
+#: silhouette rule (:mod:`robostereo.evaluation.rules`: an occluding contour matched with
 #: the nearer surface is right), with six synthetic layered pairs weighing as one average
 #: scene.  The matches whose disparity is the paths' have a curve of their own: on the
 #: shared curve none of them reached the acceptance, though on some scenes 90-100 % of

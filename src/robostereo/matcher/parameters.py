@@ -38,7 +38,7 @@ lowest threshold at which every other developer scene is at most 1 % false by th
 silhouette rule (``benchmarks/fit_confidence.py --rule silhouette``), it would be
 0.905-0.952 (0.91 on all six), but below 20 / 21 a mis-posed capture's chance pairings
 pass too (8 % of its edge points at 0.91 against 3.6 % here) and the plausibility
-warning of :func:`robostereo.robot.capture.locate` no longer fires.  Relaxation: the
+warning of :func:`robostereo.robot.capture.locate_pair.locate` no longer fires.  Relaxation: the
 probability above which robostereo's relaxation accepts (the thesis's mode: 0.5)."""
 
 

@@ -4,7 +4,7 @@
   depth error at a target depth by a wanted accuracy, and the disparity range to
   search for a depth range;
 * :func:`plan_views` does the same for N views in a pattern
-  (:func:`~robostereo.robot.views.view_offsets`): the span whose least-squares depth
+  (:func:`~robostereo.robot.views.viewpoints.view_offsets`): the span whose least-squares depth
   bound over the N views is the wanted accuracy, and the number of views that keeps
   neighbouring views close enough to match easily;
 * :func:`best_baseline_direction` picks, from an image of the scene, the direction to
@@ -190,7 +190,7 @@ search range, less of the scene hidden from one of them); farther ones are what 
 longer span is for."""
 
 MAX_PLAN_VIEWS = 100
-"""Most views :func:`plan_views` proposes (:func:`~robostereo.robot.views.view_offsets`'s
+"""Most views :func:`plan_views` proposes (:func:`~robostereo.robot.views.viewpoints.view_offsets`'s
 limit)."""
 
 
@@ -203,7 +203,8 @@ class ViewsPlan:
     views : int
         Number of views.
     pattern : str
-        ``'line'``, ``'cross'`` or ``'arc'`` (:func:`~robostereo.robot.views.view_offsets`).
+        ``'line'``, ``'cross'`` or ``'arc'``
+        (:func:`~robostereo.robot.views.viewpoints.view_offsets`).
     span_mm : float
         Distance between the outermost viewpoints' optical centres, mm.
     step_mm : float
@@ -236,7 +237,7 @@ class ViewsPlan:
 
 
 def _offsets(pattern: str, count: int, span_mm: float, depth_mm: float) -> NDArray[np.float64]:
-    from robostereo.robot.views import view_offsets
+    from robostereo.robot.views.viewpoints import view_offsets
 
     return view_offsets(pattern, count, span_mm,  # type: ignore[arg-type]
                         depth_mm=depth_mm if pattern == "arc" else None)
@@ -387,7 +388,7 @@ def plan_views(
     >>> round(plan_views(Camera(), 1000.0, 1.0, views=2).span_mm, 2)
     246.0
     """
-    from robostereo.robot.views import PATTERNS
+    from robostereo.robot.views.viewpoints import PATTERNS
 
     if pattern not in PATTERNS:
         raise InputError(f"pattern must be one of {', '.join(PATTERNS)}, got {pattern!r}")
@@ -584,7 +585,7 @@ def fuse_located(first: Any, second: Any, *, merge_mm: float = 0.5) -> FusedPoin
     Parameters
     ----------
     first, second : Located
-        :func:`robostereo.robot.capture.locate` results (world frame, same robot).
+        :func:`robostereo.robot.capture.locate_pair.locate` results (world frame, same robot).
     merge_mm : float
         A point of `second` within this distance of a point of `first` is the same
         edge sample seen twice and is dropped (the first keeps its own bound).

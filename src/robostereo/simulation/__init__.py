@@ -27,7 +27,7 @@ Modules
     (:func:`occluder_pair`), for measuring matchers at object outlines.
 
 The simulated robots that carry the camera are in :mod:`robostereo.robot`
-(:mod:`~robostereo.robot.simulated_scara`, :mod:`~robostereo.robot.simulated`).
+(:mod:`~robostereo.robot.simulated.scara_rig`, :mod:`~robostereo.robot.simulated.sixaxis_rig`).
 
 World coordinates are millimetres with Z up; the table top is at ``z = 0`` in the
 scenes built here.  The camera conventions are those of :mod:`robostereo.geometry.camera`.

@@ -133,7 +133,7 @@ class OccluderPair:
                                                         NDArray[np.intp], NDArray[np.float64]]:
         """The exact silhouettes along each pixel row, as
         ``(rows, x, near_side, near_disparity)`` (the fields of
-        :class:`robostereo.evaluation_outlines.RowBoundaries`).
+        :class:`robostereo.evaluation.outlines.RowBoundaries`).
 
         A crossing of an occluder's contour with a row centre counts where no nearer
         occluder covers it and the surface behind is more than ``step`` px farther.

@@ -1,0 +1,359 @@
+"""Hand-eye calibration views: the calibration boards, their corners, views folders.
+
+The input side of eye-in-hand calibration (:mod:`robostereo.robot.handeye.calibrate`):
+
+* the targets: a :class:`Chessboard` or a :class:`Charuco` board (:data:`Board`), their
+  inner corners in the board frame and :func:`describe_board` for messages;
+* their corners in a grey image: :func:`detect_board` (:func:`detect_chessboard`, OpenCV's
+  sector-based chessboard detector, or OpenCV's ChArUco detector);
+* a views folder (:class:`HandEyeViews`): the board images with the flange pose the
+  robot reported at each, :func:`write_views` and :func:`read_views`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import cv2
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from robostereo.errors import InputError
+from robostereo.geometry.poses import SE3
+
+__all__ = [
+    "MIN_CHARUCO_CORNERS",
+    "MIN_VIEWS",
+    "VIEWS_YAML",
+    "Board",
+    "Charuco",
+    "Chessboard",
+    "HandEyeViews",
+    "describe_board",
+    "detect_board",
+    "detect_chessboard",
+    "read_views",
+    "write_views",
+]
+
+MIN_VIEWS = 3
+"""Fewest usable views: two motions with non-parallel rotation axes need three poses."""
+
+
+@dataclass(frozen=True)
+class Chessboard:
+    """A chessboard calibration target.
+
+    Parameters
+    ----------
+    inner_corners : tuple of int
+        ``(columns, rows)`` of inner corners (OpenCV's ``patternSize``).
+    square_mm : float
+        Side of one square, millimetres.
+
+    The board frame has its origin at the first inner corner, x along the columns,
+    y along the rows, z into the board (the right-handed frame of OpenCV's
+    ``objectPoints``).  The square diagonally outside the first inner corner is dark,
+    the one outside the last is light: that fixes the order of the detected corners.
+
+    Only boards with ``columns + rows`` odd (one count odd, one even, e.g. 9 x 6) are
+    accepted: when the sum is even (8 x 6, 7 x 5, any square board) the board looks the
+    same turned by 180 degrees, both outside squares have one colour, and the corner
+    order of each view would be a guess (the hand-eye transform then comes out
+    hundreds of millimetres off); use a ChArUco board (:class:`Charuco`) for those.
+
+    Examples
+    --------
+    >>> Chessboard((8, 6), 12.0)
+    Traceback (most recent call last):
+    ...
+    robostereo.errors.InputError: inner_corners 8 x 6: columns + rows is even, so the ...
+    """
+
+    inner_corners: tuple[int, int] = (9, 6)
+    square_mm: float = 20.0
+
+    def __post_init__(self) -> None:
+        c, r = self.inner_corners
+        if int(c) != c or int(r) != r or c < 2 or r < 2:
+            raise InputError(f"inner_corners must be (columns, rows) >= 2, got "
+                             f"{self.inner_corners}")
+        if not (math.isfinite(self.square_mm) and self.square_mm > 0):
+            raise InputError(f"square_mm must be a finite number > 0, got {self.square_mm}")
+        if (int(c) + int(r)) % 2 == 0:
+            raise InputError(
+                f"inner_corners {int(c)} x {int(r)}: columns + rows is even, so the board "
+                "looks the same turned 180 degrees and its corner order cannot be told; use "
+                "a board with one odd and one even count of inner corners (e.g. 9 x 6) or "
+                "a ChArUco board")
+        object.__setattr__(self, "inner_corners", (int(c), int(r)))
+
+    @property
+    def object_points(self) -> NDArray[np.float64]:
+        """Inner corners in the board frame, shape ``(columns * rows, 3)``, mm."""
+        c, r = self.inner_corners
+        xs, ys = np.meshgrid(np.arange(c), np.arange(r))
+        return np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)]) * self.square_mm
+
+
+@dataclass(frozen=True)
+class Charuco:
+    """A ChArUco calibration target (a chessboard with ArUco markers in its light squares).
+
+    Parameters
+    ----------
+    squares : tuple of int
+        ``(columns, rows)`` of squares (OpenCV's ``CharucoBoard`` size).
+    square_mm, marker_mm : float
+        Side of a square and of a marker, millimetres.
+    dictionary : str
+        Name of an OpenCV predefined ArUco dictionary, e.g. ``'DICT_5X5_100'``.
+
+    The board frame is OpenCV's: origin at the board's top-left corner, x along the
+    columns, y along the rows, z into the board.  Each detected corner has an id, so a
+    partly seen board still gives corners in a known order.
+    """
+
+    squares: tuple[int, int] = (8, 6)
+    square_mm: float = 12.0
+    marker_mm: float = 9.0
+    dictionary: str = "DICT_5X5_100"
+
+    def __post_init__(self) -> None:
+        c, r = self.squares
+        if int(c) != c or int(r) != r or c < 3 or r < 3:
+            raise InputError(f"squares must be (columns, rows) >= 3, got {self.squares}")
+        object.__setattr__(self, "squares", (int(c), int(r)))
+        for name in ("square_mm", "marker_mm"):
+            v = getattr(self, name)
+            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
+                raise InputError(f"{name} must be a finite number > 0, got {v!r}")
+        if not self.marker_mm < self.square_mm:
+            raise InputError(f"marker_mm must be below square_mm, got {self.marker_mm} and "
+                             f"{self.square_mm}")
+        if not str(self.dictionary).startswith("DICT_") or not hasattr(cv2.aruco,
+                                                                       self.dictionary):
+            raise InputError(f"dictionary must name an OpenCV ArUco dictionary such as "
+                             f"DICT_5X5_100, got {self.dictionary!r}")
+
+    def cv_board(self) -> Any:
+        """The :class:`cv2.aruco.CharucoBoard`."""
+        d = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, self.dictionary))
+        return cv2.aruco.CharucoBoard(self.squares, float(self.square_mm),
+                                      float(self.marker_mm), d)
+
+    @property
+    def object_points(self) -> NDArray[np.float64]:
+        """Inner corners in the board frame, shape ``((cols - 1) (rows - 1), 3)``, mm."""
+        return np.asarray(self.cv_board().getChessboardCorners(), dtype=np.float64)
+
+    def image(self, px_per_mm: float = 10.0) -> NDArray[np.uint8]:
+        """The board drawn at `px_per_mm` (no margin), for printing or rendering."""
+        c, r = self.squares
+        size = (round(c * self.square_mm * px_per_mm), round(r * self.square_mm * px_per_mm))
+        return self.cv_board().generateImage(size, marginSize=0, borderBits=1)
+
+
+Board = Chessboard | Charuco
+MIN_CHARUCO_CORNERS = 6
+"""Fewest ChArUco corners for a view to count (a pose needs a few, spread out)."""
+
+
+def detect_board(
+    image: ArrayLike, board: Board
+) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+    """Board corners found in a grey image: ``(object points (K, 3), pixels (K, 2))``.
+
+    None if the board is not found (a chessboard must be whole; a ChArUco board needs
+    :data:`MIN_CHARUCO_CORNERS` corners).
+    """
+    if isinstance(board, Chessboard):
+        c = detect_chessboard(image, board)
+        return None if c is None else (board.object_points, c)
+    if not isinstance(board, Charuco):
+        raise InputError(f"board must be a Chessboard or a Charuco, got {type(board).__name__}")
+    img = _as_uint8(image)
+    corners, ids, _mc, _mi = cv2.aruco.CharucoDetector(board.cv_board()).detectBoard(img)
+    if corners is None or ids is None or len(ids) < MIN_CHARUCO_CORNERS:
+        return None
+    return board.object_points[ids.ravel()], corners.reshape(-1, 2).astype(np.float64)
+
+
+def _as_uint8(image: ArrayLike) -> NDArray[np.uint8]:
+    img = np.asarray(image)
+    if img.ndim != 2:
+        raise InputError(f"image must be a grey (H, W) image, got shape {img.shape}")
+    if img.dtype != np.uint8:
+        top = float(img.max()) if img.size else 1.0
+        return np.clip(img.astype(np.float64) * (255.0 / max(top, 1.0)), 0, 255).astype(
+            np.uint8)
+    if img.size and img.max() < 128:  # 7-bit grey levels: stretch for the detector
+        return (img.astype(np.uint16) * 2).astype(np.uint8)
+    return img
+
+
+def detect_chessboard(image: ArrayLike, board: Chessboard) -> NDArray[np.float64] | None:
+    """Sub-pixel inner corners of `board` in a grey image, ``(N, 2)``, or None.
+
+    :func:`cv2.findChessboardCornersSB` (the sector-based detector, sub-pixel), in
+    the order of :attr:`Chessboard.object_points`.
+    """
+    img = _as_uint8(image)
+    ok, corners = cv2.findChessboardCornersSB(img, board.inner_corners,
+                                              flags=cv2.CALIB_CB_ACCURACY)
+    if not ok or corners is None:
+        return None
+    c = corners.reshape(-1, 2).astype(np.float64)
+    # 180-degree ambiguity of the grid: the square diagonally outside the first inner
+    # corner is the dark one (robostereo's board convention, :class:`Chessboard`)
+    cols, rows = board.inner_corners
+    grid = c.reshape(rows, cols, 2)
+    out0 = grid[0, 0] - 0.5 * (grid[0, 1] - grid[0, 0]) - 0.5 * (grid[1, 0] - grid[0, 0])
+    out1 = grid[-1, -1] + 0.5 * (grid[-1, -1] - grid[-1, -2]) \
+        + 0.5 * (grid[-1, -1] - grid[-2, -1])
+    g = img.astype(np.float64)
+    v0, v1 = (float(cv2.getRectSubPix(g.astype(np.float32), (3, 3), (float(p[0]), float(p[1])))
+                    .mean()) for p in (out0, out1))
+    return c[::-1].copy() if v0 > v1 else c
+
+
+def describe_board(board: Board) -> str:
+    """One line naming a board for messages, e.g. ``chessboard 9 x 6``."""
+    if isinstance(board, Chessboard):
+        return f"chessboard {board.inner_corners[0]} x {board.inner_corners[1]}"
+    return (f"ChArUco board {board.squares[0]} x {board.squares[1]} (at least "
+            f"{MIN_CHARUCO_CORNERS} corners)")
+
+
+# ------------------------------------------------------------------ views folders
+
+VIEWS_YAML = "views.yaml"
+
+
+@dataclass(frozen=True, eq=False)
+class HandEyeViews:
+    """A hand-eye views folder: board images with the flange pose of each.
+
+    Folder format (``DIR/``)::
+
+        views.yaml   board:          {type: chessboard, inner_corners: [cols, rows],
+                                      square_mm} or {type: charuco, squares:
+                                      [cols, rows], square_mm, marker_mm, dictionary}
+                     pixel_pitch_mm: horizontal pitch of the sensor, mm (data sheet)
+                     grey_levels:    optional, default 256
+                     views:          - {image: view_00.png, flange: POSE}
+                                     ...   POSE in any form of robostereo.geometry.poses
+                                     (T_base_flange as the robot reports it; mm, or
+                                     the ROS form in m)
+        view_00.png ...
+
+    Attributes
+    ----------
+    images : tuple of ndarray, shape (H, W)
+    flange_poses : tuple of SE3
+    names : tuple of str
+        Image file names.
+    board : Chessboard or Charuco
+    pixel_pitch_mm : float
+    grey_levels : int
+    """
+
+    images: tuple[NDArray[Any], ...]
+    flange_poses: tuple[SE3, ...]
+    names: tuple[str, ...]
+    board: Board
+    pixel_pitch_mm: float = 0.01
+    grey_levels: int = 256
+
+
+def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | None = None
+                ) -> None:
+    """Write a views folder (the folder must not exist or be empty; written whole).
+
+    `extra` maps further file names to mappings written as YAML (e.g. ``truth.yaml``).
+    """
+    import yaml
+
+    from robostereo.geometry.poses import pose_to_dict
+    from robostereo.io import write_image_folder
+
+    b = views.board
+    board: dict[str, Any]
+    if isinstance(b, Chessboard):
+        board = {"type": "chessboard", "inner_corners": list(b.inner_corners),
+                 "square_mm": float(b.square_mm)}
+    else:
+        board = {"type": "charuco", "squares": list(b.squares), "square_mm": float(b.square_mm),
+                 "marker_mm": float(b.marker_mm), "dictionary": b.dictionary}
+    data = {
+        "board": board,
+        "pixel_pitch_mm": float(views.pixel_pitch_mm),
+        "grey_levels": int(views.grey_levels),
+        "views": [{"image": n, "flange": pose_to_dict(f)}
+                  for n, f in zip(views.names, views.flange_poses, strict=True)],
+    }
+    texts = {VIEWS_YAML: yaml.safe_dump(data, sort_keys=False)}
+    texts.update({fname: yaml.safe_dump(mapping, sort_keys=False)
+                  for fname, mapping in (extra or {}).items()})
+    write_image_folder(directory, dict(zip(views.names, views.images, strict=True)), texts)
+
+
+def read_views(directory: Any) -> HandEyeViews:
+    """Read a views folder (:class:`HandEyeViews`); one-line InputError on bad input."""
+    from robostereo.geometry.poses import as_se3, pose_from_dict
+    from robostereo.io import read_folder_yaml
+    from robostereo.io.images import load_image
+
+    data, ypath = read_folder_yaml(directory, VIEWS_YAML, folder="views")
+    d = ypath.parent
+    src = str(ypath)
+    if not isinstance(data, dict) or "board" not in data or "views" not in data:
+        raise InputError(f"{src}: expected a mapping with keys board, pixel_pitch_mm, views")
+    b = data["board"]
+    kind = b.get("type", "chessboard") if isinstance(b, dict) else None
+    if kind not in ("chessboard", "charuco"):
+        raise InputError(f"{src}: board must be {{type: chessboard, inner_corners: [c, r], "
+                         "square_mm} or {type: charuco, squares: [c, r], square_mm, "
+                         "marker_mm, dictionary}")
+    board: Board
+    try:
+        if kind == "chessboard":
+            board = Chessboard(tuple(b["inner_corners"]), float(b["square_mm"]))  # type: ignore[arg-type]
+        else:
+            board = Charuco(tuple(b["squares"]), float(b["square_mm"]),  # type: ignore[arg-type]
+                            float(b["marker_mm"]), str(b.get("dictionary", "DICT_5X5_100")))
+    except InputError as exc:
+        raise InputError(f"{src}: board: {exc}") from None
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{src}: board: missing or bad key ({exc})") from None
+    pitch = data.get("pixel_pitch_mm", 0.01)
+    if isinstance(pitch, list):
+        pitch = pitch[0] if pitch else None
+    if (not isinstance(pitch, int | float) or isinstance(pitch, bool)
+            or not math.isfinite(pitch) or not pitch > 0):
+        raise InputError(f"{src}: pixel_pitch_mm must be a finite number > 0, got {pitch!r}")
+    grey = data.get("grey_levels", 256)
+    if not isinstance(grey, int) or isinstance(grey, bool) or grey < 2:
+        raise InputError(f"{src}: grey_levels must be an integer >= 2, got {grey!r}")
+    views = data["views"]
+    if not isinstance(views, list):
+        raise InputError(f"{src}: views must be a list of {{image, flange}}")
+    images, poses, names = [], [], []
+    for i, v in enumerate(views):
+        if not isinstance(v, dict) or "image" not in v or "flange" not in v:
+            raise InputError(f"{src}: views[{i}] must be a mapping {{image, flange}}")
+        name = str(v["image"])
+        poses.append(as_se3(pose_from_dict(v["flange"],
+                                           source=f"{src}: views[{i}] ({name}): flange")))
+        img, _bits = load_image(d / name)
+        if img.ndim == 3:
+            img = cv2.cvtColor(np.ascontiguousarray(img[..., :3]), cv2.COLOR_RGB2GRAY)
+        images.append(np.asarray(img))
+        names.append(str(d / name))
+    if len(images) < MIN_VIEWS:
+        raise InputError(f"{src}: hand-eye needs at least {MIN_VIEWS} usable views, got "
+                         f"{len(images)}")
+    return HandEyeViews(images=tuple(images), flange_poses=tuple(poses), names=tuple(names),
+                        board=board, pixel_pitch_mm=float(pitch), grey_levels=grey)

@@ -1,0 +1,680 @@
+"""Eye-in-hand calibration: the camera's pose on the robot's flange (AX = XB).
+
+The thesis's camera pose came from the robot alone (a fixed forearm mount, 4.1).
+A camera bolted to any arm's flange needs the flange-to-camera transform
+``X = T_flange_camera``.  With the flange poses ``F_i = T_base_flange`` the robot
+reports and the board poses ``C_i = T_camera_board`` seen in each view,
+``F_i X C_i = T_base_board`` is the same for every view, so for every pair of views
+
+    ``A X = X B``,   ``A = F_j^-1 F_i``,   ``B = C_j C_i^-1``.
+
+OpenCV 5's Python package no longer exposes ``calibrateHandEye``; this module
+solves AX = XB with the published closed forms on numpy and scipy:
+
+* ``'tsai'``: Tsai and Lenz (1989), rotation from the modified Rodrigues vectors;
+* ``'park'``: Park and Martin (1994), rotation from the logarithms,
+  ``R_X = (M^T M)^(-1/2) M^T`` with ``M = sum beta_i alpha_i^T``;
+* ``'daniilidis'``: Daniilidis (1999), rotation and translation together from the
+  null space of the stacked dual-quaternion equations.
+
+For ``'tsai'`` and ``'park'`` the translation is the least-squares solution of
+``(R_A - I) t_X = R_X t_B - t_A``.  All pairs of views are used.
+
+:func:`calibrate_eye_in_hand` runs the whole calibration from board images: corner
+detection, :func:`cv2.calibrateCamera` (intrinsics and distortion, per-view board
+poses), AX = XB, the plausibility checks of :mod:`robostereo.robot.handeye.checks` and
+the joint refinement of :mod:`robostereo.robot.handeye.refine`.  The boards, their
+detection and the views folders are in :mod:`robostereo.robot.handeye.boards`; their
+names are re-exported here.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import cv2
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.linalg import sqrtm
+from scipy.spatial.transform import Rotation
+
+from robostereo.errors import InputError
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import SE3
+from robostereo.robot.handeye.boards import (
+    MIN_VIEWS,
+    Board,
+    describe_board,
+    detect_board,
+)
+from robostereo.robot.handeye.checks import (
+    OUTLIER_Z,
+    check_plausible,
+    corner_noise_px,
+    outlier_views,
+    pose_covariances,
+    predicted_pair_translation_mm,
+    view_scores,
+)
+
+__all__ = [
+    "DEFAULT_METHOD",
+    "METHODS",
+    "EyeInHandCalibration",
+    "HandEyeMethod",
+    "HandEyeResiduals",
+    "calibrate_eye_in_hand",
+    "check_rotation_axes",
+    "handeye_residuals",
+    "load_handeye_yaml",
+    "motion_pairs",
+    "save_handeye_yaml",
+    "solve_ax_xb",
+]
+
+HandEyeMethod = Literal["tsai", "park", "daniilidis"]
+METHODS: tuple[str, ...] = ("tsai", "park", "daniilidis")
+DEFAULT_METHOD: HandEyeMethod = "park"
+"""The default method: the most accurate of the three on the simulated views (see
+the hand-eye table in docs/guide/robot.md; Park-Martin and Daniilidis are within a few
+percent, Tsai-Lenz behind)."""
+MIN_AXIS_SPREAD_DEG = 2.0  # least angle between the motions' rotation axes
+
+
+def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
+    x, y, z = v
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+
+
+def motion_pairs(
+    flange_poses: Sequence[SE3], board_poses: Sequence[SE3]
+) -> tuple[list[SE3], list[SE3]]:
+    """The motions ``A = F_j^-1 F_i`` and ``B = C_j C_i^-1`` of every pair ``i < j``.
+
+    Parameters
+    ----------
+    flange_poses : sequence of SE3
+        ``F_i = T_base_flange`` of each view (mm).
+    board_poses : sequence of SE3
+        ``C_i = T_camera_board`` of each view (mm), e.g. from :func:`cv2.calibrateCamera`.
+
+    Returns
+    -------
+    A, B : list of SE3
+        ``n (n - 1) / 2`` motions each.
+    """
+    if len(flange_poses) != len(board_poses):
+        raise InputError(f"flange_poses and board_poses must be as many, got "
+                         f"{len(flange_poses)} and {len(board_poses)}")
+    A, B = [], []
+    n = len(flange_poses)
+    for i in range(n):
+        for j in range(i + 1, n):
+            A.append(flange_poses[j].inv() @ flange_poses[i])
+            B.append(board_poses[j] @ board_poses[i].inv())
+    return A, B
+
+
+def check_rotation_axes(A: Sequence[SE3], *, min_spread_deg: float = MIN_AXIS_SPREAD_DEG) -> None:
+    """Refuse motions whose rotations are (nearly) all about one axis.
+
+    Rotations about one axis only (as any SCARA gives: every flange rotation is about
+    the vertical) leave the hand-eye rotation's turn about that axis and the
+    translation along it undetermined.
+
+    Raises
+    ------
+    InputError
+        Fewer than two motions with a rotation of at least 1 degree, or their axes all
+        within `min_spread_deg` of one line.
+    """
+    axes = []
+    for a in A:
+        rv = a.rotvec
+        ang = float(np.linalg.norm(rv))
+        if ang > math.radians(1.0):
+            axes.append(rv / ang)
+    if len(axes) < 2:
+        raise InputError("hand-eye: the flange hardly rotates between the views (need "
+                         "rotations of at least 1 deg about two different axes)")
+    ax = np.asarray(axes)
+    # spread: largest angle between an axis and the principal axis (sign-free)
+    _, _, vt = np.linalg.svd(ax, full_matrices=False)
+    cosines = np.abs(ax @ vt[0])
+    spread = math.degrees(math.acos(min(1.0, float(cosines.min()))))
+    if spread < min_spread_deg:
+        raise InputError(
+            f"hand-eye: all flange rotations are about one axis (spread {spread:.2f} deg < "
+            f"{min_spread_deg:g} deg), as a SCARA's are; tilt the flange about at least "
+            "two different axes between the views"
+        )
+
+
+def _translation(A: Sequence[SE3], B: Sequence[SE3], R: NDArray[np.float64]) -> NDArray:
+    M = np.vstack([a.rotation - np.eye(3) for a in A])
+    rhs = np.concatenate([R @ b.translation - a.translation for a, b in zip(A, B, strict=True)])
+    t, *_ = np.linalg.lstsq(M, rhs, rcond=None)
+    return t
+
+
+def _tsai(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
+    rows, rhs = [], []
+    for a, b in zip(A, B, strict=True):
+        ra, rb = a.rotvec, b.rotvec
+        ta, tb = np.linalg.norm(ra), np.linalg.norm(rb)
+        pa = 2.0 * math.sin(ta / 2) * (ra / ta) if ta > 1e-12 else np.zeros(3)
+        pb = 2.0 * math.sin(tb / 2) * (rb / tb) if tb > 1e-12 else np.zeros(3)
+        rows.append(_skew(pa + pb))
+        rhs.append(pb - pa)
+    pc_, *_ = np.linalg.lstsq(np.vstack(rows), np.concatenate(rhs), rcond=None)
+    pc = 2.0 * pc_ / math.sqrt(1.0 + float(pc_ @ pc_))
+    n2 = float(pc @ pc)
+    R = (1.0 - n2 / 2.0) * np.eye(3) + 0.5 * (np.outer(pc, pc)
+                                              + math.sqrt(4.0 - n2) * _skew(pc))
+    return SE3(R, _translation(A, B, R))
+
+
+def _park(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
+    M = np.zeros((3, 3))
+    for a, b in zip(A, B, strict=True):
+        M += np.outer(b.rotvec, a.rotvec)
+    R = np.real(np.linalg.inv(sqrtm(M.T @ M))) @ M.T
+    u, _, vt = np.linalg.svd(R)
+    # the nearest rotation (det +1): garbled poses can make the nearest orthogonal
+    # matrix a reflection, which the plausibility checks then catch
+    R = u @ np.diag([1.0, 1.0, float(np.sign(np.linalg.det(u @ vt)))]) @ vt
+    return SE3(R, _translation(A, B, R))
+
+
+def _dual_quaternion(T: SE3) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    x, y, z, w = Rotation.from_matrix(T.rotation).as_quat()
+    q = np.array([w, x, y, z])
+    t = np.concatenate([[0.0], T.translation])
+    return q, 0.5 * _qmul(t, q)
+
+
+def _qmul(p: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.float64]:
+    pw, pv = p[0], p[1:]
+    qw, qv = q[0], q[1:]
+    return np.concatenate([[pw * qw - pv @ qv], pw * qv + qw * pv + np.cross(pv, qv)])
+
+
+def _daniilidis(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
+    rows = []
+    for a, b in zip(A, B, strict=True):
+        qa, qa_d = _dual_quaternion(a)
+        qb, qb_d = _dual_quaternion(b)
+        if qa[0] * qb[0] < 0:  # one sign for both (A and B turn by the same angle)
+            qb, qb_d = -qb, -qb_d
+        va, vb, va_d, vb_d = qa[1:], qb[1:], qa_d[1:], qb_d[1:]
+        S = np.zeros((6, 8))
+        S[:3, 0] = va - vb
+        S[:3, 1:4] = _skew(va + vb)
+        S[3:, 0] = va_d - vb_d
+        S[3:, 1:4] = _skew(va_d + vb_d)
+        S[3:, 4] = va - vb
+        S[3:, 5:8] = _skew(va + vb)
+        rows.append(S)
+    _, _, vt = np.linalg.svd(np.vstack(rows))
+    v7, v8 = vt[-2], vt[-1]
+    u1, w1, u2, w2 = v7[:4], v7[4:], v8[:4], v8[4:]
+    a_ = u1 @ w1
+    b_ = u1 @ w2 + u2 @ w1
+    c_ = u2 @ w2
+    disc = max(b_ * b_ - 4 * a_ * c_, 0.0)
+    if abs(a_) < 1e-15:
+        roots = [-c_ / b_] if abs(b_) > 1e-15 else [0.0]
+    else:
+        roots = [(-b_ + math.sqrt(disc)) / (2 * a_), (-b_ - math.sqrt(disc)) / (2 * a_)]
+    vals = [s * s * (u1 @ u1) + 2 * s * (u1 @ u2) + u2 @ u2 for s in roots]
+    k = int(np.argmax(vals))
+    s = roots[k]
+    l2 = 1.0 / math.sqrt(vals[k])
+    l1 = s * l2
+    q = l1 * u1 + l2 * u2
+    q_d = l1 * w1 + l2 * w2
+    q_conj = q * np.array([1.0, -1.0, -1.0, -1.0])
+    t = 2.0 * _qmul(q_d, q_conj)[1:]
+    R = Rotation.from_quat([q[1], q[2], q[3], q[0]]).as_matrix()
+    return SE3(R, t)
+
+
+_SOLVERS = {"tsai": _tsai, "park": _park, "daniilidis": _daniilidis}
+
+
+def solve_ax_xb(
+    A: Sequence[SE3], B: Sequence[SE3], *, method: HandEyeMethod = DEFAULT_METHOD
+) -> SE3:
+    """Solve ``A_i X = X B_i`` for the rigid transform ``X`` (closed forms).
+
+    Parameters
+    ----------
+    A, B : sequence of SE3
+        Paired motions (:func:`motion_pairs`): flange motions ``A_i`` and camera
+        motions ``B_i``, millimetres.
+    method : {'park', 'tsai', 'daniilidis'}
+        Tsai-Lenz, Park-Martin or Daniilidis (module docstring).
+
+    Returns
+    -------
+    SE3
+        ``X = T_flange_camera``.
+
+    Raises
+    ------
+    InputError
+        Unknown method, fewer than two motions, rotations about one axis only.
+
+    References
+    ----------
+    R. Tsai, R. Lenz, IEEE Trans. Robotics and Automation 5(3), 1989;
+    F. Park, B. Martin, IEEE Trans. Robotics and Automation 10(5), 1994;
+    K. Daniilidis, Int. J. Robotics Research 18(3), 1999.
+
+    Examples
+    --------
+    >>> X = SE3.from_rotvec([10.0, -5.0, 80.0], [0.2, -0.1, 0.3])
+    >>> A = [SE3.from_rotvec([1, 2, 3], [0.5, 0, 0]), SE3.from_rotvec([0, 5, 1], [0, 0.4, 0.2])]
+    >>> B = [X.inv() @ a @ X for a in A]
+    >>> [round(v, 9) for v in X.distance_to(solve_ax_xb(A, B, method="tsai"))]
+    [0.0, 0.0]
+    """
+    if method not in _SOLVERS:
+        raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if len(A) != len(B) or len(A) < 2:
+        raise InputError(f"hand-eye needs at least 2 paired motions, got {len(A)} and {len(B)}")
+    check_rotation_axes(A)
+    return _SOLVERS[method](A, B)
+
+
+@dataclass(frozen=True)
+class HandEyeResiduals:
+    """How well ``X`` fits ``A_i X = X B_i``.
+
+    Attributes
+    ----------
+    rotation_deg : ndarray, shape (M,)
+        Angle of ``(A_i X)^-1 (X B_i)`` per motion, degrees.
+    translation_mm : ndarray, shape (M,)
+        Norm of its translation ``|R_A t_X + t_A - R_X t_B - t_X|``, millimetres.
+    """
+
+    rotation_deg: NDArray[np.float64]
+    translation_mm: NDArray[np.float64]
+
+    @property
+    def rms_rotation_deg(self) -> float:
+        return float(np.sqrt(np.mean(self.rotation_deg**2)))
+
+    @property
+    def rms_translation_mm(self) -> float:
+        return float(np.sqrt(np.mean(self.translation_mm**2)))
+
+
+def handeye_residuals(A: Sequence[SE3], B: Sequence[SE3], X: SE3) -> HandEyeResiduals:
+    """AX = XB residuals of `X` on each motion pair (:class:`HandEyeResiduals`)."""
+    rot, tr = [], []
+    for a, b in zip(A, B, strict=True):
+        lhs, rhs = a @ X, X @ b
+        rot.append(math.degrees((lhs.inv() @ rhs).angle))
+        tr.append(float(np.linalg.norm(lhs.translation - rhs.translation)))
+    return HandEyeResiduals(np.asarray(rot), np.asarray(tr))
+
+
+@dataclass(frozen=True, eq=False)
+class EyeInHandCalibration:
+    """Result of :func:`calibrate_eye_in_hand`.
+
+    Attributes
+    ----------
+    camera : Camera
+        Intrinsics and distortion (jointly refined, or the known ones).
+    hand_eye : SE3
+        ``T_flange_camera``, millimetres (jointly refined unless ``refine=False``).
+    method : str
+        The closed form that started the refinement.
+    reprojection_rms_px : float
+        RMS reprojection error of all corners through the final model, pixels.
+    per_view_rms_px : ndarray, shape (N,)
+        RMS reprojection error of each view, pixels.
+    board_poses : tuple of SE3
+        ``T_camera_board`` of each view (:func:`cv2.solvePnP` with the final intrinsics).
+    residuals : HandEyeResiduals
+        AX = XB residuals of every pair of views (those board poses, the final ``X``).
+    base_board : SE3
+        ``T_base_board``.
+    names : tuple of str
+        The views kept.
+    closed_form : SE3
+        ``X`` of the closed form (before the refinement).
+    corner_noise_px : float
+        Robust standard deviation of a corner coordinate (per-view poses), pixels.
+    predicted_translation_rms_mm : float
+        AX = XB translation RMS that the corner noise explains (the plausibility bound
+        is a multiple of it, :func:`~robostereo.robot.handeye.checks.check_plausible`).
+    outliers : tuple of str
+        Views whose residuals stand out (robust z-score > 3.5).
+    rejected : tuple of str
+        Views dropped by ``reject_outliers`` before the final solution.
+    """
+
+    camera: Camera
+    hand_eye: SE3
+    method: str
+    reprojection_rms_px: float
+    per_view_rms_px: NDArray[np.float64]
+    board_poses: tuple[SE3, ...]
+    residuals: HandEyeResiduals
+    base_board: SE3
+    names: tuple[str, ...] = ()
+    closed_form: SE3 | None = None
+    corner_noise_px: float = math.nan
+    predicted_translation_rms_mm: float = math.nan
+    outliers: tuple[str, ...] = ()
+    rejected: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        n = len(self.board_poses)
+        if self.per_view_rms_px.shape != (n,) or self.residuals.rotation_deg.shape != (
+                n * (n - 1) // 2,):
+            raise InputError(f"per_view_rms_px and residuals must cover {n} views")
+        if self.names and len(self.names) != n:
+            raise InputError(f"names must be {n}, got {len(self.names)}")
+
+    @property
+    def pairs(self) -> list[tuple[int, int]]:
+        """The view pairs ``(i, j)``, ``i < j``, in the order of the residuals."""
+        n = len(self.board_poses)
+        return [(i, j) for i in range(n) for j in range(i + 1, n)]
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``camera.yaml`` mapping that ``robostereo handeye`` writes."""
+        from pathlib import PurePath
+
+        from robostereo.geometry.camera import camera_to_dict
+        from robostereo.geometry.poses import pose_to_dict
+
+        names = [PurePath(n).name for n in self.names] or [
+            f"view {i}" for i in range(len(self.board_poses))]
+        out: dict[str, Any] = {
+            "camera": camera_to_dict(self.camera),
+            "hand_eye": pose_to_dict(self.hand_eye),
+            "method": self.method,
+            "refined": self.closed_form is not None,
+            "reprojection_rms_px": round(self.reprojection_rms_px, 6),
+            "per_view_rms_px": [round(float(v), 6) for v in self.per_view_rms_px],
+            "handeye_residuals": {
+                "rotation_deg_rms": round(self.residuals.rms_rotation_deg, 6),
+                "translation_mm_rms": round(self.residuals.rms_translation_mm, 6),
+                "translation_mm_rms_predicted": round(self.predicted_translation_rms_mm, 6),
+            },
+            "corner_noise_px": round(self.corner_noise_px, 6),
+            "views": [{"image": n, "reprojection_rms_px": round(float(v), 6),
+                       "outlier": n in {PurePath(o).name for o in self.outliers}}
+                      for n, v in zip(names, self.per_view_rms_px, strict=True)],
+            "pairs": [{"views": [names[i], names[j]], "rotation_deg": round(float(r), 6),
+                       "translation_mm": round(float(t), 6)}
+                      for (i, j), r, t in zip(self.pairs, self.residuals.rotation_deg,
+                                              self.residuals.translation_mm, strict=True)],
+            "rejected_views": [PurePath(n).name for n in self.rejected],
+        }
+        if self.closed_form is not None:
+            out["hand_eye_closed_form"] = pose_to_dict(self.closed_form)
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class _Stage:
+    """Per-view poses with fixed intrinsics, and the closed form on them."""
+
+    K: NDArray[np.float64]
+    dist: NDArray[np.float64]
+    rvecs: list[NDArray[np.float64]]
+    tvecs: list[NDArray[np.float64]]
+    per_view: NDArray[np.float64]
+    noise: float
+    X: SE3
+    residuals: HandEyeResiduals
+    predicted: float
+    base_board: SE3
+
+
+def _board_poses(obj: list, pts: list, size: tuple[int, int], flanges: Sequence[SE3],
+                 camera: Camera | None, fix_k3: bool, method: HandEyeMethod,
+                 guess: tuple[NDArray, NDArray, list, list] | None = None) -> _Stage:
+    if camera is None and guess is None:
+        _, K, dist, rv, tv = cv2.calibrateCamera(obj, pts, size, None, None,
+                                                 flags=cv2.CALIB_FIX_K3 if fix_k3 else 0)
+        rvecs, tvecs = [r.ravel() for r in rv], [t.ravel() for t in tv]
+    else:
+        K, dist, r0, t0 = guess or (camera.K, camera.dist_coeffs, None, None)  # type: ignore[union-attr]
+        rvecs, tvecs = [], []
+        for k, (o, p) in enumerate(zip(obj, pts, strict=True)):
+            if r0 is None:
+                _, r, t = cv2.solvePnP(o, p, K, dist, flags=cv2.SOLVEPNP_IPPE)
+                _, r, t = cv2.solvePnP(o, p, K, dist, r, t, useExtrinsicGuess=True)
+            else:
+                _, r, t = cv2.solvePnP(o, p, K, dist, r0[k].copy(), t0[k].copy(),
+                                       useExtrinsicGuess=True)
+            rvecs.append(r.ravel())
+            tvecs.append(t.ravel())
+    K, d5 = np.asarray(K, dtype=np.float64), np.zeros(5)
+    d5[: min(5, np.asarray(dist).size)] = np.asarray(dist, dtype=np.float64).ravel()[:5]
+    dist = d5
+    res_px, per_view = [], []
+    for o, p, r, t in zip(obj, pts, rvecs, tvecs, strict=True):
+        proj, _ = cv2.projectPoints(o, r, t, K, dist)
+        d = (proj - p).reshape(-1, 2)
+        res_px.append(d)
+        per_view.append(float(np.sqrt(np.mean(np.sum(d**2, axis=1)))))
+    noise = corner_noise_px(np.concatenate(res_px))
+    C = [SE3.from_rotvec(t, r) for r, t in zip(rvecs, tvecs, strict=True)]
+    A, B = motion_pairs(list(flanges), C)
+    X = solve_ax_xb(A, B, method=method)
+    covs = pose_covariances(obj, rvecs, tvecs, K, dist, noise)
+    pred = predicted_pair_translation_mm(rvecs, tvecs, covs)
+    bb = [f @ X @ c for f, c in zip(flanges, C, strict=True)]
+    W = SE3(Rotation.from_matrix(np.stack([b.rotation for b in bb])).mean().as_matrix(),
+            np.mean([b.translation for b in bb], axis=0))
+    return _Stage(K, dist, rvecs, tvecs, np.asarray(per_view), noise, X,
+                  handeye_residuals(A, B, X), float(np.sqrt(np.mean(pred**2))), W)
+
+
+def _worst(labels: Sequence[str], z: NDArray[np.float64]) -> list[str]:
+    """The views that stand out, worst first, or else the two with the highest scores."""
+    return [labels[i] for i in np.argsort(z)[::-1][: int((z > OUTLIER_Z).sum()) or 2]]
+
+
+def calibrate_eye_in_hand(
+    images: Sequence[ArrayLike],
+    flange_poses: Sequence[SE3],
+    board: Board,
+    *,
+    pixel_pitch_mm: float = 0.01,
+    grey_levels: int = 256,
+    method: HandEyeMethod = DEFAULT_METHOD,
+    names: Sequence[str] | None = None,
+    fix_k3: bool = True,
+    camera: Camera | None = None,
+    refine: bool = True,
+    reject_outliers: bool = False,
+    source: str = "hand-eye views",
+) -> EyeInHandCalibration:
+    """Intrinsics, distortion and ``T_flange_camera`` from views of a calibration board.
+
+    Parameters
+    ----------
+    images : sequence of array_like, shape (H, W)
+        Grey views of the board (one size).
+    flange_poses : sequence of SE3
+        ``T_base_flange`` the robot reported at each view, millimetres.
+    board : Chessboard or Charuco
+    pixel_pitch_mm : float
+        Horizontal pixel pitch of the sensor (its data sheet), to express the focal
+        length in millimetres; the vertical pitch follows from ``fy``.
+    grey_levels : int
+        Grey levels of the camera (for the :class:`Camera` returned).
+    method : {'park', 'tsai', 'daniilidis'}
+        AX = XB closed form (:func:`solve_ax_xb`) that starts the refinement.
+    names : sequence of str, optional
+        View names for messages (default ``view 0``, ``view 1``, ...).
+    fix_k3 : bool
+        Hold the sixth-order radial term ``k3`` at 0 (default): a board that does not
+        reach the image corners leaves ``k2`` and ``k3`` free to trade off against each
+        other (seen: ``k2 = 0.8, k3 = -8.5`` for a true ``0.03, 0``).
+    camera : Camera, optional
+        Known intrinsics and distortion: held fixed (only ``X`` and the board pose are
+        refined); its image size must be the views'.
+    refine : bool
+        Run the joint refinement (:func:`~robostereo.robot.handeye.refine.
+        refine_eye_in_hand`) after the closed form (default).
+    reject_outliers : bool
+        Drop the view that stands out most in the closed-form stage (robust z-score
+        above 3.5, :func:`~robostereo.robot.handeye.checks.view_scores`) and solve
+        again, one view at a time while one stands out, at most a third of the views.
+    source : str
+        The input's name for messages (e.g. the views.yaml path).
+
+    Returns
+    -------
+    EyeInHandCalibration
+
+    Raises
+    ------
+    InputError
+        Images of different sizes, a board not found in a view (naming it), fewer than
+        :data:`MIN_VIEWS` views, flange rotations about one axis only, or an implausible
+        result (:func:`~robostereo.robot.handeye.checks.check_plausible`: wrong board
+        or square size, flange positions in metres, poses paired with the wrong images).
+
+    Notes
+    -----
+    1. :func:`detect_board` in every view.
+    2. :func:`cv2.calibrateCamera` (``k1, k2, p1, p2, k3``), or :func:`cv2.solvePnP`
+       with the known `camera`, gives ``C_i = T_camera_board`` per view.
+    3. :func:`motion_pairs`, :func:`solve_ax_xb` (Tsai-Lenz or Park-Martin rotation,
+       then ``(R_A - I) t_X = R_X t_B - t_A``), :func:`handeye_residuals`; with
+       `reject_outliers`, the worst view that stands out is dropped and 2-3 repeated.
+    4. The corner noise's prediction of the pair translation residuals (:func:`~robostereo.
+       robot.handeye_checks.predicted_pair_translation_mm`) bounds them; a result
+       beyond the bounds is refused.
+    5. Joint refinement of the intrinsics (unless known), ``X`` and ``T_base_board`` on
+       all corners, flange poses fixed (Strobl and Hirzinger 2006; Koide and Menegatti
+       2019); a reprojection RMS above 1 px is refused.
+    6. Final board poses by :func:`cv2.solvePnP` with the final intrinsics, the pair
+       residuals with the final ``X``, the views that stand out named.
+    """
+    from robostereo.robot.handeye.refine import refine_eye_in_hand
+
+    n = len(images)
+    if len(flange_poses) != n:
+        raise InputError(f"images and flange_poses must be as many, got {n} and "
+                         f"{len(flange_poses)}")
+    labels = list(names) if names is not None else [f"view {i}" for i in range(n)]
+    if len(labels) != n:
+        raise InputError(f"names must be as many as the images ({n}), got {len(labels)}")
+    if n < MIN_VIEWS:
+        raise InputError(f"hand-eye needs at least {MIN_VIEWS} usable views, got {n}")
+    shapes = {np.asarray(im).shape for im in images}
+    if len(shapes) != 1:
+        raise InputError(f"the views must have one size, got shapes {sorted(shapes)}")
+    h, w = next(iter(shapes))[:2]
+    if camera is not None and tuple(camera.image_size) != (w, h):
+        raise InputError(f"camera: image size {camera.image_size[0]} x "
+                         f"{camera.image_size[1]} is not the views' {w} x {h}")
+    obj, img_pts = [], []
+    for im, name in zip(images, labels, strict=True):
+        found = detect_board(np.asarray(im), board)
+        if found is None:
+            raise InputError(f"{name}: {describe_board(board)} not found")
+        obj.append(found[0].astype(np.float64).reshape(-1, 1, 3))
+        img_pts.append(found[1].astype(np.float64).reshape(-1, 1, 2))
+    obj32 = [o.astype(np.float32) for o in obj]
+    pts32 = [p.astype(np.float32) for p in img_pts]
+    F = list(flange_poses)
+    st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method)
+    z = view_scores(st.per_view, st.residuals.translation_mm, st.residuals.rotation_deg, n)
+    rejected: list[str] = []
+    # one view at a time, the worst first: a wrong view biases X and so the others' scores
+    while reject_outliers and z.max() > OUTLIER_Z and len(F) > max(MIN_VIEWS, 2 * n // 3):
+        keep = np.flatnonzero(np.arange(len(F)) != int(np.argmax(z)))
+        rejected.append(labels[int(np.argmax(z))])
+        obj, img_pts, obj32, pts32, F, labels = (
+            [seq[i] for i in keep] for seq in (obj, img_pts, obj32, pts32, F, labels))
+        st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method)
+        z = view_scores(st.per_view, st.residuals.translation_mm, st.residuals.rotation_deg,
+                        len(F))
+    check_plausible(rotation_rms_deg=st.residuals.rms_rotation_deg,
+                    translation_rms_mm=st.residuals.rms_translation_mm,
+                    predicted_translation_rms_mm=st.predicted, reprojection_rms_px=None,
+                    source=source, worst=_worst(labels, z))
+    K, dist, X, W = st.K, st.dist, st.X, st.base_board
+    if refine:
+        ref = refine_eye_in_hand([o.reshape(-1, 3) for o in obj],
+                                 [p.reshape(-1, 2) for p in img_pts], F, K, dist, X, W,
+                                 fix_intrinsics=camera is not None, fix_k3=fix_k3,
+                                 noise_px=st.noise)
+        check_plausible(rotation_rms_deg=0.0, translation_rms_mm=0.0,
+                        predicted_translation_rms_mm=st.predicted,
+                        reprojection_rms_px=ref.rms_px, source=source,
+                        worst=[labels[i] for i in np.argsort(ref.per_view_rms_px)[::-1][:2]])
+        K, dist, X, W = ref.K, ref.dist, ref.hand_eye, ref.base_board
+        st_final = _board_poses(obj, img_pts, (w, h), F, None, fix_k3, method,
+                                guess=(K, dist, st.rvecs, st.tvecs))
+        per_view = ref.per_view_rms_px
+        rms = ref.rms_px
+    else:
+        st_final, per_view = st, st.per_view
+        rms = float(np.sqrt(np.mean(per_view**2)))
+    C = [SE3.from_rotvec(t, r) for r, t in zip(st_final.rvecs, st_final.tvecs, strict=True)]
+    res = handeye_residuals(*motion_pairs(F, C), X)
+    flagged = outlier_views(per_view, res.translation_mm, res.rotation_deg, len(F))
+    fmm = float(K[0, 0]) * pixel_pitch_mm
+    cam = camera if camera is not None else Camera(
+        focal_length_mm=fmm, pixel_pitch_mm=(pixel_pitch_mm, fmm / float(K[1, 1])),
+        image_size=(int(w), int(h)), principal_point=(float(K[0, 2]), float(K[1, 2])),
+        grey_levels=grey_levels, distortion=tuple(float(v) for v in dist.ravel()[:5]),
+    )
+    return EyeInHandCalibration(
+        camera=cam, hand_eye=X, method=method, reprojection_rms_px=rms,
+        per_view_rms_px=np.asarray(per_view), board_poses=tuple(C), residuals=res,
+        base_board=W, names=tuple(labels), closed_form=st.X if refine else None,
+        corner_noise_px=st.noise, predicted_translation_rms_mm=st.predicted,
+        outliers=tuple(labels[i] for i in np.flatnonzero(flagged)), rejected=tuple(rejected),
+    )
+
+
+def save_handeye_yaml(path: Any, calibration: EyeInHandCalibration) -> None:
+    """Write ``camera.yaml`` (:meth:`EyeInHandCalibration.to_dict`) atomically."""
+    import yaml
+
+    from robostereo.io import atomic_path
+
+    text = yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None)
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+
+
+def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
+    """Read the camera and ``T_flange_camera`` of a ``robostereo handeye`` file."""
+    from pathlib import Path
+
+    import yaml
+
+    from robostereo.errors import require_file
+    from robostereo.geometry.camera import camera_from_dict
+    from robostereo.geometry.poses import as_se3, pose_from_dict
+
+    p = require_file(path, "hand-eye camera file")
+    try:
+        data = yaml.safe_load(Path(p).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise InputError(f"{p}: not a readable YAML file ({exc.__class__.__name__})") from None
+    if not isinstance(data, dict) or "camera" not in data or "hand_eye" not in data:
+        raise InputError(f"{p}: expected the keys camera and hand_eye (robostereo handeye's "
+                         "output)")
+    camera = camera_from_dict(data["camera"], source=f"{p}: camera")
+    return camera, as_se3(pose_from_dict(data["hand_eye"], source=f"{p}: hand_eye"))

@@ -1,0 +1,94 @@
+"""N viewpoints of one camera: N-view captures, their folders, and locating edge points.
+
+Modules
+-------
+:mod:`~robostereo.robot.views.viewpoints`
+    :class:`ViewsCapture` (N grabbed views and their poses) and the viewpoint patterns
+    (line, cross, arc).
+:mod:`~robostereo.robot.views.views_folder`
+    N-view capture folders: ``capture.yaml`` with a list of views; a two-view folder
+    reads as N = 2.
+:mod:`~robostereo.robot.views.locate_views`
+    :func:`locate_views`: each view the reference in turn, the bound of eq. 9
+    generalised, a confidence per point.
+:mod:`~robostereo.robot.views.ray_search`
+    Its stages: views prepared, reference edges, rays searched, points refined.
+:mod:`~robostereo.robot.views.edge_votes`
+    Edge votes where windows fail, the views left out at occlusions.
+:mod:`~robostereo.robot.views.pose_check`
+    The views' poses checked against the epipolar geometry their images show.
+:mod:`~robostereo.robot.views.edge_profiles`
+    An edge beside an opposite edge placed by two blurred steps; each view's blur.
+:mod:`~robostereo.robot.views.views_kernels`, :mod:`~robostereo.robot.views.edge_profile_kernels`
+    Their numba kernels.
+
+Imports: :mod:`robostereo.errors`, :mod:`robostereo.geometry`, :mod:`robostereo.io`,
+:mod:`robostereo.matcher` and :mod:`robostereo.robot.capture` (the two-view folder
+format); not the arms, hand-eye, planning or the simulators.
+"""
+
+from robostereo.robot.views.locate_views import (
+    CONFIDENCE_WEIGHTS,
+    LocatedViews,
+    ViewsParameters,
+    confidence_features,
+    locate_views,
+    reference_order,
+    views_bound,
+    views_confidence,
+)
+from robostereo.robot.views.pose_check import (
+    EPIPOLAR_TOLERANCE_DEG,
+    EPIPOLAR_TOLERANCE_PX,
+    MIN_PLACES,
+    EpipolarCheck,
+    corners_to_track,
+    epipolar_check,
+    fundamental_from_poses,
+    views_epipolar_checks,
+    warn_disagreeing,
+)
+from robostereo.robot.views.viewpoints import (
+    MAX_SPAN_MM,
+    PATTERNS,
+    ViewsCapture,
+    view_offsets,
+)
+from robostereo.robot.views.views_folder import (
+    VIEWS_KEYS,
+    is_views_folder,
+    read_views_capture,
+    views_capture_to_dict,
+    views_folder_files,
+    write_views_capture,
+)
+
+__all__ = [
+    "CONFIDENCE_WEIGHTS",
+    "EPIPOLAR_TOLERANCE_DEG",
+    "EPIPOLAR_TOLERANCE_PX",
+    "MAX_SPAN_MM",
+    "MIN_PLACES",
+    "PATTERNS",
+    "VIEWS_KEYS",
+    "EpipolarCheck",
+    "LocatedViews",
+    "ViewsCapture",
+    "ViewsParameters",
+    "confidence_features",
+    "corners_to_track",
+    "epipolar_check",
+    "fundamental_from_poses",
+    "is_views_folder",
+    "locate_views",
+    "read_views_capture",
+    "reference_order",
+    "view_offsets",
+    "views_bound",
+    "views_capture_to_dict",
+    "views_confidence",
+    "views_epipolar_checks",
+    "views_folder_files",
+    "warn_disagreeing",
+    "write_views_capture",
+]

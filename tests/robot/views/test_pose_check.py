@@ -1,0 +1,159 @@
+"""Tests for robostereo.robot.views.pose_check: views whose poses disagree with their images.
+
+The views here are rendered by the test itself (a textured table seen from above by a
+pinhole camera, ray by ray), not by the project's simulator.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+import cv2
+import numpy as np
+import pytest
+
+from robostereo.errors import InputError, PlausibilityWarning
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import SE3, as_se3, se3_from_scara
+from robostereo.robot.views.locate_views import ViewsParameters, locate_views
+from robostereo.robot.views.pose_check import (
+    EpipolarCheck,
+    epipolar_check,
+    fundamental_from_poses,
+    views_epipolar_checks,
+)
+from robostereo.robot.views.ray_search import prepare_views
+from robostereo.robot.views.viewpoints import ViewsCapture
+
+CAMERA = Camera(focal_length_mm=8.0, pixel_pitch_mm=(0.01, 0.01), image_size=(320, 240),
+                grey_levels=256)
+TEXTURE_MM = 0.5  # the table's texture: one texel per half millimetre, 600 mm square
+
+
+@pytest.fixture(scope="module")
+def table() -> np.ndarray:
+    rng = np.random.default_rng(11)
+    t = cv2.GaussianBlur(rng.uniform(0, 255, (1200, 1200)), (0, 0), 2.0)
+    return cv2.normalize(t, None, 10, 245, cv2.NORM_MINMAX).astype(np.float32)
+
+
+def _render(table: np.ndarray, pose: SE3) -> np.ndarray:
+    """The camera at `pose` looking at the table (the plane z = 0), every pixel's ray
+    met with the plane and the texture read there (linear)."""
+    w, h = CAMERA.image_size
+    u, v = np.meshgrid(np.arange(w, dtype=float), np.arange(h, dtype=float))
+    rays = np.stack([(u - CAMERA.principal_point[0]) / CAMERA.fx,
+                     (v - CAMERA.principal_point[1]) / CAMERA.fy, np.ones_like(u)], -1)
+    d = rays @ pose.rotation.T
+    t = -pose.translation[2] / d[..., 2]
+    x = pose.translation[0] + t * d[..., 0]
+    y = pose.translation[1] + t * d[..., 1]
+    mx = (x / TEXTURE_MM + 600).astype(np.float32)
+    my = (y / TEXTURE_MM + 600).astype(np.float32)
+    return np.clip(cv2.remap(table, mx, my, cv2.INTER_LINEAR), 0, 255).astype(np.uint8)
+
+
+def _turned(pose: SE3, degrees: float) -> SE3:
+    """`pose` with the camera turned about its own optical axis (a hand-eye that far off)."""
+    a = np.radians(degrees)
+    turn = SE3(np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]]),
+               np.zeros(3))
+    return pose @ turn
+
+
+def _views(table, step_mm):
+    poses = tuple(as_se3(se3_from_scara(x, 0.0, 600.0)) for x in (-step_mm, 0.0, step_mm))
+    return tuple(_render(table, p) for p in poses), poses
+
+
+@pytest.fixture(scope="module")
+def views(table):
+    return _views(table, 15.0)  # about 20 px of disparity
+
+
+def _capture(images, poses) -> ViewsCapture:
+    return ViewsCapture(images, CAMERA, poses, depth_range_mm=(500.0, 700.0), bit_depth=8)
+
+
+def test_fundamental_matrix_holds_for_projected_points():
+    rng = np.random.default_rng(2)
+    a = as_se3(se3_from_scara(-10.0, 5.0, 600.0, 0.1))
+    b = as_se3(se3_from_scara(25.0, -3.0, 620.0, -0.2))
+    world = np.column_stack([rng.uniform(-80, 80, (20, 2)), rng.uniform(-30, 30, 20)])
+    pa = CAMERA.project(world, a)[0]
+    pb = CAMERA.project(world, b)[0]
+    F = fundamental_from_poses(CAMERA.K, a.rotation, a.translation, b.rotation,
+                               b.translation)
+    lines = np.column_stack([pa, np.ones(20)]) @ F.T
+    dist = np.abs(np.sum(lines * np.column_stack([pb, np.ones(20)]), 1)) / np.hypot(
+        lines[:, 0], lines[:, 1])
+    assert dist.max() < 1e-6
+
+
+def test_right_poses_agree_and_a_turned_camera_does_not(views):
+    images, poses = views
+    prepared = prepare_views(_capture(images, poses), None)
+    right = views_epipolar_checks(prepared, 1, (500.0, 700.0))
+    assert len(right) == 2 and all(c.distance_px < 0.2 and not c.disagrees for c in right)
+    # one view's pose turned 1 degree about its optical axis: that pair only
+    claimed = (poses[0], poses[1], _turned(poses[2], 1.0))
+    wrong = views_epipolar_checks(prepare_views(_capture(images, claimed), None), 1,
+                                  (500.0, 700.0))
+    by_view = {c.other: c for c in wrong}
+    assert by_view[2].disagrees and by_view[2].distance_px > 0.5
+    assert not by_view[0].disagrees  # that pair's poses are right
+
+
+def test_a_hand_eye_turned_about_the_optical_axis_shows_as_its_angle(table, views):
+    """Every view turned alike (a hand-eye error): the views' relative rotations stay
+    right and the baseline turns in the camera's frame, so the places move off their
+    lines by the turn's angle; 20 px of motion put them 0.35 px off (harmless, no
+    verdict), 53 px 0.9 px."""
+    for (images, poses), far in ((views, False), (_views(table, 40.0), True)):
+        claimed = tuple(_turned(p, 1.0) for p in poses)
+        checks = views_epipolar_checks(prepare_views(_capture(images, claimed), None), 1,
+                                       (500.0, 700.0))
+        assert len(checks) == 2
+        for c in checks:
+            assert 0.7 < c.angle_deg < 1.3 and c.disagrees == far
+
+
+def test_an_untextured_view_gives_no_verdict():
+    flat = np.full((240, 320), 90.0)
+    K = CAMERA.K
+    pose = (np.eye(3), np.zeros(3))
+    assert epipolar_check(flat, flat, K, pose, (np.eye(3), np.array([10.0, 0, 0])),
+                          (500.0, 700.0)) is None
+
+
+def test_a_view_that_sees_none_of_the_lines_gives_no_verdict(views):
+    """The other view faces away: every corner's line lies behind it; no verdict, and
+    no warning from the arithmetic on the way."""
+    images, _ = views
+    a = prepare_views(_capture(images[:2], tuple(as_se3(se3_from_scara(x, 0.0, 600.0))
+                                                  for x in (0.0, 15.0))), None).smoothed[0]
+    away = (np.diag([1.0, -1.0, -1.0]), np.array([0.0, 0.0, 10000.0]))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert epipolar_check(a, a, CAMERA.K, (np.eye(3), np.zeros(3)), away,
+                              (500.0, 700.0)) is None
+
+
+def test_epipolar_check_validates_itself():
+    with pytest.raises(InputError, match="distance_px"):
+        EpipolarCheck(0, 1, -0.1, 0.1, 50)
+    with pytest.raises(InputError, match="angle_deg"):
+        EpipolarCheck(0, 1, 0.1, float("nan"), 50)
+    with pytest.raises(InputError, match="n_places"):
+        EpipolarCheck(0, 1, 0.1, 0.1, 2.5)
+
+
+def test_locate_views_warns_when_the_poses_disagree_with_the_images(views):
+    images, poses = views
+    params = ViewsParameters()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        locate_views(_capture(images, poses), params=params)
+    claimed = (_turned(poses[0], 1.0), poses[1], poses[2])
+    with pytest.warns(PlausibilityWarning, match="off the epipolar lines"):
+        locate_views(_capture(images, claimed), params=params)
