@@ -35,6 +35,15 @@ LAYERS: tuple[tuple[str, ...], ...] = (
 #: the application layer, which the library never imports
 APPLICATION = ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
                "robostereo.batch_workers", "robostereo.cli")
+#: the robot side's sub-packages, lowest first: each imports only its own or lower ones
+ROBOT_LAYERS: tuple[tuple[str, ...], ...] = (
+    ("robostereo.robot.arms", "robostereo.robot.capture", "robostereo.robot.handeye"),
+    ("robostereo.robot.views",),
+    ("robostereo.robot.planning",),
+    ("robostereo.robot.simulated",),
+)
+#: modules (and sub-packages) that robot/ may hold directly, at most
+MAX_ROBOT_ENTRIES = 8
 #: lines a module may have at most (numba kernel modules excepted)
 MAX_LINES = 700
 
@@ -184,6 +193,37 @@ def test_no_module_imports_another_modules_private_names() -> None:
            for mod, imported, line in imports(name, path, known)
            if imported.startswith("_") and not imported.startswith("__") and mod != name]
     assert bad == []
+
+
+def test_robot_sub_packages_import_only_their_own_or_lower_ones() -> None:
+    def rank(name: str) -> int | None:
+        for r, prefixes in enumerate(ROBOT_LAYERS):
+            if any(name == p or name.startswith(p + ".") for p in prefixes):
+                return r
+        return None
+
+    bad = [f"{a} -> {b}" for a, targets in import_graph().items() for b in sorted(targets)
+           if (ra := rank(a)) is not None and (rb := rank(b)) is not None and rb > ra]
+    assert bad == []
+    within = [f"{a} -> {b}" for a, targets in import_graph().items() for b in sorted(targets)
+              if rank(a) == 0 and rank(b) == 0 and a.split(".")[2] != b.split(".")[2]]
+    assert within == [], "arms, capture and handeye stand apart"
+
+
+def test_robot_is_a_few_sub_packages_and_few_modules() -> None:
+    robot = PACKAGE / "robot"
+    packages = [p for p in robot.iterdir() if (p / "__init__.py").is_file()]
+    entries = packages + [p for p in robot.glob("*.py") if p.name != "__init__.py"]
+    assert len(packages) >= 3 and len(entries) <= MAX_ROBOT_ENTRIES, sorted(
+        p.name for p in entries)
+    lost = [m for m in modules() if m.startswith("robostereo.robot.")
+            and not any(m == p or m.startswith(p + ".") for ps in ROBOT_LAYERS for p in ps)]
+    assert lost == [], f"robot modules in no entry of ROBOT_LAYERS: {lost}"
+
+
+def test_evaluation_is_a_package_with_nothing_left_at_the_top() -> None:
+    assert (PACKAGE / "evaluation" / "__init__.py").is_file()
+    assert sorted(p.name for p in PACKAGE.glob("evaluation*.py")) == []
 
 
 def test_no_module_is_longer_than_the_limit_but_numba_kernels() -> None:

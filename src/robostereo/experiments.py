@@ -392,7 +392,7 @@ def print_demo_report(result: DemoResult, console: Any = None) -> None:
         con.print(f"  mean z {h.mean_z:.2f} mm over {int(h.block_points.sum())} block edge "
                   f"points; largest |z error| {h.max_abs_z_error:.2f} mm; all within the "
                   f"eq. 9 bound: {bool(h.within_bound.all())}")
-    s = Table(title="Block accuracy (seed: lift 79.65 mm, largest |z error| 28 mm vs 41 mm)")
+    s = Table(title="Block accuracy (thesis: lift 79.65 mm, largest |z error| 28 mm vs 41 mm)")
     for c in ("quantity", "measured", "target"):
         s.add_column(c)
     bounds = np.concatenate([h.located.z_bound[h.block_points] for h in b.heights])
@@ -405,7 +405,7 @@ def print_demo_report(result: DemoResult, console: Any = None) -> None:
     con.print(s)
     p = result.pulley
     t = Table(title=f"Hub-pulley: {p.n_left_edges} edges left, {p.n_right_edges} right "
-                    "(seed: 818 / 815; 86% matched, 1.65% false)")
+                    "(thesis: 818 / 815; 86% matched, 1.65% false)")
     for c in ("iteration", "counted", "matched", "% matched", "false", "% false"):
         t.add_column(c, justify="right")
     for k, sc in enumerate(p.scores):

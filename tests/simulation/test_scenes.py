@@ -67,5 +67,5 @@ def test_hub_pulley_gives_several_hundred_edge_points() -> None:
         pose = Pose(mid.x + dx, mid.y, mid.z)
         img = render(scene, CAM, pose, noise_sigma=0.7, rng=np.random.default_rng(2)).image
         counts.append(len(detect_edges(img, bit_depth=7, threshold=8.0, row_step=8)))
-    assert all(500 <= n <= 1200 for n in counts), counts  # seed: 818 and 815
+    assert all(500 <= n <= 1200 for n in counts), counts  # the thesis: 818 and 815
     assert abs(counts[0] - counts[1]) < 0.05 * counts[0]

@@ -89,6 +89,8 @@ def test_demo_command(tmp_path, capsys):
     assert main(["demo", "--out", str(out), "--seed", "1"]) == 0
     text = capsys.readouterr().out
     assert "Table 5-1(a)" in text and "Hub-pulley" in text and "measured lift" in text
+    # the thesis's figures are called the thesis's, not "seed" (a random-number seed)
+    assert "(thesis: lift 79.65 mm" in text and "seed:" not in text
     assert sorted(p.name for p in out.iterdir()) == ["block_iterations.png", "points_3d.png",
                                                      "pulley_iterations.png"]
     assert main(["demo", "--seed", "-1", "--out", str(tmp_path / "x")]) == 2
