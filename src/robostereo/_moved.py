@@ -52,8 +52,14 @@ MOVED: dict[str, tuple[str, ...]] = {
     "robostereo.triangulation": ("robostereo.geometry.triangulation",),
     "robostereo.robot.poses": ("robostereo.geometry.poses",),
     "robostereo.robot.geometry": ("robostereo.geometry.pose_rectification",),
-    # the command line by command group
-    "robostereo.cli_robot": ("robostereo.cli.robot",),
+    # the command line by command group, then (0.2) one module per command
+    "robostereo.cli_robot": (
+        "robostereo.cli.demo",
+        "robostereo.cli.capture_command",
+        "robostereo.cli.locate",
+        "robostereo.cli.handeye_commands",
+        "robostereo.cli.plan",
+    ),
     # 0.2: robot/ by job (arms, capture, handeye, views, simulated), evaluation/ a package;
     # robostereo.robot.capture, .handeye, .views, .simulated and robostereo.evaluation are
     # packages now that export every name the old modules did
@@ -77,6 +83,27 @@ MOVED: dict[str, tuple[str, ...]] = {
     "robostereo.evaluation_rules": ("robostereo.evaluation.rules",),
     "robostereo.evaluation_outlines": ("robostereo.evaluation.outlines",),
     "robostereo.evaluation_visibility": ("robostereo.evaluation.visibility",),
+    # 0.2: the command line one module per command, each with its N-view run
+    "robostereo.cli.matching": (
+        "robostereo.cli.match",
+        "robostereo.cli.rig_command",
+        "robostereo.cli.evaluate",
+        "robostereo.cli.batch_command",
+    ),
+    "robostereo.cli.robot": (
+        "robostereo.cli.demo",
+        "robostereo.cli.capture_command",
+        "robostereo.cli.locate",
+        "robostereo.cli.handeye_commands",
+        "robostereo.cli.plan",
+    ),
+    "robostereo.cli.views": (
+        "robostereo.cli._views_args",
+        "robostereo.cli.demo",
+        "robostereo.cli.capture_command",
+        "robostereo.cli.locate",
+        "robostereo.cli.plan",
+    ),
 }
 
 

@@ -80,7 +80,7 @@ def test_interrupt_inside_a_numba_call_is_still_an_interrupt(monkeypatch, capsys
     ``SystemError: ... returned a result with an exception set`` from the interrupt
     (seen once in a few dozen interrupted runs): one line, not a traceback."""
     import robostereo.cli as cli
-    from robostereo.cli import robot
+    from robostereo.cli import plan
 
     exc = cli.Terminated if interrupt == "Terminated" else KeyboardInterrupt
 
@@ -91,9 +91,9 @@ def test_interrupt_inside_a_numba_call_is_still_an_interrupt(monkeypatch, capsys
             raise SystemError("CPUDispatcher(<function evidence>) returned a result with "
                               "an exception set") from e
 
-    monkeypatch.setattr(robot, "run_plan", handler)
+    monkeypatch.setattr(plan, "run_plan", handler)
     assert cli.main(["plan", "--depth", "1000", "--accuracy", "5"]) == code
     assert capsys.readouterr().err.splitlines() == [f"robostereo: {word}"]
-    monkeypatch.setattr(robot, "run_plan", lambda args: (_ for _ in ()).throw(SystemError("x")))
+    monkeypatch.setattr(plan, "run_plan", lambda args: (_ for _ in ()).throw(SystemError("x")))
     with pytest.raises(SystemError):  # a SystemError of another cause is not hidden
         cli.main(["plan", "--depth", "1000", "--accuracy", "5"])

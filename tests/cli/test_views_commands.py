@@ -265,7 +265,7 @@ def test_plan_refuses_bad_view_options(extra, word, tmp_path, capsys):
 
 def test_demo_with_views_prints_the_issue_keys_as_json_and_as_lines(capsys):
     """Two views (the quickest run): the keys, the lift near the truth, fractions."""
-    from robostereo.cli.views import print_views_demo
+    from robostereo.cli.demo import print_views_demo
 
     s = _json(["demo", "--views", "2", "--span", "40", "--json"], capsys)
     for key in ("views", "lift_mm", "lift_true_mm", "max_abs_error_mm", "all_within_bound",

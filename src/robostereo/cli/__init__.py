@@ -7,10 +7,17 @@ as ``robostereo: warning: ...``.  SIGTERM ends a command as SIGINT does: one lin
 exit code 143 (130 for SIGINT), nothing half-written: a command's outputs appear all
 together or not at all (an interrupt after they are in place leaves them whole).
 
-The commands live by group: :mod:`robostereo.cli.matching` (``match``, ``rig``,
-``evaluate``, ``batch``) and :mod:`robostereo.cli.robot` (``demo``, ``capture``,
-``locate``, ``handeye``, ``simulate-handeye``, ``plan``); the argument types and checks
-they share are in ``robostereo.cli._args``.
+Each command lives in its own module, with its parser, its handler and (for ``demo``,
+``capture``, ``locate`` and ``plan``) its N-view run: :mod:`robostereo.cli.match`,
+:mod:`robostereo.cli.rig_command`, :mod:`robostereo.cli.evaluate`,
+:mod:`robostereo.cli.batch_command`, :mod:`robostereo.cli.demo`,
+:mod:`robostereo.cli.capture_command`, :mod:`robostereo.cli.locate`,
+:mod:`robostereo.cli.handeye_commands` (``handeye`` and ``simulate-handeye``) and
+:mod:`robostereo.cli.plan`.  What several commands share is private to the package:
+the argument types and checks in ``robostereo.cli._args``, the N-view options
+(``--views``, ``--pattern``, ``--span``) in ``robostereo.cli._views_args``, the camera
+files of ``handeye --intrinsics`` and ``plan --camera`` in
+``robostereo.cli._camera_files``, and the status line in ``robostereo.cli._console``.
 """
 
 from __future__ import annotations
@@ -24,24 +31,45 @@ from collections.abc import Callable, Sequence
 from typing import Any
 
 from robostereo import __version__
-from robostereo.cli import matching, robot
+from robostereo.cli import (
+    batch_command,
+    capture_command,
+    demo,
+    evaluate,
+    handeye_commands,
+    locate,
+    match,
+    plan,
+    rig_command,
+)
 from robostereo.errors import InputError, PlausibilityWarning
 
-__all__ = ["GROUPS", "Terminated", "build_parser", "main"]
+__all__ = ["COMMANDS", "Terminated", "build_parser", "main"]
 
-#: the command groups, in the order their commands are listed in ``--help``
-GROUPS: tuple[Callable[[Any], None], ...] = (matching.add_parsers, robot.add_parsers)
+#: each command's parser builder, in the order ``--help`` lists the commands
+COMMANDS: tuple[Callable[[Any], None], ...] = (
+    match.add_match_parser,
+    rig_command.add_rig_parser,
+    evaluate.add_evaluate_parser,
+    batch_command.add_batch_parser,
+    demo.add_demo_parser,
+    capture_command.add_capture_parser,
+    locate.add_locate_parser,
+    handeye_commands.add_handeye_parser,
+    handeye_commands.add_simulate_handeye_parser,
+    plan.add_plan_parser,
+)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The top-level parser with every command group's subcommands."""
+    """The top-level parser with every command's subcommand."""
     parser = argparse.ArgumentParser(
         prog="robostereo",
         description="Sparse 3-D edges from two views (after Kim, 1989).",
     )
     parser.add_argument("--version", action="version", version=f"robostereo {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for add in GROUPS:
+    for add in COMMANDS:
         add(sub)
     return parser
 

@@ -2,9 +2,10 @@
 
 The argparse types (:func:`finite`, :func:`unit_interval`) refuse a bad value while
 parsing: argparse prints the usage and one error line and exits with code 2.  The
-checks (:func:`require_at_least`, :func:`require_seed`, the output-folder checks) run in
-a command's handler, at the point where the command has always checked them, and raise
-:class:`~robostereo.errors.InputError`: one ``robostereo: error:`` line, exit code 2.
+checks (:func:`require_at_least`, :func:`require_seed`, :func:`disparity_range_args`,
+the output-folder checks) run in a command's handler, at the point where the command has
+always checked them, and raise :class:`~robostereo.errors.InputError`: one
+``robostereo: error:`` line, exit code 2.
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from robostereo.errors import InputError
 
 __all__ = [
     "add_matcher_args",
+    "disparity_range_args",
     "finite",
     "matcher_params",
     "require_at_least",
@@ -27,6 +29,7 @@ __all__ = [
     "require_output_folder",
     "require_positive",
     "require_seed",
+    "require_writable",
     "unit_interval",
 ]
 
@@ -175,6 +178,14 @@ def require_seed(seed: int) -> None:
     require_at_least("--seed", seed, 0)
 
 
+def disparity_range_args(args: argparse.Namespace) -> tuple[float, float] | None:
+    """``--min-disparity`` and ``--max-disparity`` as a range; None if neither is given."""
+    lo, hi = args.min_disparity, args.max_disparity
+    if (lo is None) != (hi is None):
+        raise InputError("give both --min-disparity and --max-disparity, or neither")
+    return None if lo is None else (lo, hi)
+
+
 def _parent(path: Path) -> Path:
     return path.parent if str(path.parent) else Path(".")
 
@@ -194,3 +205,17 @@ def require_output_folder(path: Path) -> None:
     folder = _parent(path)
     if not folder.is_dir():
         raise InputError(f"{path}: output folder {folder} does not exist")
+
+
+def require_writable(folder: Path, what: Path) -> None:
+    """Refuse before any work a `folder` (or its nearest existing ancestor) in which no
+    file can be made: a probe folder is created and removed at once."""
+    import tempfile
+
+    probe = folder
+    while not probe.exists() and probe != probe.parent:
+        probe = probe.parent
+    try:
+        Path(tempfile.mkdtemp(prefix=".robostereo-probe-", dir=probe)).rmdir()
+    except OSError as e:
+        raise InputError(f"{what}: folder {probe} is not writable ({e.strerror})") from None

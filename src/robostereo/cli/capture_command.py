@@ -1,0 +1,169 @@
+"""``robostereo capture``: two (or N) views grabbed by the (simulated) robot into a capture
+folder.
+
+Two views from the AdeptOne (the thesis's SCARA) or, with ``--robot six-axis``, the
+six-axis arm; with ``--views N``, N views in a pattern.  Every check runs before any
+work and raises :class:`~robostereo.errors.InputError` (one line, exit code 2, nothing
+written).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+from robostereo.cli._args import (
+    finite,
+    require_empty_folder,
+    require_positive,
+    require_seed,
+)
+from robostereo.cli._console import stage_reporter
+from robostereo.cli._views_args import (
+    ROBOTS,
+    add_views_options,
+    check_views_options,
+    on_pattern,
+)
+from robostereo.errors import InputError
+
+__all__ = ["add_capture_parser", "run_capture_command", "views_capture"]
+
+
+def add_capture_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "capture", help="grab two (or N) views with the (simulated) robot into a capture "
+                        "folder",
+        description="Move the AdeptOne's forearm camera to -D/2 and +D/2 about the centre "
+                    "along the baseline direction, grab an image at each (rendered by the "
+                    "simulator) and write DIR/left.png, DIR/right.png and DIR/capture.yaml.  "
+                    "With --views N: grab N views in a pattern spanning --span mm about the "
+                    "centre and write DIR/view_00.png, ... and DIR/capture.yaml (views:).",
+    )
+    p.add_argument("--out", type=Path, required=True, metavar="DIR",
+                   help="capture folder to create (must not exist, or be empty)")
+    p.add_argument("--scene", choices=("block", "pulley"), default="block",
+                   help="simulated object (block)")
+    p.add_argument("--lift", type=finite("--lift", 1e6), default=0.0,
+                   help="block: raise of its top, mm (0; the thesis's second set: 79.65)")
+    p.add_argument("--baseline", type=finite("--baseline", 1e6), default=20.0,
+                   help="baseline D, mm (20)")
+    p.add_argument("--direction", type=finite("--direction", 1e6), default=0.0,
+                   help="baseline direction from world X, degrees (0)")
+    p.add_argument("--roll", type=finite("--roll", 1e6), default=0.0,
+                   help="camera yaw against the baseline at the centre, degrees (0)")
+    p.add_argument("--center", type=finite("--center", 1e6), nargs=2, default=(400.0, 0.0),
+                   metavar=("X", "Y"), help="mid-baseline point, world mm (400 0)")
+    p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
+    p.add_argument("--robot", choices=("adeptone", "six-axis"), default="adeptone",
+                   help="simulated robot (adeptone: the thesis's SCARA)")
+    p.add_argument("--tilt", type=finite("--tilt"), default=25.0,
+                   help="six-axis: camera tilt from vertical, degrees (25)")
+    p.add_argument("--handeye", type=Path,
+                   help="six-axis: record this camera file's camera and hand_eye "
+                        "(robostereo handeye's output) instead of the truth")
+    add_views_options(p)
+    p.set_defaults(handler=run_capture_command)
+
+
+def run_capture_command(args: argparse.Namespace) -> int:
+    from robostereo.experiments import RigSetup, simulate_capture
+    from robostereo.robot.capture import write_capture
+
+    if args.views is not None or args.pattern is not None or args.span is not None:
+        return views_capture(args)
+    baseline = args.baseline
+    if args.robot == "six-axis":
+        if args.direction != 0.0 or args.roll != 0.0 or tuple(args.center) != (400.0, 0.0):
+            raise InputError("--direction, --roll and --center are for --robot adeptone; "
+                             "the six-axis arm takes --baseline, --tilt and --handeye")
+        if baseline == 20.0:  # the SCARA default; the six-axis views stand 40 mm apart
+            baseline = 40.0
+    require_seed(args.seed)
+    require_empty_folder(args.out)
+    if args.robot == "six-axis":
+        return _run_capture_six_axis(args, baseline)
+
+    setup = RigSetup(center_xy=(args.center[0], args.center[1]), baseline_mm=baseline,
+                     direction_deg=args.direction, roll_deg=args.roll)
+    sim = simulate_capture(args.scene, setup=setup, lift_mm=args.lift, seed=args.seed)
+    write_capture(args.out, sim.capture)
+    g = sim.capture.epipolar
+    print(f"{args.out}: {args.scene}, D = {g.baseline_mm:.3f} mm, alpha = "
+          f"{math.degrees(g.alpha):.3f} deg, theta_l = {math.degrees(g.theta_l):.3f} deg, "
+          f"theta_r = {math.degrees(g.theta_r):.3f} deg")
+    return 0
+
+
+def _run_capture_six_axis(args: argparse.Namespace, baseline: float) -> int:
+    from robostereo.robot.capture import write_capture
+    from robostereo.robot.handeye import load_handeye_yaml
+    from robostereo.robot.simulated.sixaxis_rig import SixAxisViewpoints, simulate_six_axis_capture
+
+    camera = hand_eye = None
+    if args.handeye is not None:
+        camera, hand_eye = load_handeye_yaml(args.handeye)
+    require_positive("--baseline", baseline)
+    if not 0 <= args.tilt < 80:
+        raise InputError(f"--tilt must be in [0, 80) degrees, got {args.tilt}")
+    vp = SixAxisViewpoints(baseline_mm=baseline, tilt_deg=args.tilt)
+    sim = simulate_six_axis_capture(args.scene, lift_mm=args.lift, seed=args.seed,
+                                    viewpoints=vp, hand_eye=hand_eye, camera=camera)
+    write_capture(args.out, sim.capture)
+    g = sim.capture.epipolar
+    print(f"{args.out}: {args.scene} from the six-axis arm, D = {g.baseline_mm:.3f} mm, "
+          f"camera tilted {args.tilt:g} deg, hand-eye "
+          f"{'from ' + str(args.handeye) if args.handeye else 'true (simulated)'}")
+    return 0
+
+
+# -- capture --views N -----------------------------------------------------------------
+
+
+def views_capture(args: argparse.Namespace) -> int:
+    """``capture --views N``: the simulated robot grabs N views into a views folder."""
+    from robostereo.robot.simulated.grab_views import simulate_views
+    from robostereo.robot.views.views_folder import write_views_capture
+
+    count, pattern, span = check_views_options(args)
+    if args.baseline != 20.0:
+        raise InputError("--baseline is for two views; with --views give --span")
+    if args.handeye is not None:
+        raise InputError("--handeye is for two views; with --views the six-axis arm records "
+                         "the hand-eye transform it estimates from simulated board views")
+    kw: dict[str, Any] = {}
+    if args.robot == "six-axis":
+        if args.direction != 0.0 or args.roll != 0.0 or tuple(args.center) != (400.0, 0.0):
+            raise InputError("--direction, --roll and --center are for --robot adeptone; "
+                             "the six-axis arm takes --tilt")
+        if not 0 <= args.tilt < 80:
+            raise InputError(f"--tilt must be in [0, 80) degrees, got {args.tilt}")
+        from robostereo.robot.simulated.sixaxis_rig import SixAxisViewpoints
+
+        kw["viewpoints"] = SixAxisViewpoints(tilt_deg=args.tilt)
+    else:
+        from robostereo.robot.simulated.scara_rig import RigSetup
+
+        kw["setup"] = RigSetup(center_xy=(args.center[0], args.center[1]),
+                               direction_deg=args.direction, roll_deg=args.roll)
+    require_seed(args.seed)
+    require_empty_folder(args.out)
+    status, say = stage_reporter(sys.stderr.isatty())
+    with status:
+        say(f"grabbing {count} views ({pattern}, {span:g} mm)")
+        sim = simulate_views(args.scene, count=count, pattern=pattern, span_mm=span,
+                             robot=ROBOTS[args.robot], lift_mm=args.lift, seed=args.seed,
+                             **kw)
+        say("writing the capture folder")
+        write_views_capture(args.out, sim.capture)
+    cap = sim.capture
+    near, far = cap.depth_range_mm
+    print(f"{args.out}: {args.scene}, {len(cap)} views {on_pattern(pattern)} spanning {span:g} mm "
+          f"(optical centres at most {cap.span_mm:.3f} mm apart), depths {near:g} .. "
+          f"{far:g} mm"
+          + (", hand-eye estimated from simulated board views"
+             if args.robot == "six-axis" else ""))
+    return 0

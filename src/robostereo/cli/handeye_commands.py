@@ -1,0 +1,187 @@
+"""``robostereo handeye`` and ``robostereo simulate-handeye``: eye-in-hand calibration
+from views of a calibration board, and a simulated views folder to calibrate from.
+
+``handeye`` reads a views folder, calls
+:func:`~robostereo.robot.handeye.calibrate_eye_in_hand`, prints the per-view and
+per-pair residuals and writes the camera file; ``simulate-handeye`` writes such a
+folder from the simulated six-axis arm.  Every user error is an
+:class:`~robostereo.errors.InputError` (one line, exit code 2, no partial output).
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from robostereo.cli._args import (
+    require_at_least,
+    require_empty_folder,
+    require_output_folder,
+    require_seed,
+    require_writable,
+)
+from robostereo.cli._camera_files import load_any_camera
+from robostereo.errors import InputError
+
+__all__ = [
+    "MAX_SIMULATED_VIEWS",
+    "add_handeye_parser",
+    "add_simulate_handeye_parser",
+    "run_handeye",
+    "run_simulate_handeye",
+]
+
+
+def add_handeye_parser(sub: Any) -> None:
+    from robostereo.robot.handeye import DEFAULT_METHOD, METHODS
+
+    p = sub.add_parser(
+        "handeye", help="eye-in-hand calibration from views of a chessboard",
+        description="From a views folder (views.yaml: the board, and per view an image "
+                    "and the flange pose the robot reported) estimate the camera's "
+                    "intrinsics and distortion (OpenCV calibrateCamera) and the "
+                    "flange-to-camera transform (AX = XB), refine both jointly on the "
+                    "board corners, print the per-view and per-pair residuals, refuse an "
+                    "implausible result (exit 2), and write camera.yaml.",
+    )
+    p.add_argument("views", type=Path, metavar="VIEWS_DIR", help="hand-eye views folder")
+    p.add_argument("-o", "--output", type=Path, required=True,
+                   help="camera file to write (camera and hand_eye)")
+    p.add_argument("--method", choices=METHODS, default=DEFAULT_METHOD,
+                   help=f"AX = XB closed form that starts the refinement ({DEFAULT_METHOD})")
+    p.add_argument("--intrinsics", type=Path, metavar="CAMERA_YAML",
+                   help="known intrinsics and distortion (a camera YAML or a handeye "
+                        "output), held fixed: only the hand-eye transform and the board "
+                        "pose are refined")
+    p.add_argument("--reject-outliers", action="store_true",
+                   help="drop the views whose residuals stand out (robust z-score > 3.5 "
+                        "of the reprojection RMS or of the AX = XB residuals of their "
+                        "pairs) and solve again once")
+    p.set_defaults(handler=run_handeye)
+
+
+_PAIRS_SHOWN = 10
+
+
+def run_handeye(args: argparse.Namespace) -> int:
+    from robostereo.io import check_outputs
+    from robostereo.robot.handeye import (
+        VIEWS_YAML,
+        calibrate_eye_in_hand,
+        describe_board,
+        read_views,
+        save_handeye_yaml,
+    )
+
+    require_output_folder(args.output)
+    camera = None
+    if args.intrinsics is not None:
+        camera, extra = load_any_camera(args.intrinsics)
+        if extra:  # the stereo camera YAML of match --camera
+            raise InputError(f"--intrinsics {args.intrinsics}: a stereo camera YAML has no "
+                             "distortion or image size; give a camera YAML or the file "
+                             "robostereo handeye wrote")
+    v = read_views(args.views)
+    # refuse an input as the output (views.yaml, an image, the intrinsics file)
+    check_outputs({"-o": args.output},
+                  inputs=[args.views / VIEWS_YAML, *v.names, args.intrinsics])
+    cal = calibrate_eye_in_hand(v.images, v.flange_poses, v.board,
+                                pixel_pitch_mm=v.pixel_pitch_mm, grey_levels=v.grey_levels,
+                                method=args.method, names=v.names, camera=camera,
+                                reject_outliers=args.reject_outliers,
+                                source=str(args.views / VIEWS_YAML))
+    save_handeye_yaml(args.output, cal)  # written whole, or not at all
+    _print_handeye(args, v, cal, describe_board(v.board))
+    return 0
+
+
+def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str) -> None:
+    cam = cal.camera
+    names = [Path(n).name for n in cal.names]
+    n = len(names)
+    print(f"{len(v.images)} views, {board}, {v.board.square_mm:g} mm squares"
+          + (f"; rejected as outliers: {', '.join(Path(r).name for r in cal.rejected)}"
+             if cal.rejected else ""))
+    pairs = cal.pairs
+    tr, rot = cal.residuals.translation_mm, cal.residuals.rotation_deg
+    ii = np.array([p[0] for p in pairs] + [p[1] for p in pairs], dtype=int)
+    cnt = np.maximum(np.bincount(ii, minlength=n), 1)
+    view_tr = np.sqrt(np.bincount(ii, np.concatenate([tr, tr]) ** 2, minlength=n) / cnt)
+    view_rot = np.sqrt(np.bincount(ii, np.concatenate([rot, rot]) ** 2, minlength=n) / cnt)
+    out = {Path(o).name for o in cal.outliers}
+    width = max(len(x) for x in names)
+    print(f"  {'view':<{width}}  reprojection RMS px  pairs' AX = XB RMS: mm    deg")
+    for k, name in enumerate(names):
+        print(f"  {name:<{width}}  {cal.per_view_rms_px[k]:19.3f}  {view_tr[k]:24.3f}  "
+              f"{view_rot[k]:.4f}{'  stands out' if name in out else ''}")
+    head = f"pair (worst {min(_PAIRS_SHOWN, len(pairs))} of {len(pairs)}; all in the output)"
+    print(f"  {head:<{2 * width + 3}}  AX vs XB: mm      deg")
+    for k in np.argsort(tr)[::-1][:_PAIRS_SHOWN]:
+        i, j = pairs[k]
+        print(f"  {names[i] + ' - ' + names[j]:<{2 * width + 3}}  {tr[k]:12.3f}  {rot[k]:.4f}")
+    print(f"camera{' (held fixed)' if args.intrinsics else ''}: fx {cam.fx:.2f} px, fy "
+          f"{cam.fy:.2f} px, principal point ({cam.principal_point[0]:.2f}, "
+          f"{cam.principal_point[1]:.2f}), distortion "
+          f"[{', '.join(f'{d:.5f}' for d in cam.distortion)}], "
+          f"RMS {cal.reprojection_rms_px:.3f} px (corner noise {cal.corner_noise_px:.3f} px)")
+    t, rv = cal.hand_eye.translation, cal.hand_eye.rotvec
+    moved = cal.closed_form.distance_to(cal.hand_eye) if cal.closed_form else (0.0, 0.0)
+    print(f"hand-eye ({args.method}, jointly refined: moved {moved[0]:.3f} mm, "
+          f"{math.degrees(moved[1]):.4f} deg): translation [{t[0]:.3f}, {t[1]:.3f}, "
+          f"{t[2]:.3f}] mm, rotation vector [{rv[0]:.5f}, {rv[1]:.5f}, {rv[2]:.5f}] rad")
+    r = cal.residuals
+    print(f"AX = XB residuals over {len(r.rotation_deg)} view pairs: rotation RMS "
+          f"{r.rms_rotation_deg:.4f} deg (max {r.rotation_deg.max():.4f}), translation RMS "
+          f"{r.rms_translation_mm:.3f} mm (max {r.translation_mm.max():.3f}; corner noise "
+          f"explains {cal.predicted_translation_rms_mm:.3f}) -> {args.output}")
+    if cal.outliers and not cal.rejected:
+        print(f"views that stand out: {', '.join(Path(o).name for o in cal.outliers)} "
+              "(--reject-outliers drops them)")
+
+
+# -- simulate-handeye ------------------------------------------------------------------
+
+
+MAX_SIMULATED_VIEWS = 200
+"""Most views ``simulate-handeye`` renders: each takes about half a second and the
+view pairs grow as n^2 (19 900 at 200), while 15-40 views already settle the result."""
+
+
+def add_simulate_handeye_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "simulate-handeye", help="write a simulated hand-eye views folder (six-axis arm)",
+        description="Render a chessboard from tilted views of the simulated six-axis arm's "
+                    "wrist camera and write a hand-eye views folder: views.yaml, the images, "
+                    "and the truth (camera, hand_eye, base_board) in truth.yaml.",
+    )
+    p.add_argument("--out", type=Path, required=True, metavar="DIR",
+                   help="views folder to create (must not exist, or be empty)")
+    p.add_argument("--views", type=int, default=15,
+                   help=f"number of views, 3 to {MAX_SIMULATED_VIEWS} (15)")
+    p.add_argument("--seed", type=int, default=0, help="viewpoint and noise seed (0)")
+    p.add_argument("--board", choices=("chessboard", "charuco"), default="chessboard",
+                   help="calibration target: a 9 x 6 chessboard or an 8 x 6 ChArUco board")
+    p.set_defaults(handler=run_simulate_handeye)
+
+
+def run_simulate_handeye(args: argparse.Namespace) -> int:
+    from robostereo.robot.handeye import Charuco, write_views
+    from robostereo.robot.simulated.sixaxis_rig import BOARD, simulate_handeye_views
+
+    require_at_least("--views", args.views, 3)
+    if args.views > MAX_SIMULATED_VIEWS:
+        raise InputError(f"--views must be <= {MAX_SIMULATED_VIEWS} (each view is rendered "
+                         f"and the pairs grow as n^2), got {args.views}")
+    require_seed(args.seed)
+    require_empty_folder(args.out)
+    require_writable(args.out.parent if str(args.out.parent) else Path("."), args.out)
+    board = Charuco() if args.board == "charuco" else BOARD
+    views, truth = simulate_handeye_views(views=args.views, seed=args.seed, board=board)
+    write_views(args.out, views, extra={"truth.yaml": truth})
+    print(f"{args.out}: {args.views} views of a {args.board}; truth in "
+          f"{args.out / 'truth.yaml'}")
+    return 0

@@ -1,0 +1,136 @@
+"""``robostereo locate``: the 3-D world coordinates of a capture folder's edge points.
+
+A two-view folder is rectified by its poses and matched (``--fuse`` merges a second
+one); a folder of N views has each edge point's ray searched in the other views, every
+view as reference.  Each point is written with its eq. 9 depth bound.  Every user error
+is an :class:`~robostereo.errors.InputError` (one line, exit code 2, no partial output).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from robostereo.cli._console import stage_reporter
+from robostereo.errors import InputError
+
+__all__ = ["add_locate_parser", "run_locate_command", "run_locate_views"]
+
+
+def add_locate_parser(sub: Any) -> None:
+    p = sub.add_parser(
+        "locate", help="3-D world coordinates of the edge points of a capture folder",
+        description="Rectify a capture folder's two views by their poses, match the edge "
+                    "points, and write world and epipolar-frame coordinates with the eq. 9 "
+                    "depth bound of every point (CSV; optionally PLY).  A folder of N views "
+                    "(capture.yaml with views:): search each edge point's ray in the other "
+                    "views, every view as reference, and write each point once with its "
+                    "bound, confidence and view count.",
+    )
+    p.add_argument("capture", type=Path, metavar="DIR", help="capture folder")
+    p.add_argument("-o", "--output", type=Path,
+                   help="points CSV (default DIR/located.csv)")
+    p.add_argument("--ply", type=Path, help="write the world points as PLY")
+    p.add_argument("--fuse", type=Path, metavar="DIR2",
+                   help="a second capture of the scene (e.g. an orthogonal baseline): write "
+                        "the two point sets merged, each point with its own bound")
+    p.set_defaults(handler=run_locate_command)
+
+
+def run_locate_command(args: argparse.Namespace) -> int:
+    from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
+    from robostereo.robot.capture import locate_capture
+
+    for d in (args.capture, args.fuse):
+        if d is not None and not d.is_dir():
+            raise InputError(f"{d}: capture folder not found")
+    from robostereo.robot.views.views_folder import is_views_folder
+
+    if any(d is not None and is_views_folder(d) for d in (args.capture, args.fuse)):
+        return run_locate_views(args)
+    if args.fuse is not None:
+        return _run_locate_fused(args)
+
+    output = args.output if args.output is not None else args.capture / "located.csv"
+    outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
+    located = locate_capture(args.capture)
+    with atomic_outputs(outs) as tmp:  # all outputs or none
+        write_csv(tmp["-o"], located.table())
+        if "--ply" in tmp:
+            write_ply(tmp["--ply"], located.world)
+    n_left, n = len(located.result.left_edges), len(located)
+    lo, hi = located.disparity_range
+    zb = located.z_bound
+    bound = f", depth bound {np.median(zb):.1f} mm (median)" if n else ""
+    print(f"{args.capture}: disparity {lo:g} .. {hi:g} px, {n_left} edge points, {n} located"
+          f"{bound} -> {output}")
+    return 0
+
+
+def _capture_files(args: argparse.Namespace) -> list[Path]:
+    """The files of the capture folders a ``locate`` reads (none may be an output)."""
+    from robostereo.robot.capture import CAPTURE_YAML
+
+    return [d / n for d in (args.capture, args.fuse) if d is not None
+            for n in (CAPTURE_YAML, "left.png", "right.png")]
+
+
+def _run_locate_fused(args: argparse.Namespace) -> int:
+    from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
+    from robostereo.robot.capture import locate_capture
+    from robostereo.robot.planning import fuse_located
+
+    output = args.output if args.output is not None else args.capture / "located-fused.csv"
+    outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
+    a, b = locate_capture(args.capture), locate_capture(args.fuse)
+    fused = fuse_located(a, b)
+    with atomic_outputs(outs) as tmp:  # all outputs or none
+        write_csv(tmp["-o"], fused.table())
+        if "--ply" in tmp:
+            write_ply(tmp["--ply"], fused.world)
+    print(f"{args.capture}: {len(a)} located; {args.fuse}: {len(b)} located; fused "
+          f"{len(fused)} points ({fused.duplicates} seen twice) -> {output}")
+    return 0
+
+
+# -- locate on an N-view folder --------------------------------------------------------
+
+
+def run_locate_views(args: argparse.Namespace) -> int:
+    """``locate DIR`` on an N-view folder: every view as reference, the points merged,
+    each with its bound, confidence and view count (CSV; optionally PLY)."""
+    from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
+    from robostereo.robot.views.views_folder import read_views_capture, views_folder_files
+
+    if args.fuse is not None:
+        raise InputError(f"--fuse merges two-view captures; {args.capture} has N views "
+                         "(locate it alone: every view pair is used)")
+    output = args.output if args.output is not None else args.capture / "located.csv"
+    outs = check_outputs({"-o": output, "--ply": args.ply},
+                         inputs=views_folder_files(args.capture))
+    capture = read_views_capture(args.capture)
+    from robostereo.robot.views.locate_views import locate_views
+
+    status, say = stage_reporter(sys.stderr.isatty())
+    with status:
+        say(f"locating the edge points of {len(capture)} views")
+        located = locate_views(capture, progress=lambda done, total: say(
+            f"locating: {done} of {total} reference views done"))
+    table = located.table()
+    with atomic_outputs(outs) as tmp:  # all outputs or none
+        write_csv(tmp["-o"], table)
+        if "--ply" in tmp:
+            write_ply(tmp["--ply"], located.world,
+                      fields={k: table[k] for k in ("bound_mm", "confidence", "view_count")})
+    n = len(located)
+    extra = ""
+    if n:
+        vc = np.asarray(located.view_count)
+        extra = (f", bound {np.median(located.bound_mm):.2f} mm (median), seen by "
+                 f"{np.median(vc):g} views (median, {int(vc.min())} .. {int(vc.max())})")
+    print(f"{args.capture}: {len(capture)} views, {n} points located{extra} -> {output}")
+    return 0
