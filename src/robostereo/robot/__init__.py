@@ -25,11 +25,14 @@ Poses (:class:`~robostereo.geometry.poses.SE3`, the SCARA
 :class:`~robostereo.geometry.poses.Pose`) and the rectification of two general poses
 live in :mod:`robostereo.geometry`.
 
-The names of :mod:`robostereo.robot.arms.scara` are re-exported here, so
-``from robostereo.robot import AdeptOne`` works as before the sub-packages existed.
+The names of :mod:`robostereo.robot.arms.scara` and
+:mod:`robostereo.robot.arms.acquisition` (the old ``robostereo.robot.scara``) are
+re-exported here, so ``from robostereo.robot import AdeptOne`` works as before the
+sub-packages existed.
 """
 
-from robostereo.robot.arms import scara
+from robostereo.robot.arms import acquisition, scara
+from robostereo.robot.arms.acquisition import *  # noqa: F403 - acquisition.__all__
 from robostereo.robot.arms.scara import *  # noqa: F403 - the names of scara.__all__
 
-__all__ = list(scara.__all__)
+__all__ = [*scara.__all__, *acquisition.__all__]
