@@ -10,13 +10,13 @@ lower layers: errors, geometry, io, matcher, simulation):
     Two views of a camera on an arm: capture folders and :func:`locate_capture`
     (rectify, match, eq. 6-9 in the robot's world frame).
 :mod:`~robostereo.robot.handeye`
-    Eye-in-hand calibration: boards, views folders, AX = XB, the joint refinement and
-    its checks.
+    Eye-in-hand calibration: boards, views folders, AX = XB, the joint refinement,
+    its checks and the camera file it writes.
 :mod:`~robostereo.robot.views`
     N viewpoints: N-view captures and folders, :func:`locate_views`, the pose check.
 :mod:`~robostereo.robot.planning`
     Eq. 9 inverted for the baseline (or N views' span), the baseline direction, fusing
-    two captures (a module; it imports :mod:`~robostereo.robot.views`).
+    two captures (it imports :mod:`~robostereo.robot.views`).
 :mod:`~robostereo.robot.simulated`
     The simulated AdeptOne rig, the six-axis experiments, N simulated views and their
     truth (imports every other part; nothing of the robot side imports it).
