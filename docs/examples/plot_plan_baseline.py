@@ -4,9 +4,9 @@ Plan the baseline for a depth accuracy
 
 Eq. 9 of the thesis bounds the depth error by three terms: the baseline's and the
 focal length's uncertainty, and the disparity's, which grows as ``Z^2 / (f D)``.
-:func:`robostereo.robot.planning.plan_baseline` inverts it: the baseline ``D`` whose
-bound at the target depth is the wanted accuracy.  Here, for the thesis's camera, the
-baseline needed at each depth for 1, 2 and 5 mm.  Where a line stops, the plan is
+:func:`robostereo.robot.planning.baseline_plan.plan_baseline` inverts it: the baseline
+``D`` whose bound at the target depth is the wanted accuracy.  Here, for the thesis's
+camera, the baseline needed at each depth for 1, 2 and 5 mm.  Where a line stops, the plan is
 refused: the disparity at the near end of the depth range would be wider than the
 image (1 mm beyond about 1 m with this 509-pixel sensor).
 """

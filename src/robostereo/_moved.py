@@ -63,7 +63,10 @@ MOVED: dict[str, tuple[str, ...]] = {
     # 0.2: robot/ by job (arms, capture, handeye, views, simulated), evaluation/ a package;
     # robostereo.robot.capture, .handeye, .views, .simulated and robostereo.evaluation are
     # packages now that export every name the old modules did
-    "robostereo.robot.scara": ("robostereo.robot.arms.scara",),
+    "robostereo.robot.scara": (
+        "robostereo.robot.arms.scara",
+        "robostereo.robot.arms.acquisition",
+    ),
     "robostereo.robot.sixaxis": ("robostereo.robot.arms.sixaxis",),
     "robostereo.robot.capture_folder": ("robostereo.robot.capture.capture_folder",),
     "robostereo.robot.handeye_views": ("robostereo.robot.handeye.boards",),

@@ -10,13 +10,13 @@ lower layers: errors, geometry, io, matcher, simulation):
     Two views of a camera on an arm: capture folders and :func:`locate_capture`
     (rectify, match, eq. 6-9 in the robot's world frame).
 :mod:`~robostereo.robot.handeye`
-    Eye-in-hand calibration: boards, views folders, AX = XB, the joint refinement and
-    its checks.
+    Eye-in-hand calibration: boards, views folders, AX = XB, the joint refinement,
+    its checks and the camera file it writes.
 :mod:`~robostereo.robot.views`
     N viewpoints: N-view captures and folders, :func:`locate_views`, the pose check.
 :mod:`~robostereo.robot.planning`
     Eq. 9 inverted for the baseline (or N views' span), the baseline direction, fusing
-    two captures (a module; it imports :mod:`~robostereo.robot.views`).
+    two captures (it imports :mod:`~robostereo.robot.views`).
 :mod:`~robostereo.robot.simulated`
     The simulated AdeptOne rig, the six-axis experiments, N simulated views and their
     truth (imports every other part; nothing of the robot side imports it).
@@ -25,11 +25,14 @@ Poses (:class:`~robostereo.geometry.poses.SE3`, the SCARA
 :class:`~robostereo.geometry.poses.Pose`) and the rectification of two general poses
 live in :mod:`robostereo.geometry`.
 
-The names of :mod:`robostereo.robot.arms.scara` are re-exported here, so
-``from robostereo.robot import AdeptOne`` works as before the sub-packages existed.
+The names of :mod:`robostereo.robot.arms.scara` and
+:mod:`robostereo.robot.arms.acquisition` (the old ``robostereo.robot.scara``) are
+re-exported here, so ``from robostereo.robot import AdeptOne`` works as before the
+sub-packages existed.
 """
 
-from robostereo.robot.arms import scara
+from robostereo.robot.arms import acquisition, scara
+from robostereo.robot.arms.acquisition import *  # noqa: F403 - acquisition.__all__
 from robostereo.robot.arms.scara import *  # noqa: F403 - the names of scara.__all__
 
-__all__ = list(scara.__all__)
+__all__ = [*scara.__all__, *acquisition.__all__]

@@ -7,10 +7,10 @@ of another size, one view, all views at one point, units -- are read into a vali
 :class:`~robostereo.errors.InputError`, never another exception; an unbroken file reads
 back the poses it was written from.  Written captures read back equal.
 :func:`~robostereo.robot.views.viewpoints.view_offsets` and
-:func:`~robostereo.robot.planning.plan_views` on generated arguments return valid
-results or refuse them; two views on a line plan as
-:func:`~robostereo.robot.planning.plan_baseline`, and a planned span reaches the wanted
-accuracy by the bound its docstring gives.  The profiles are those of
+:func:`~robostereo.robot.planning.views_plan.plan_views` on generated arguments return
+valid results or refuse them; two views on a line plan as
+:func:`~robostereo.robot.planning.baseline_plan.plan_baseline`, and a planned span
+reaches the wanted accuracy by the bound its docstring gives.  The profiles are those of
 ``tests/test_properties.py`` (``ROBOSTEREO_HYPOTHESIS``, set in ``conftest.py``).
 """
 

@@ -3,9 +3,11 @@
 Modules
 -------
 :mod:`~robostereo.robot.arms.scara`
-    The AdeptOne SCARA (section 4.1): joints, forward and inverse kinematics, the
-    :class:`Robot` and :class:`CameraDevice` protocols, the simulated forearm camera
-    and the thesis's acquisition program (:func:`acquire_stereo_pair`).
+    The AdeptOne SCARA (section 4.1): joints, limits, camera mounts, forward and
+    inverse kinematics.
+:mod:`~robostereo.robot.arms.acquisition`
+    The :class:`Robot` and :class:`CameraDevice` protocols, the simulated forearm
+    camera and the thesis's acquisition program (:func:`acquire_stereo_pair`).
 :mod:`~robostereo.robot.arms.sixaxis`
     A UR5-like six-axis arm (DH parameters, joint limits, inverse kinematics) and its
     wrist camera.
@@ -14,21 +16,23 @@ Imports: :mod:`robostereo.errors` and :mod:`robostereo.geometry` only; no other 
 :mod:`robostereo.robot`.
 """
 
+from robostereo.robot.arms.acquisition import (
+    CameraDevice,
+    Robot,
+    SimulatedCamera,
+    StereoAcquisition,
+    acquire_stereo_pair,
+)
 from robostereo.robot.arms.scara import (
     ADEPTONE_LIMITS,
     ADEPTONE_LINK1_MM,
     ADEPTONE_LINK2_MM,
     ADEPTONE_REPEATABILITY_MM,
     AdeptOne,
-    CameraDevice,
     CameraMount,
     Elbow,
     JointLimits,
     Joints,
-    Robot,
-    SimulatedCamera,
-    StereoAcquisition,
-    acquire_stereo_pair,
 )
 from robostereo.robot.arms.sixaxis import (
     UR5_DH,

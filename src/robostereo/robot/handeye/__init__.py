@@ -1,22 +1,37 @@
-"""Eye-in-hand calibration: boards, their views, the solve, the refinement, the checks.
+"""Eye-in-hand calibration: boards, their views, the solve, the refinement, the checks, the file.
 
 Modules
 -------
 :mod:`~robostereo.robot.handeye.boards`
     Calibration boards (chessboard, ChArUco), their detection, hand-eye views folders
     (``views.yaml``).
+:mod:`~robostereo.robot.handeye.ax_xb`
+    AX = XB: the motions of every pair of views and the closed forms (Tsai-Lenz,
+    Park-Martin, Daniilidis) for ``T_flange_camera``; their residuals.
 :mod:`~robostereo.robot.handeye.calibrate`
     :func:`calibrate_eye_in_hand`: ``calibrateCamera``, AX = XB and the joint
-    refinement, with the residual and plausibility checks; the camera file it writes.
+    refinement, with the residual and plausibility checks.
 :mod:`~robostereo.robot.handeye.refine`
     The joint reprojection refinement of intrinsics, hand-eye transform and board pose.
 :mod:`~robostereo.robot.handeye.checks`
     Residuals the corner noise can explain, views that stand out, implausible results.
+:mod:`~robostereo.robot.handeye.handeye_yaml`
+    The camera and hand-eye file ``robostereo handeye`` writes (``camera.yaml``).
 
 Imports: :mod:`robostereo.errors`, :mod:`robostereo.geometry` and :mod:`robostereo.io`;
 no other part of :mod:`robostereo.robot`.
 """
 
+from robostereo.robot.handeye.ax_xb import (
+    DEFAULT_METHOD,
+    METHODS,
+    HandEyeMethod,
+    HandEyeResiduals,
+    check_rotation_axes,
+    handeye_residuals,
+    motion_pairs,
+    solve_ax_xb,
+)
 from robostereo.robot.handeye.boards import (
     MIN_CHARUCO_CORNERS,
     MIN_VIEWS,
@@ -32,18 +47,8 @@ from robostereo.robot.handeye.boards import (
     write_views,
 )
 from robostereo.robot.handeye.calibrate import (
-    DEFAULT_METHOD,
-    METHODS,
     EyeInHandCalibration,
-    HandEyeMethod,
-    HandEyeResiduals,
     calibrate_eye_in_hand,
-    check_rotation_axes,
-    handeye_residuals,
-    load_handeye_yaml,
-    motion_pairs,
-    save_handeye_yaml,
-    solve_ax_xb,
 )
 from robostereo.robot.handeye.checks import (
     MAX_REPROJECTION_RMS_PX,
@@ -58,6 +63,10 @@ from robostereo.robot.handeye.checks import (
     predicted_pair_translation_mm,
     robust_z,
     view_scores,
+)
+from robostereo.robot.handeye.handeye_yaml import (
+    load_handeye_yaml,
+    save_handeye_yaml,
 )
 from robostereo.robot.handeye.refine import (
     RefinedHandEye,

@@ -1,31 +1,18 @@
-"""Eye-in-hand calibration: the camera's pose on the robot's flange (AX = XB).
+"""Eye-in-hand calibration from board views: intrinsics and the camera's flange pose.
 
 The thesis's camera pose came from the robot alone (a fixed forearm mount, 4.1).
 A camera bolted to any arm's flange needs the flange-to-camera transform
-``X = T_flange_camera``.  With the flange poses ``F_i = T_base_flange`` the robot
-reports and the board poses ``C_i = T_camera_board`` seen in each view,
-``F_i X C_i = T_base_board`` is the same for every view, so for every pair of views
-
-    ``A X = X B``,   ``A = F_j^-1 F_i``,   ``B = C_j C_i^-1``.
-
-OpenCV 5's Python package no longer exposes ``calibrateHandEye``; this module
-solves AX = XB with the published closed forms on numpy and scipy:
-
-* ``'tsai'``: Tsai and Lenz (1989), rotation from the modified Rodrigues vectors;
-* ``'park'``: Park and Martin (1994), rotation from the logarithms,
-  ``R_X = (M^T M)^(-1/2) M^T`` with ``M = sum beta_i alpha_i^T``;
-* ``'daniilidis'``: Daniilidis (1999), rotation and translation together from the
-  null space of the stacked dual-quaternion equations.
-
-For ``'tsai'`` and ``'park'`` the translation is the least-squares solution of
-``(R_A - I) t_X = R_X t_B - t_A``.  All pairs of views are used.
+``X = T_flange_camera`` and, unless they are known, the camera's intrinsics and
+distortion.
 
 :func:`calibrate_eye_in_hand` runs the whole calibration from board images: corner
-detection, :func:`cv2.calibrateCamera` (intrinsics and distortion, per-view board
-poses), AX = XB, the plausibility checks of :mod:`robostereo.robot.handeye.checks` and
-the joint refinement of :mod:`robostereo.robot.handeye.refine`.  The boards, their
-detection and the views folders are in :mod:`robostereo.robot.handeye.boards`; their
-names are re-exported here.
+detection (:mod:`robostereo.robot.handeye.boards`), :func:`cv2.calibrateCamera`
+(intrinsics and distortion, per-view board poses), the AX = XB closed forms of
+:mod:`robostereo.robot.handeye.ax_xb`, the plausibility checks of
+:mod:`robostereo.robot.handeye.checks` and the joint refinement of
+:mod:`robostereo.robot.handeye.refine`; :class:`EyeInHandCalibration` is its result.
+The file ``robostereo handeye`` writes from it is read and written by
+:mod:`robostereo.robot.handeye.handeye_yaml`.
 """
 
 from __future__ import annotations
@@ -33,17 +20,24 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Any
 
 import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.linalg import sqrtm
 from scipy.spatial.transform import Rotation
 
 from robostereo.errors import InputError
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
+from robostereo.robot.handeye.ax_xb import (
+    DEFAULT_METHOD,
+    HandEyeMethod,
+    HandEyeResiduals,
+    handeye_residuals,
+    motion_pairs,
+    solve_ax_xb,
+)
 from robostereo.robot.handeye.boards import (
     MIN_VIEWS,
     Board,
@@ -61,267 +55,9 @@ from robostereo.robot.handeye.checks import (
 )
 
 __all__ = [
-    "DEFAULT_METHOD",
-    "METHODS",
     "EyeInHandCalibration",
-    "HandEyeMethod",
-    "HandEyeResiduals",
     "calibrate_eye_in_hand",
-    "check_rotation_axes",
-    "handeye_residuals",
-    "load_handeye_yaml",
-    "motion_pairs",
-    "save_handeye_yaml",
-    "solve_ax_xb",
 ]
-
-HandEyeMethod = Literal["tsai", "park", "daniilidis"]
-METHODS: tuple[str, ...] = ("tsai", "park", "daniilidis")
-DEFAULT_METHOD: HandEyeMethod = "park"
-"""The default method: the most accurate of the three on the simulated views (see
-the hand-eye table in docs/guide/robot.md; Park-Martin and Daniilidis are within a few
-percent, Tsai-Lenz behind)."""
-MIN_AXIS_SPREAD_DEG = 2.0  # least angle between the motions' rotation axes
-
-
-def _skew(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    x, y, z = v
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-
-
-def motion_pairs(
-    flange_poses: Sequence[SE3], board_poses: Sequence[SE3]
-) -> tuple[list[SE3], list[SE3]]:
-    """The motions ``A = F_j^-1 F_i`` and ``B = C_j C_i^-1`` of every pair ``i < j``.
-
-    Parameters
-    ----------
-    flange_poses : sequence of SE3
-        ``F_i = T_base_flange`` of each view (mm).
-    board_poses : sequence of SE3
-        ``C_i = T_camera_board`` of each view (mm), e.g. from :func:`cv2.calibrateCamera`.
-
-    Returns
-    -------
-    A, B : list of SE3
-        ``n (n - 1) / 2`` motions each.
-    """
-    if len(flange_poses) != len(board_poses):
-        raise InputError(f"flange_poses and board_poses must be as many, got "
-                         f"{len(flange_poses)} and {len(board_poses)}")
-    A, B = [], []
-    n = len(flange_poses)
-    for i in range(n):
-        for j in range(i + 1, n):
-            A.append(flange_poses[j].inv() @ flange_poses[i])
-            B.append(board_poses[j] @ board_poses[i].inv())
-    return A, B
-
-
-def check_rotation_axes(A: Sequence[SE3], *, min_spread_deg: float = MIN_AXIS_SPREAD_DEG) -> None:
-    """Refuse motions whose rotations are (nearly) all about one axis.
-
-    Rotations about one axis only (as any SCARA gives: every flange rotation is about
-    the vertical) leave the hand-eye rotation's turn about that axis and the
-    translation along it undetermined.
-
-    Raises
-    ------
-    InputError
-        Fewer than two motions with a rotation of at least 1 degree, or their axes all
-        within `min_spread_deg` of one line.
-    """
-    axes = []
-    for a in A:
-        rv = a.rotvec
-        ang = float(np.linalg.norm(rv))
-        if ang > math.radians(1.0):
-            axes.append(rv / ang)
-    if len(axes) < 2:
-        raise InputError("hand-eye: the flange hardly rotates between the views (need "
-                         "rotations of at least 1 deg about two different axes)")
-    ax = np.asarray(axes)
-    # spread: largest angle between an axis and the principal axis (sign-free)
-    _, _, vt = np.linalg.svd(ax, full_matrices=False)
-    cosines = np.abs(ax @ vt[0])
-    spread = math.degrees(math.acos(min(1.0, float(cosines.min()))))
-    if spread < min_spread_deg:
-        raise InputError(
-            f"hand-eye: all flange rotations are about one axis (spread {spread:.2f} deg < "
-            f"{min_spread_deg:g} deg), as a SCARA's are; tilt the flange about at least "
-            "two different axes between the views"
-        )
-
-
-def _translation(A: Sequence[SE3], B: Sequence[SE3], R: NDArray[np.float64]) -> NDArray:
-    M = np.vstack([a.rotation - np.eye(3) for a in A])
-    rhs = np.concatenate([R @ b.translation - a.translation for a, b in zip(A, B, strict=True)])
-    t, *_ = np.linalg.lstsq(M, rhs, rcond=None)
-    return t
-
-
-def _tsai(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
-    rows, rhs = [], []
-    for a, b in zip(A, B, strict=True):
-        ra, rb = a.rotvec, b.rotvec
-        ta, tb = np.linalg.norm(ra), np.linalg.norm(rb)
-        pa = 2.0 * math.sin(ta / 2) * (ra / ta) if ta > 1e-12 else np.zeros(3)
-        pb = 2.0 * math.sin(tb / 2) * (rb / tb) if tb > 1e-12 else np.zeros(3)
-        rows.append(_skew(pa + pb))
-        rhs.append(pb - pa)
-    pc_, *_ = np.linalg.lstsq(np.vstack(rows), np.concatenate(rhs), rcond=None)
-    pc = 2.0 * pc_ / math.sqrt(1.0 + float(pc_ @ pc_))
-    n2 = float(pc @ pc)
-    R = (1.0 - n2 / 2.0) * np.eye(3) + 0.5 * (np.outer(pc, pc)
-                                              + math.sqrt(4.0 - n2) * _skew(pc))
-    return SE3(R, _translation(A, B, R))
-
-
-def _park(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
-    M = np.zeros((3, 3))
-    for a, b in zip(A, B, strict=True):
-        M += np.outer(b.rotvec, a.rotvec)
-    R = np.real(np.linalg.inv(sqrtm(M.T @ M))) @ M.T
-    u, _, vt = np.linalg.svd(R)
-    # the nearest rotation (det +1): garbled poses can make the nearest orthogonal
-    # matrix a reflection, which the plausibility checks then catch
-    R = u @ np.diag([1.0, 1.0, float(np.sign(np.linalg.det(u @ vt)))]) @ vt
-    return SE3(R, _translation(A, B, R))
-
-
-def _dual_quaternion(T: SE3) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    x, y, z, w = Rotation.from_matrix(T.rotation).as_quat()
-    q = np.array([w, x, y, z])
-    t = np.concatenate([[0.0], T.translation])
-    return q, 0.5 * _qmul(t, q)
-
-
-def _qmul(p: NDArray[np.float64], q: NDArray[np.float64]) -> NDArray[np.float64]:
-    pw, pv = p[0], p[1:]
-    qw, qv = q[0], q[1:]
-    return np.concatenate([[pw * qw - pv @ qv], pw * qv + qw * pv + np.cross(pv, qv)])
-
-
-def _daniilidis(A: Sequence[SE3], B: Sequence[SE3]) -> SE3:
-    rows = []
-    for a, b in zip(A, B, strict=True):
-        qa, qa_d = _dual_quaternion(a)
-        qb, qb_d = _dual_quaternion(b)
-        if qa[0] * qb[0] < 0:  # one sign for both (A and B turn by the same angle)
-            qb, qb_d = -qb, -qb_d
-        va, vb, va_d, vb_d = qa[1:], qb[1:], qa_d[1:], qb_d[1:]
-        S = np.zeros((6, 8))
-        S[:3, 0] = va - vb
-        S[:3, 1:4] = _skew(va + vb)
-        S[3:, 0] = va_d - vb_d
-        S[3:, 1:4] = _skew(va_d + vb_d)
-        S[3:, 4] = va - vb
-        S[3:, 5:8] = _skew(va + vb)
-        rows.append(S)
-    _, _, vt = np.linalg.svd(np.vstack(rows))
-    v7, v8 = vt[-2], vt[-1]
-    u1, w1, u2, w2 = v7[:4], v7[4:], v8[:4], v8[4:]
-    a_ = u1 @ w1
-    b_ = u1 @ w2 + u2 @ w1
-    c_ = u2 @ w2
-    disc = max(b_ * b_ - 4 * a_ * c_, 0.0)
-    if abs(a_) < 1e-15:
-        roots = [-c_ / b_] if abs(b_) > 1e-15 else [0.0]
-    else:
-        roots = [(-b_ + math.sqrt(disc)) / (2 * a_), (-b_ - math.sqrt(disc)) / (2 * a_)]
-    vals = [s * s * (u1 @ u1) + 2 * s * (u1 @ u2) + u2 @ u2 for s in roots]
-    k = int(np.argmax(vals))
-    s = roots[k]
-    l2 = 1.0 / math.sqrt(vals[k])
-    l1 = s * l2
-    q = l1 * u1 + l2 * u2
-    q_d = l1 * w1 + l2 * w2
-    q_conj = q * np.array([1.0, -1.0, -1.0, -1.0])
-    t = 2.0 * _qmul(q_d, q_conj)[1:]
-    R = Rotation.from_quat([q[1], q[2], q[3], q[0]]).as_matrix()
-    return SE3(R, t)
-
-
-_SOLVERS = {"tsai": _tsai, "park": _park, "daniilidis": _daniilidis}
-
-
-def solve_ax_xb(
-    A: Sequence[SE3], B: Sequence[SE3], *, method: HandEyeMethod = DEFAULT_METHOD
-) -> SE3:
-    """Solve ``A_i X = X B_i`` for the rigid transform ``X`` (closed forms).
-
-    Parameters
-    ----------
-    A, B : sequence of SE3
-        Paired motions (:func:`motion_pairs`): flange motions ``A_i`` and camera
-        motions ``B_i``, millimetres.
-    method : {'park', 'tsai', 'daniilidis'}
-        Tsai-Lenz, Park-Martin or Daniilidis (module docstring).
-
-    Returns
-    -------
-    SE3
-        ``X = T_flange_camera``.
-
-    Raises
-    ------
-    InputError
-        Unknown method, fewer than two motions, rotations about one axis only.
-
-    References
-    ----------
-    R. Tsai, R. Lenz, IEEE Trans. Robotics and Automation 5(3), 1989;
-    F. Park, B. Martin, IEEE Trans. Robotics and Automation 10(5), 1994;
-    K. Daniilidis, Int. J. Robotics Research 18(3), 1999.
-
-    Examples
-    --------
-    >>> X = SE3.from_rotvec([10.0, -5.0, 80.0], [0.2, -0.1, 0.3])
-    >>> A = [SE3.from_rotvec([1, 2, 3], [0.5, 0, 0]), SE3.from_rotvec([0, 5, 1], [0, 0.4, 0.2])]
-    >>> B = [X.inv() @ a @ X for a in A]
-    >>> [round(v, 9) for v in X.distance_to(solve_ax_xb(A, B, method="tsai"))]
-    [0.0, 0.0]
-    """
-    if method not in _SOLVERS:
-        raise InputError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-    if len(A) != len(B) or len(A) < 2:
-        raise InputError(f"hand-eye needs at least 2 paired motions, got {len(A)} and {len(B)}")
-    check_rotation_axes(A)
-    return _SOLVERS[method](A, B)
-
-
-@dataclass(frozen=True)
-class HandEyeResiduals:
-    """How well ``X`` fits ``A_i X = X B_i``.
-
-    Attributes
-    ----------
-    rotation_deg : ndarray, shape (M,)
-        Angle of ``(A_i X)^-1 (X B_i)`` per motion, degrees.
-    translation_mm : ndarray, shape (M,)
-        Norm of its translation ``|R_A t_X + t_A - R_X t_B - t_X|``, millimetres.
-    """
-
-    rotation_deg: NDArray[np.float64]
-    translation_mm: NDArray[np.float64]
-
-    @property
-    def rms_rotation_deg(self) -> float:
-        return float(np.sqrt(np.mean(self.rotation_deg**2)))
-
-    @property
-    def rms_translation_mm(self) -> float:
-        return float(np.sqrt(np.mean(self.translation_mm**2)))
-
-
-def handeye_residuals(A: Sequence[SE3], B: Sequence[SE3], X: SE3) -> HandEyeResiduals:
-    """AX = XB residuals of `X` on each motion pair (:class:`HandEyeResiduals`)."""
-    rot, tr = [], []
-    for a, b in zip(A, B, strict=True):
-        lhs, rhs = a @ X, X @ b
-        rot.append(math.degrees((lhs.inv() @ rhs).angle))
-        tr.append(float(np.linalg.norm(lhs.translation - rhs.translation)))
-    return HandEyeResiduals(np.asarray(rot), np.asarray(tr))
 
 
 @dataclass(frozen=True, eq=False)
@@ -518,7 +254,8 @@ def calibrate_eye_in_hand(
     grey_levels : int
         Grey levels of the camera (for the :class:`Camera` returned).
     method : {'park', 'tsai', 'daniilidis'}
-        AX = XB closed form (:func:`solve_ax_xb`) that starts the refinement.
+        AX = XB closed form (:func:`~robostereo.robot.handeye.ax_xb.solve_ax_xb`) that
+        starts the refinement.
     names : sequence of str, optional
         View names for messages (default ``view 0``, ``view 1``, ...).
     fix_k3 : bool
@@ -552,14 +289,16 @@ def calibrate_eye_in_hand(
 
     Notes
     -----
-    1. :func:`detect_board` in every view.
+    1. :func:`~robostereo.robot.handeye.boards.detect_board` in every view.
     2. :func:`cv2.calibrateCamera` (``k1, k2, p1, p2, k3``), or :func:`cv2.solvePnP`
        with the known `camera`, gives ``C_i = T_camera_board`` per view.
-    3. :func:`motion_pairs`, :func:`solve_ax_xb` (Tsai-Lenz or Park-Martin rotation,
-       then ``(R_A - I) t_X = R_X t_B - t_A``), :func:`handeye_residuals`; with
+    3. :func:`~robostereo.robot.handeye.ax_xb.motion_pairs`,
+       :func:`~robostereo.robot.handeye.ax_xb.solve_ax_xb` (Tsai-Lenz or Park-Martin
+       rotation, then ``(R_A - I) t_X = R_X t_B - t_A``),
+       :func:`~robostereo.robot.handeye.ax_xb.handeye_residuals`; with
        `reject_outliers`, the worst view that stands out is dropped and 2-3 repeated.
     4. The corner noise's prediction of the pair translation residuals (:func:`~robostereo.
-       robot.handeye_checks.predicted_pair_translation_mm`) bounds them; a result
+       robot.handeye.checks.predicted_pair_translation_mm`) bounds them; a result
        beyond the bounds is refused.
     5. Joint refinement of the intrinsics (unless known), ``X`` and ``T_base_board`` on
        all corners, flange poses fixed (Strobl and Hirzinger 2006; Koide and Menegatti
@@ -645,36 +384,3 @@ def calibrate_eye_in_hand(
         corner_noise_px=st.noise, predicted_translation_rms_mm=st.predicted,
         outliers=tuple(labels[i] for i in np.flatnonzero(flagged)), rejected=tuple(rejected),
     )
-
-
-def save_handeye_yaml(path: Any, calibration: EyeInHandCalibration) -> None:
-    """Write ``camera.yaml`` (:meth:`EyeInHandCalibration.to_dict`) atomically."""
-    import yaml
-
-    from robostereo.io import atomic_path
-
-    text = yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None)
-    with atomic_path(path) as tmp:
-        tmp.write_text(text, encoding="utf-8")
-
-
-def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
-    """Read the camera and ``T_flange_camera`` of a ``robostereo handeye`` file."""
-    from pathlib import Path
-
-    import yaml
-
-    from robostereo.errors import require_file
-    from robostereo.geometry.camera import camera_from_dict
-    from robostereo.geometry.poses import as_se3, pose_from_dict
-
-    p = require_file(path, "hand-eye camera file")
-    try:
-        data = yaml.safe_load(Path(p).read_text(encoding="utf-8"))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
-        raise InputError(f"{p}: not a readable YAML file ({exc.__class__.__name__})") from None
-    if not isinstance(data, dict) or "camera" not in data or "hand_eye" not in data:
-        raise InputError(f"{p}: expected the keys camera and hand_eye (robostereo handeye's "
-                         "output)")
-    camera = camera_from_dict(data["camera"], source=f"{p}: camera")
-    return camera, as_se3(pose_from_dict(data["hand_eye"], source=f"{p}: hand_eye"))

@@ -102,7 +102,7 @@ def predicted_pair_translation_mm(rvecs: Sequence[ArrayLike], tvecs: Sequence[Ar
     -------
     ndarray, shape (N (N - 1) / 2,)
         Root of the expected squared residual, mm, in the order of
-        :func:`~robostereo.robot.handeye.calibrate.motion_pairs`.
+        :func:`~robostereo.robot.handeye.ax_xb.motion_pairs`.
 
     Notes
     -----

@@ -1,6 +1,6 @@
 """Joint refinement of an eye-in-hand calibration on the board corners' reprojection.
 
-The closed forms of :mod:`robostereo.robot.handeye.calibrate` solve AX = XB on board poses that
+The closed forms of :mod:`robostereo.robot.handeye.ax_xb` solve AX = XB on board poses that
 :func:`cv2.calibrateCamera` estimated view by view, with intrinsics that carry the corner
 detector's systematic error; the hand-eye transform inherits both.  Every view also
 says, through the robot, where the camera was: with the flange poses ``F_i`` held fixed,

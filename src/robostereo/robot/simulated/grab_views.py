@@ -29,7 +29,8 @@ import numpy as np
 from robostereo.errors import InputError, require_finite
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
-from robostereo.robot.arms.scara import AdeptOne, CameraMount, SimulatedCamera
+from robostereo.robot.arms.acquisition import SimulatedCamera
+from robostereo.robot.arms.scara import AdeptOne, CameraMount
 from robostereo.robot.arms.sixaxis import WRIST_CAMERA, WRIST_HAND_EYE, SixAxisArm
 from robostereo.robot.handeye import EyeInHandCalibration, calibrate_eye_in_hand
 from robostereo.robot.simulated.scara_rig import RigSetup, block_scene, pulley_scene

@@ -32,7 +32,8 @@ from numpy.typing import NDArray
 
 from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
 from robostereo.geometry.camera import SEED_CAMERA, Camera
-from robostereo.robot.arms.scara import AdeptOne, CameraMount, SimulatedCamera, acquire_stereo_pair
+from robostereo.robot.arms.acquisition import SimulatedCamera, acquire_stereo_pair
+from robostereo.robot.arms.scara import AdeptOne, CameraMount
 from robostereo.robot.capture.capture_folder import Capture, capture_from_acquisition
 from robostereo.simulation.primitives import Box
 from robostereo.simulation.render import Rendering, render
@@ -212,9 +213,10 @@ def simulate_capture(
 
     Notes
     -----
-    The thesis's acquisition (4.1, 4.2.1): :func:`robostereo.robot.arms.scara.acquire_stereo_pair`
-    moves the camera to ``centre -+ (D/2) u``, grabbing at each; the poses the robot
-    reports go into the capture.
+    The thesis's acquisition (4.1, 4.2.1):
+    :func:`robostereo.robot.arms.acquisition.acquire_stereo_pair` moves the camera to
+    ``centre -+ (D/2) u``, grabbing at each; the poses the robot reports go into the
+    capture.
     """
     su = setup or RigSetup()
     if kind not in ("block", "pulley"):

@@ -1,0 +1,57 @@
+"""The camera and hand-eye file of ``robostereo handeye`` (``camera.yaml``).
+
+:func:`save_handeye_yaml` writes an
+:class:`~robostereo.robot.handeye.calibrate.EyeInHandCalibration` (its
+:meth:`~robostereo.robot.handeye.calibrate.EyeInHandCalibration.to_dict` mapping: the
+camera, ``T_flange_camera``, the residuals per view and per pair of views);
+:func:`load_handeye_yaml` reads back the camera and ``T_flange_camera`` (as
+``robostereo capture --handeye`` does).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from robostereo.errors import InputError
+from robostereo.geometry.camera import Camera
+from robostereo.geometry.poses import SE3
+from robostereo.robot.handeye.calibrate import EyeInHandCalibration
+
+__all__ = [
+    "load_handeye_yaml",
+    "save_handeye_yaml",
+]
+
+
+def save_handeye_yaml(path: Any, calibration: EyeInHandCalibration) -> None:
+    """Write ``camera.yaml``
+    (:meth:`~robostereo.robot.handeye.calibrate.EyeInHandCalibration.to_dict`) atomically."""
+    import yaml
+
+    from robostereo.io import atomic_path
+
+    text = yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None)
+    with atomic_path(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+
+
+def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
+    """Read the camera and ``T_flange_camera`` of a ``robostereo handeye`` file."""
+    from pathlib import Path
+
+    import yaml
+
+    from robostereo.errors import require_file
+    from robostereo.geometry.camera import camera_from_dict
+    from robostereo.geometry.poses import as_se3, pose_from_dict
+
+    p = require_file(path, "hand-eye camera file")
+    try:
+        data = yaml.safe_load(Path(p).read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise InputError(f"{p}: not a readable YAML file ({exc.__class__.__name__})") from None
+    if not isinstance(data, dict) or "camera" not in data or "hand_eye" not in data:
+        raise InputError(f"{p}: expected the keys camera and hand_eye (robostereo handeye's "
+                         "output)")
+    camera = camera_from_dict(data["camera"], source=f"{p}: camera")
+    return camera, as_se3(pose_from_dict(data["hand_eye"], source=f"{p}: hand_eye"))
