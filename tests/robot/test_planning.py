@@ -21,8 +21,8 @@ from robostereo.robot.planning import (
     plan_views,
     views_baseline_factor,
 )
+from robostereo.robot.simulated.block_experiments import run_fused_block
 from robostereo.robot.simulated.scara_rig import RigSetup, block_scene, simulate_capture
-from robostereo.robot.simulated.sixaxis_rig import run_fused_block
 from robostereo.robot.views.viewpoints import view_offsets
 
 

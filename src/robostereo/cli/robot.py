@@ -124,7 +124,7 @@ def run_demo_command(args: argparse.Namespace) -> int:
 def _run_demo_six_axis(args: argparse.Namespace) -> int:
     from robostereo.io import check_outputs
     from robostereo.robot.handeye import save_handeye_yaml
-    from robostereo.robot.simulated.sixaxis_rig import run_six_axis_block
+    from robostereo.robot.simulated.block_experiments import run_six_axis_block
 
     for name in ("capture-low", "capture-high"):
         d = args.out / name
@@ -508,7 +508,7 @@ def add_simulate_handeye_parser(sub: Any) -> None:
 
 def run_simulate_handeye(args: argparse.Namespace) -> int:
     from robostereo.robot.handeye import Charuco, write_views
-    from robostereo.robot.simulated.sixaxis_rig import BOARD, simulate_handeye_views
+    from robostereo.robot.simulated.sixaxis_handeye import BOARD, simulate_handeye_views
 
     require_at_least("--views", args.views, 3)
     if args.views > MAX_SIMULATED_VIEWS:

@@ -22,7 +22,7 @@ from robostereo.robot.handeye import (
     solve_ax_xb,
     write_views,
 )
-from robostereo.robot.simulated.sixaxis_rig import simulate_handeye_views
+from robostereo.robot.simulated.sixaxis_handeye import simulate_handeye_views
 
 X_TRUE = SE3.from_rotvec([30.0, -10.0, 60.0], [0.1, -0.3, 1.2])
 BOARD_IN_BASE = SE3.from_rotvec([500.0, 0.0, 0.0], [0.0, 0.0, 0.3])
