@@ -13,14 +13,14 @@ each for every noise seed of `--seeds`.  Each located point is right or wrong by
 points placed by edge votes left out (``edge_votes=None``; their confidence is fitted by
 ``benchmarks/fit_votes_confidence.py``), so the features do not depend on the weights and
 `--cache` may keep them between runs.
-The features are those of :func:`robostereo.robot.views.locate_views.views_confidence` (a two-view
+The features are those of :func:`robostereo.robot.views.located_points.views_confidence` (a two-view
 fit's residual is zero whatever its match, so the number of views enters as a feature,
 and whether views left out of the fit see the point and find an edge there); the
 weights are fitted by iteratively reweighted least squares (a logistic regression) on
 every seed but one and scored on the one left out (with one seed: every scene but one):
 the share of wrong points, the mean confidence, and the expected calibration error over
 ten bins (and that of the weights in the source).  The next line prints the weights
-fitted on every seed, which :data:`robostereo.robot.views.locate_views.CONFIDENCE_WEIGHTS` holds.
+fitted on every seed, which :data:`robostereo.robot.views.located_points.CONFIDENCE_WEIGHTS` holds.
 
 Then the least confidence of a reported point (``ViewsParameters.min_confidence``): the
 least level, in steps of 0.01, at which each hub-pulley scene of 5 views (SCARA and
@@ -41,12 +41,9 @@ import numpy as np
 
 from robostereo.robot.simulated.grab_views import post_before_a_printed_plane, simulate_views
 from robostereo.robot.simulated.views_truth import views_correct
-from robostereo.robot.views.locate_views import (
-    ViewsParameters,
-    confidence_features,
-    locate_views,
-    views_confidence,
-)
+from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.located_points import confidence_features, views_confidence
+from robostereo.robot.views.views_parameters import ViewsParameters
 
 
 def _fit(x: np.ndarray, y: np.ndarray, iterations: int = 50) -> np.ndarray:

@@ -4,8 +4,8 @@ Run:  python benchmarks/fit_votes_confidence.py [--seeds 0,1,2,3]
 
 Scenes (simulated, with ground truth): the six-axis arm's hub-pulley from 5 views on a
 line and in a cross over 80 mm, for every noise seed of `--seeds`, located with the
-default :class:`~robostereo.robot.views.locate_views.ViewsParameters`; every point placed by edge
-votes (:func:`~robostereo.robot.views.edge_votes.vote_fits`, a NaN ``window_cost``) is kept
+default :class:`~robostereo.robot.views.views_parameters.ViewsParameters`; every point placed
+by edge votes (:func:`~robostereo.robot.views.edge_votes.vote_fits`, a NaN ``window_cost``) is kept
 (the module's weights are set so that none falls below the level while this runs) and
 is right or wrong by :func:`robostereo.robot.simulated.views_truth.views_correct`.  The feature is
 the fit's residual RMS (px); the weights are fitted by iteratively reweighted least
@@ -25,7 +25,8 @@ from fit_views_confidence import _ece, _fit
 import robostereo.robot.views.edge_votes as votes
 from robostereo.robot.simulated.grab_views import simulate_views
 from robostereo.robot.simulated.views_truth import views_correct
-from robostereo.robot.views.locate_views import ViewsParameters, locate_views
+from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.views_parameters import ViewsParameters
 
 
 def main() -> int:

@@ -217,8 +217,8 @@ def test_views_pulley_score_counts_the_true_points_of_a_distorted_camera_as_matc
     # every edge point of the central view is matched and right)
     from robostereo.robot.simulated.grab_views import simulate_views
     from robostereo.robot.simulated.views_truth import views_pulley_score
-    from robostereo.robot.views.locate_views import LocatedViews
-    from robostereo.robot.views.ray_search import prepare_views, reference_edges
+    from robostereo.robot.views.located_points import LocatedViews
+    from robostereo.robot.views.prepared_views import prepare_views, reference_edges
 
     sim = simulate_views("pulley", count=3, span_mm=40.0, robot="six-axis")
     ref, cam = 1, sim.capture.camera

@@ -16,7 +16,7 @@ import numpy as np
 
 from robostereo.robot.arms.sixaxis import WRIST_HAND_EYE
 from robostereo.robot.handeye import calibrate_eye_in_hand
-from robostereo.robot.simulated.sixaxis_rig import simulate_handeye_views
+from robostereo.robot.simulated.sixaxis_handeye import simulate_handeye_views
 
 
 def error(estimate):

@@ -73,8 +73,16 @@ MOVED: dict[str, tuple[str, ...]] = {
     "robostereo.robot.handeye_refine": ("robostereo.robot.handeye.refine",),
     "robostereo.robot.handeye_checks": ("robostereo.robot.handeye.checks",),
     "robostereo.robot.views_folder": ("robostereo.robot.views.views_folder",),
-    "robostereo.robot.multiview": ("robostereo.robot.views.locate_views",),
-    "robostereo.robot.multiview_search": ("robostereo.robot.views.ray_search",),
+    "robostereo.robot.multiview": (
+        "robostereo.robot.views.locate_views",
+        "robostereo.robot.views.views_parameters",
+        "robostereo.robot.views.located_points",
+    ),
+    "robostereo.robot.multiview_search": (
+        "robostereo.robot.views.prepared_views",
+        "robostereo.robot.views.ray_search",
+        "robostereo.robot.views.point_refinement",
+    ),
     "robostereo.robot.multiview_votes": ("robostereo.robot.views.edge_votes",),
     "robostereo.robot.multiview_kernels": ("robostereo.robot.views.views_kernels",),
     "robostereo.robot.pose_check": ("robostereo.robot.views.pose_check",),

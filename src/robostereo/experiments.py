@@ -46,7 +46,8 @@ from robostereo.robot.simulated.views_truth import (
     views_outline_coverage,
     views_pulley_score,
 )
-from robostereo.robot.views.locate_views import ViewsParameters, locate_views
+from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.views_parameters import ViewsParameters
 from robostereo.simulation import Box
 
 __all__ = [

@@ -10,7 +10,7 @@ import yaml
 
 from robostereo.cli import main
 from robostereo.robot.handeye import write_views
-from robostereo.robot.simulated.sixaxis_rig import simulate_handeye_views
+from robostereo.robot.simulated.sixaxis_handeye import simulate_handeye_views
 
 
 @pytest.fixture(scope="module")

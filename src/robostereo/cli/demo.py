@@ -87,7 +87,7 @@ def run_demo_command(args: argparse.Namespace) -> int:
 def _run_demo_six_axis(args: argparse.Namespace) -> int:
     from robostereo.io import check_outputs
     from robostereo.robot.handeye import save_handeye_yaml
-    from robostereo.robot.simulated.sixaxis_rig import run_six_axis_block
+    from robostereo.robot.simulated.block_experiments import run_six_axis_block
 
     for name in ("capture-low", "capture-high"):
         d = args.out / name

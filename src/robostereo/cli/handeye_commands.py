@@ -170,7 +170,7 @@ def add_simulate_handeye_parser(sub: Any) -> None:
 
 def run_simulate_handeye(args: argparse.Namespace) -> int:
     from robostereo.robot.handeye import Charuco, write_views
-    from robostereo.robot.simulated.sixaxis_rig import BOARD, simulate_handeye_views
+    from robostereo.robot.simulated.sixaxis_handeye import BOARD, simulate_handeye_views
 
     require_at_least("--views", args.views, 3)
     if args.views > MAX_SIMULATED_VIEWS:

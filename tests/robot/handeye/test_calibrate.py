@@ -16,7 +16,7 @@ from robostereo.robot.handeye import (
     read_views,
     write_views,
 )
-from robostereo.robot.simulated.sixaxis_rig import simulate_handeye_views
+from robostereo.robot.simulated.sixaxis_handeye import simulate_handeye_views
 
 
 @pytest.fixture(scope="module")

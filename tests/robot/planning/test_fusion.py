@@ -11,8 +11,8 @@ from robostereo.cli import main
 from robostereo.errors import InputError
 from robostereo.robot.capture import write_capture
 from robostereo.robot.planning.fusion import fuse_located
+from robostereo.robot.simulated.block_experiments import run_fused_block
 from robostereo.robot.simulated.scara_rig import RigSetup, block_scene, simulate_capture
-from robostereo.robot.simulated.sixaxis_rig import run_fused_block
 
 
 def test_orthogonal_baselines_fuse_more_of_the_block():

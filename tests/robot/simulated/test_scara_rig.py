@@ -27,6 +27,8 @@ def test_the_simulated_rigs_import_no_application_module():
     """The library's simulated rigs stand alone: importing them loads none of the
     command line, the experiments, the plots or the batch runner."""
     code = ("import sys, robostereo.robot.simulated.sixaxis_rig, "
+            "robostereo.robot.simulated.sixaxis_handeye, "
+            "robostereo.robot.simulated.block_experiments, "
             "robostereo.robot.simulated.scara_rig; "
             "print(sorted(m for m in sys.modules if m.split('.')[0] == 'robostereo' and "
             "m.split('.')[1:2] in (['cli'], ['cli_robot'], ['experiments'], ['plots'], "

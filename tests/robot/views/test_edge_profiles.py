@@ -15,8 +15,9 @@ from robostereo.robot.views.edge_profiles import (
     profiles,
     two_step_edges,
 )
-from robostereo.robot.views.locate_views import ViewsParameters, locate_views
+from robostereo.robot.views.locate_views import locate_views
 from robostereo.robot.views.viewpoints import ViewsCapture
+from robostereo.robot.views.views_parameters import ViewsParameters
 
 SUB = 3  # rays a pixel across: edges at multiples of 1/3 px are where the renderer puts them
 BLUR = 0.9

@@ -6,12 +6,9 @@ import pytest
 from robostereo.errors import InputError
 from robostereo.robot.simulated.grab_views import post_before_a_printed_plane, simulate_views
 from robostereo.robot.simulated.views_truth import views_block_truth, views_correct
-from robostereo.robot.views.locate_views import (
-    LocatedViews,
-    ViewsParameters,
-    locate_views,
-    views_bound,
-)
+from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.located_points import LocatedViews
+from robostereo.robot.views.views_parameters import ViewsParameters
 from robostereo.simulation import Box
 
 
@@ -42,27 +39,11 @@ def test_located_views_table_has_one_row_per_point(block_line):
     assert np.all(loc.reference[:, None] >= 0)
 
 
-def test_bound_of_views_on_a_line_shrinks_with_the_spread_of_the_baselines():
-    f = 25.0 / 0.0172
-    kw = dict(focal_px=f, pixel_pitch_mm=0.0172, disparity_uncertainty_px=0.2,
-              baseline_uncertainty_mm=0.0, focal_length_uncertainty_mm=0.0)
-    two = views_bound([1000.0], [np.sqrt(2) / (f * 20.0)], **kw)[0]
-    # eq. 9's disparity term for two views 20 mm apart
-    assert two == pytest.approx(1000.0**2 * 0.2 / (f * 20.0))
-    b = np.array([-40.0, -20.0, 0.0, 20.0, 40.0])
-    five = views_bound([1000.0], [1.0 / (f * np.sqrt(np.sum((b - b.mean())**2)))], **kw)[0]
-    assert five == pytest.approx(1000.0**2 * 0.2 / np.sqrt(2) / (f * np.sqrt(4000.0)))
-
-
-def test_bad_input_raises_one_line_input_errors():
+def test_bad_input_raises_one_line_input_errors(block_line):
     with pytest.raises(InputError, match="ViewsCapture"):
         locate_views("not a capture")  # type: ignore[arg-type]
-    with pytest.raises(InputError, match="half_window"):
-        ViewsParameters(half_window=0)
-    with pytest.raises(InputError, match="step_px"):
-        ViewsParameters(step_px=-1.0)
-    with pytest.raises(InputError, match="min_confidence"):
-        ViewsParameters(min_confidence=1.5)
+    with pytest.raises(InputError, match="ViewsParameters"):
+        locate_views(block_line[0].capture, params="not parameters")  # type: ignore[arg-type]
 
 
 @pytest.fixture(scope="module")
@@ -75,7 +56,7 @@ def occluder():
 def _hidden_plane_edges(sim):
     """The central view's edge points on the plane (5 x 5 pixels all at the plane's
     depth) hidden in one view or more, by the renderings: (pixels, depths, hidden)."""
-    from robostereo.robot.views.ray_search import prepare_views, reference_edges
+    from robostereo.robot.views.prepared_views import prepare_views, reference_edges
 
     views = prepare_views(sim.capture)
     edges = reference_edges(views, 2, 8.0, 5)

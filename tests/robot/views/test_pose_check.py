@@ -15,15 +15,16 @@ import pytest
 from robostereo.errors import InputError, PlausibilityWarning
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3, as_se3, se3_from_scara
-from robostereo.robot.views.locate_views import ViewsParameters, locate_views
+from robostereo.robot.views.locate_views import locate_views
 from robostereo.robot.views.pose_check import (
     EpipolarCheck,
     epipolar_check,
     fundamental_from_poses,
     views_epipolar_checks,
 )
-from robostereo.robot.views.ray_search import prepare_views
+from robostereo.robot.views.prepared_views import prepare_views
 from robostereo.robot.views.viewpoints import ViewsCapture
+from robostereo.robot.views.views_parameters import ViewsParameters
 
 CAMERA = Camera(focal_length_mm=8.0, pixel_pitch_mm=(0.01, 0.01), image_size=(320, 240),
                 grey_levels=256)

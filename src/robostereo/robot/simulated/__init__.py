@@ -9,8 +9,15 @@ Modules
     The simulated AdeptOne rig (sections 4.1-4.2): the set-up (:class:`RigSetup`), the
     block and hub-pulley scenes and their captures (:func:`simulate_capture`).
 :mod:`~robostereo.robot.simulated.sixaxis_rig`
-    The simulated six-axis experiments: hand-eye views, tilted captures, the block
-    from an estimated hand-eye, the block fused from two baselines.
+    The simulated six-axis rig: the block on the table, two tilted viewpoints and their
+    capture (:func:`simulate_six_axis_capture`), the renderer's options.
+:mod:`~robostereo.robot.simulated.sixaxis_handeye`
+    Hand-eye views of a board on the table from the six-axis arm
+    (:func:`simulate_handeye_views`).
+:mod:`~robostereo.robot.simulated.block_experiments`
+    The block from the six-axis arm with an estimated hand-eye
+    (:func:`run_six_axis_block`), and from the AdeptOne along two baselines fused
+    (:func:`run_fused_block`).
 :mod:`~robostereo.robot.simulated.grab_views`
     Either simulated robot grabbing N views in a pattern (:func:`simulate_views`).
 :mod:`~robostereo.robot.simulated.views_truth`
@@ -20,6 +27,13 @@ Imports: everything below it, :mod:`robostereo.simulation` and every other part 
 :mod:`robostereo.robot`; nothing in the robot side imports it.
 """
 
+from robostereo.robot.simulated.block_experiments import (
+    FusedBlockGain,
+    SixAxisBlock,
+    SixAxisHeight,
+    run_fused_block,
+    run_six_axis_block,
+)
 from robostereo.robot.simulated.grab_views import (
     ROBOTS,
     SimulatedViews,
@@ -36,19 +50,14 @@ from robostereo.robot.simulated.scara_rig import (
     pulley_scene,
     simulate_capture,
 )
+from robostereo.robot.simulated.sixaxis_handeye import BOARD, board_scene, simulate_handeye_views
 from robostereo.robot.simulated.sixaxis_rig import (
     BLOCK_CENTER_XY,
-    BOARD,
+    BLOCK_SIZE,
     SIX_AXIS_RENDER,
-    FusedBlockGain,
-    SixAxisBlock,
     SixAxisCapture,
-    SixAxisHeight,
     SixAxisViewpoints,
-    board_scene,
-    run_fused_block,
-    run_six_axis_block,
-    simulate_handeye_views,
+    render_six_axis,
     simulate_six_axis_capture,
     six_axis_block_scene,
 )
@@ -61,6 +70,7 @@ from robostereo.robot.simulated.views_truth import (
 
 __all__ = [
     "BLOCK_CENTER_XY",
+    "BLOCK_SIZE",
     "BOARD",
     "ROBOTS",
     "SEED_LIFT_MM",
@@ -79,6 +89,7 @@ __all__ = [
     "estimated_hand_eye",
     "post_before_a_printed_plane",
     "pulley_scene",
+    "render_six_axis",
     "run_fused_block",
     "run_six_axis_block",
     "simulate_capture",

@@ -34,10 +34,10 @@ from robostereo.robot.arms.scara import AdeptOne, CameraMount
 from robostereo.robot.arms.sixaxis import WRIST_CAMERA, WRIST_HAND_EYE, SixAxisArm
 from robostereo.robot.handeye import EyeInHandCalibration, calibrate_eye_in_hand
 from robostereo.robot.simulated.scara_rig import RigSetup, block_scene, pulley_scene
+from robostereo.robot.simulated.sixaxis_handeye import simulate_handeye_views
 from robostereo.robot.simulated.sixaxis_rig import (
     SIX_AXIS_RENDER,
     SixAxisViewpoints,
-    simulate_handeye_views,
     six_axis_block_scene,
 )
 from robostereo.robot.views.viewpoints import PATTERNS, ViewsCapture, view_offsets

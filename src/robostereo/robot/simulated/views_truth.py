@@ -19,8 +19,8 @@ from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
 from robostereo.robot.simulated.grab_views import SimulatedViews
-from robostereo.robot.views.locate_views import LocatedViews
-from robostereo.robot.views.ray_search import prepare_views, reference_edges
+from robostereo.robot.views.located_points import LocatedViews
+from robostereo.robot.views.prepared_views import prepare_views, reference_edges
 from robostereo.simulation import Box
 
 __all__ = [

@@ -9,10 +9,19 @@ Modules
     N-view capture folders: ``capture.yaml`` with a list of views; a two-view folder
     reads as N = 2.
 :mod:`~robostereo.robot.views.locate_views`
-    :func:`locate_views`: each view the reference in turn, the bound of eq. 9
-    generalised, a confidence per point.
+    :func:`locate_views`: each view the reference in turn, its stages run, the points
+    gathered and reported once.
+:mod:`~robostereo.robot.views.views_parameters`
+    :class:`ViewsParameters`, its tuning.
+:mod:`~robostereo.robot.views.located_points`
+    :class:`LocatedViews`, its result: each point's bound (eq. 9 generalised,
+    :func:`views_bound`) and confidence (:func:`views_confidence`).
+:mod:`~robostereo.robot.views.prepared_views`
+    Its first stages: the views prepared, the reference's edge points.
 :mod:`~robostereo.robot.views.ray_search`
-    Its stages: views prepared, reference edges, rays searched, points refined.
+    Each reference edge point's ray searched in inverse depth; the ray's geometry.
+:mod:`~robostereo.robot.views.point_refinement`
+    Each 3-D point refined by least squares over the views that agree.
 :mod:`~robostereo.robot.views.edge_votes`
     Edge votes where windows fail, the views left out at occlusions.
 :mod:`~robostereo.robot.views.pose_check`
@@ -27,13 +36,12 @@ Imports: :mod:`robostereo.errors`, :mod:`robostereo.geometry`, :mod:`robostereo.
 format); not the arms, hand-eye, planning or the simulators.
 """
 
-from robostereo.robot.views.locate_views import (
+from robostereo.robot.views.locate_views import locate_views, reference_order
+from robostereo.robot.views.located_points import (
     CONFIDENCE_WEIGHTS,
     LocatedViews,
-    ViewsParameters,
     confidence_features,
-    locate_views,
-    reference_order,
+    confidence_features_from,
     views_bound,
     views_confidence,
 )
@@ -62,6 +70,7 @@ from robostereo.robot.views.views_folder import (
     views_folder_files,
     write_views_capture,
 )
+from robostereo.robot.views.views_parameters import ViewsParameters
 
 __all__ = [
     "CONFIDENCE_WEIGHTS",
@@ -76,6 +85,7 @@ __all__ = [
     "ViewsCapture",
     "ViewsParameters",
     "confidence_features",
+    "confidence_features_from",
     "corners_to_track",
     "epipolar_check",
     "fundamental_from_poses",

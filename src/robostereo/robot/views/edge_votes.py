@@ -11,7 +11,7 @@
   and at each the views whose edge lies where they see the point [1]_;
 * :func:`vote_fits`: the depths that enough views agree on, refined by least squares
   over those views' edge points
-  (:func:`~robostereo.robot.views.ray_search.refine_points`);
+  (:func:`~robostereo.robot.views.point_refinement.refine_points`);
 * :func:`votes_confidence`: the probability that such a point is right.
 
 Why a second way: near an occluding edge (a rim or a hub in front of a web or a table)
@@ -34,18 +34,16 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
+from robostereo.robot.views.point_refinement import RefinedPoints, refine_points
+from robostereo.robot.views.prepared_views import PreparedViews, ReferenceEdges
 from robostereo.robot.views.ray_search import (
-    PreparedViews,
     RayMatches,
-    ReferenceEdges,
-    RefinedPoints,
     bilinear,
     carried_normals,
     depth_plane_maps,
     epipolar_sines,
     projection_terms,
     ray_directions,
-    refine_points,
 )
 from robostereo.robot.views.views_kernels import edge_near
 
@@ -115,7 +113,7 @@ def edge_votes(views: PreparedViews, ref: int, edges: ReferenceEdges,
     1. Candidates: in each view whose epipolar line crosses the edge at ``asin(min_sine)``
        or more, the inverse depths over `depth_range` in steps that move the point
        `step_px` in that view; where the gradient along the carried-over normal
-       (:attr:`~robostereo.robot.views.ray_search.PreparedViews.fine_gx`) peaks at
+       (:attr:`~robostereo.robot.views.prepared_views.PreparedViews.fine_gx`) peaks at
        ``threshold / 2`` or more, refined by a parabola.
     2. At each candidate, every other view in which the point falls `border` pixels
        inside the image looks for the sub-pixel edge point nearest its projection
@@ -208,7 +206,8 @@ def vote_fits(views: PreparedViews, ref: int, edges: ReferenceEdges,
         would give them: the agreeing views at cost 0, the others not seen; no window
         costs (NaN).
     fit : RefinedPoints
-        :func:`~robostereo.robot.views.ray_search.refine_points` over the agreeing views.
+        :func:`~robostereo.robot.views.point_refinement.refine_points` over the agreeing
+        views.
     ok : bool (K,)
         Fits that still rest on ``min_votes + 1`` views (the reference included), one of
         which measures the depth (its epipolar line crosses the edge at

@@ -34,7 +34,7 @@ from robostereo.errors import (
     require_nonnegative,
     warn_input,
 )
-from robostereo.robot.views.ray_search import PreparedViews
+from robostereo.robot.views.prepared_views import PreparedViews
 
 __all__ = [
     "EPIPOLAR_TOLERANCE_DEG",
@@ -332,7 +332,7 @@ def views_epipolar_checks(views: PreparedViews, ref: int,
     Parameters
     ----------
     views : PreparedViews
-        :func:`~robostereo.robot.views.ray_search.prepare_views` of a capture.
+        :func:`~robostereo.robot.views.prepared_views.prepare_views` of a capture.
     ref : int
         The view whose corners are tracked.
     depth_range_mm : tuple of float

@@ -1,4 +1,5 @@
-"""numba kernels of the N-view search (:mod:`robostereo.robot.views.ray_search`).
+"""numba kernels of the N-view search (:mod:`robostereo.robot.views.prepared_views`,
+:mod:`~robostereo.robot.views.ray_search`, :mod:`~robostereo.robot.views.point_refinement`).
 
 * :func:`sweep_costs`: each reference edge point's window scored in every other view at
   every inverse depth of its ray (zero-mean normalised cross-correlation, bilinear
@@ -386,7 +387,7 @@ def edge_near(gx, gy, ux, uy, nx, ny, reach, threshold, border, lines):  # type:
 def normal_residuals(e_ref, n_ref, t, rho, k_inv, r_ref, c_ref, rs, cs, kk,  # type: ignore[no-untyped-def]
                      edge, normal):
     """Normal distances of each view's edge point to the projection of a point on a
-    reference ray (the residuals of :class:`robostereo.robot.views.ray_search._Fit`).
+    reference ray (the residuals of :class:`robostereo.robot.views.point_refinement._Fit`).
 
     Parameters
     ----------

@@ -1,10 +1,25 @@
-"""Tests of the N-view confidence's evidence from the views left out of a fit."""
+"""Tests of robostereo.robot.views.located_points: each N-view point's bound (eq. 9
+generalised) and confidence (the evidence of the views left out of a fit)."""
 
 import numpy as np
 import pytest
 
 from robostereo.robot.simulated.views_truth import views_correct
-from robostereo.robot.views.locate_views import ViewsParameters, locate_views, views_confidence
+from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.located_points import views_bound, views_confidence
+from robostereo.robot.views.views_parameters import ViewsParameters
+
+
+def test_bound_of_views_on_a_line_shrinks_with_the_spread_of_the_baselines():
+    f = 25.0 / 0.0172
+    kw = dict(focal_px=f, pixel_pitch_mm=0.0172, disparity_uncertainty_px=0.2,
+              baseline_uncertainty_mm=0.0, focal_length_uncertainty_mm=0.0)
+    two = views_bound([1000.0], [np.sqrt(2) / (f * 20.0)], **kw)[0]
+    # eq. 9's disparity term for two views 20 mm apart
+    assert two == pytest.approx(1000.0**2 * 0.2 / (f * 20.0))
+    b = np.array([-40.0, -20.0, 0.0, 20.0, 40.0])
+    five = views_bound([1000.0], [1.0 / (f * np.sqrt(np.sum((b - b.mean())**2)))], **kw)[0]
+    assert five == pytest.approx(1000.0**2 * 0.2 / np.sqrt(2) / (f * np.sqrt(4000.0)))
 
 
 def test_views_left_out_against_a_point_or_none_to_check_it_lower_its_confidence():

@@ -1,0 +1,251 @@
+"""What the N-view locate reports: :class:`LocatedViews`, each point's bound and confidence.
+
+* :func:`views_bound`: the depth bound of eq. 9 generalised to N views, from the
+  least-squares fit's spread (:func:`~robostereo.robot.views.point_refinement.refine_points`);
+* :func:`views_confidence`: the probability that a located point is right, a logistic
+  function (:data:`CONFIDENCE_WEIGHTS`) of its match's quality, the features
+  :func:`confidence_features` gives (:func:`confidence_features_from` for the search's
+  fields before the points are gathered).
+
+:func:`~robostereo.robot.views.locate_views.locate_views` fills them in; the
+points voted by the views' edges have a confidence of their own
+(:func:`~robostereo.robot.views.edge_votes.votes_confidence`).
+
+References
+----------
+Kim (1989), the thesis, 3.7 (eq. 6-9).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "CONFIDENCE_WEIGHTS",
+    "LocatedViews",
+    "confidence_features",
+    "confidence_features_from",
+    "views_bound",
+    "views_confidence",
+]
+
+_F = NDArray[np.float64]
+
+CONFIDENCE_WEIGHTS = (7.482, 5.25, -4.392, -19.64, 0.001, -1.09, -7.969, -2.812)
+"""Logistic weights of :func:`views_confidence`: intercept, combined window cost,
+distinctness, residual RMS (px), share of the other views used, two-view fit (1 or 0),
+share of the views that see the point left out of the fit and against it, unchecked
+two-view fit (1 or 0).
+
+Fitted by ``benchmarks/fit_views_confidence.py --seeds 0,1,2`` on eight simulated scenes
+(the hub-pulley from 5 views on a line, in a cross, from the six-axis arm on a line and
+in a cross, and from a pair of views; the block on a line and in a cross; a post before
+a printed plane), noise seeds 0-2, right or wrong by the renderings' truth.  With one
+seed held out at a time the expected calibration error was 0.0004-0.022 (the pair the
+worst).  The five features before these two (fitted once on seed 0, before the edge
+points moved off the thesis's smoothed image and before two-view fits were checked)
+put the six-axis arm's fits that a view left out finds no edge for (53-61 % right over
+seeds 0-6 of its cross of 5) at a mean confidence of 0.64-0.67, and its two-view fits
+that the views left out confirm (99.2 % right) at 0.89-0.91."""
+
+
+@dataclass(frozen=True, eq=False)
+class LocatedViews:
+    """Edge points located from N views.
+
+    Attributes
+    ----------
+    world : ndarray, shape (M, 3)
+        World points, mm.
+    bound_mm : ndarray, shape (M,)
+        Depth bound along the reference's optical axis (:func:`views_bound`), mm.
+    confidence : ndarray, shape (M,)
+        Probability that the point is right (:func:`views_confidence`).
+    view_count : ndarray of int, shape (M,)
+        Views that saw the point (the reference included).
+    reference : ndarray of int, shape (M,)
+        The reference view each point was found from.
+    pixel : ndarray, shape (M, 2)
+        ``(x, y)`` in the reference view's grabbed image.
+    depth_mm : ndarray, shape (M,)
+        Depth along the reference's optical axis, mm.
+    views : ndarray of bool, shape (M, N)
+        Which views saw each point.
+    residual_px : ndarray, shape (M,)
+        RMS of the fit's normal residuals, pixels.
+    window_cost : ndarray, shape (M,)
+        The views' combined ``1 - ZNCC`` at the point's depth (NaN: placed by edge votes,
+        ``ViewsParameters.edge_votes``).
+    distinct : ndarray, shape (M,)
+        That cost over the best one at least three depth steps away (small: distinct;
+        NaN: placed by edge votes).
+    views_seen : ndarray of int, shape (M,)
+        Other views whose image holds the point's window.
+    views_checked : ndarray of int, shape (M,)
+        Other views left out of the fit in which the point falls inside the image.
+    views_against : ndarray of int, shape (M,)
+        Those of them that find no edge where they see the point
+        (:func:`~robostereo.robot.views.edge_votes.left_out_views`).
+    """
+
+    world: _F
+    bound_mm: _F
+    confidence: _F
+    view_count: NDArray[np.intp]
+    reference: NDArray[np.intp]
+    pixel: _F
+    depth_mm: _F
+    views: NDArray[np.bool_]
+    residual_px: _F
+    window_cost: _F
+    distinct: _F
+    views_seen: NDArray[np.intp]
+    views_checked: NDArray[np.intp]
+    views_against: NDArray[np.intp]
+
+    def __len__(self) -> int:
+        return int(self.world.shape[0])
+
+    def subset(self, keep: ArrayLike) -> LocatedViews:
+        """The points selected by `keep` (boolean mask or indices, shape (M,))."""
+        k = np.asarray(keep)
+        return LocatedViews(**{f: getattr(self, f)[k] for f in self.__dataclass_fields__})
+
+    def table(self) -> dict[str, NDArray[Any]]:
+        """Columns for a CSV: ``X_w, Y_w, Z_w`` (world mm), ``bound_mm``, ``confidence``,
+        ``view_count``, ``reference``, ``u, v`` (reference's grabbed image), ``depth_mm``,
+        ``residual_px``."""
+        return {
+            "X_w": self.world[:, 0], "Y_w": self.world[:, 1], "Z_w": self.world[:, 2],
+            "bound_mm": self.bound_mm, "confidence": self.confidence,
+            "view_count": self.view_count, "reference": self.reference,
+            "u": self.pixel[:, 0], "v": self.pixel[:, 1], "depth_mm": self.depth_mm,
+            "residual_px": self.residual_px,
+        }
+
+
+def views_bound(depth_mm: ArrayLike, rho_std_unit: ArrayLike, *, focal_px: float,
+                pixel_pitch_mm: float, disparity_uncertainty_px: float,
+                baseline_uncertainty_mm: float, focal_length_uncertainty_mm: float
+                ) -> _F:
+    """Eq. 9 generalised to N views: ``Z dD / D_eff + Z ds / s + Z^2 dd / (f D_eff)``.
+
+    Parameters
+    ----------
+    depth_mm : array_like, shape (M,)
+        ``Z``, depth along the reference's optical axis.
+    rho_std_unit : array_like, shape (M,)
+        ``sqrt([(J^T J)^-1]_rho)`` of the least-squares fit in ``(t, 1/Z)`` per pixel of
+        edge position error in each view
+        (:func:`~robostereo.robot.views.point_refinement.refine_points`).
+    focal_px, pixel_pitch_mm : float
+        ``f`` in pixels and the pixel pitch (``s = f pitch`` in mm).
+    disparity_uncertainty_px, baseline_uncertainty_mm, focal_length_uncertainty_mm : float
+        ``d(disp)``, ``dD`` and ``ds`` of eq. 9.
+
+    Returns
+    -------
+    ndarray, shape (M,)
+
+    Notes
+    -----
+    A disparity is the difference of two edge positions, so each view's position is
+    given ``d(disp) / sqrt 2``; the fit's inverse depth then has the spread
+    ``rho_std_unit d(disp) / sqrt 2`` and the depth ``Z^2`` times that.  The effective
+    baseline ``D_eff`` is the one for which eq. 9's disparity term equals this.  For two
+    views and an edge across the baseline, ``rho_std_unit = sqrt 2 / (f D)``: eq. 9
+    exactly.  For views on a line at ``b_i`` it is ``1 / (f sqrt(sum (b_i - mean b)^2))``:
+    the least-squares slope of the edge positions against the baseline.
+
+    Examples
+    --------
+    Two views 20 mm apart at 1000 mm with the thesis's camera equal eq. 9 (35.3 mm for
+    one pixel of disparity, 0.5 + 0.4 + 34.4 mm):
+
+    >>> f = 25.0 / 0.0172
+    >>> float(views_bound([1000.0], [np.sqrt(2) / (f * 20.0)], focal_px=f,
+    ...     pixel_pitch_mm=0.0172, disparity_uncertainty_px=1.0,
+    ...     baseline_uncertainty_mm=0.01, focal_length_uncertainty_mm=0.01)[0]).__round__(1)
+    35.3
+    """
+    z = np.asarray(depth_mm, dtype=float)
+    u = np.asarray(rho_std_unit, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        disp_term = z**2 * u * disparity_uncertainty_px / np.sqrt(2.0)
+        d_eff = np.sqrt(2.0) / (focal_px * u)
+        return (z * baseline_uncertainty_mm / d_eff
+                + z * focal_length_uncertainty_mm / (focal_px * pixel_pitch_mm) + disp_term)
+
+
+def views_confidence(combined: ArrayLike, distinct: ArrayLike, residual_px: ArrayLike,
+                     used_share: ArrayLike, two_view: ArrayLike, against_share: ArrayLike,
+                     unchecked: ArrayLike) -> _F:
+    """Probability that a located point is right, from its match's quality.
+
+    Parameters
+    ----------
+    combined, distinct, residual_px, used_share : array_like, shape (M,)
+        The combined window cost, the distinctness of the best depth (its cost over the
+        next best's), the fit's residual RMS (pixels) and the share of the other views
+        whose edge point agreed.
+    two_view : array_like, shape (M,)
+        1 where the fit rests on two views (the reference and one other), else 0.
+    against_share : array_like, shape (M,)
+        Of the other views that see the point (those in the fit and those left out in
+        which it falls inside the image), the share left out that find no edge where
+        they see it (:func:`~robostereo.robot.views.edge_votes.left_out_views`).
+    unchecked : array_like, shape (M,)
+        1 where a two-view fit has no other view in which the point falls, else 0.
+
+    Returns
+    -------
+    ndarray, shape (M,)
+        A logistic function of the seven (:data:`CONFIDENCE_WEIGHTS`).
+
+    Notes
+    -----
+    Two views' edge points always meet in one 3-D point, so a two-view fit's residual is
+    zero whether the match is right or wrong: it has no degrees of freedom and is no
+    evidence.  The two-view indicator lets the model take that back (on the six-axis
+    arm's cross of 5 views, a fifth of its two-view points were wrong against 1 % of
+    the others, all with zero residual).  What checks such a fit is the views left out
+    of it: a view along whose epipolar line the edge runs cannot vote on the depth but
+    must still see an edge where the point falls.  A two-view fit with a view against
+    it is not reported (``ViewsParameters.check_two_view_fits``); one that no other view
+    sees is unchecked; a fit of three or more views that a view left out finds no edge
+    for is often a fit to the wrong one of two edges.
+    """
+    w = CONFIDENCE_WEIGHTS
+    s = (w[0] + w[1] * np.asarray(combined, float) + w[2] * np.asarray(distinct, float)
+         + w[3] * np.asarray(residual_px, float) + w[4] * np.asarray(used_share, float)
+         + w[5] * np.asarray(two_view, float) + w[6] * np.asarray(against_share, float)
+         + w[7] * np.asarray(unchecked, float))
+    return 1.0 / (1.0 + np.exp(-s))
+
+
+def confidence_features(located: LocatedViews) -> _F:
+    """The features of :func:`views_confidence` for each located point, shape (M, 7):
+    window cost, distinctness, residual RMS (px), share of the other views used,
+    two-view fit (1.0 or 0.0), share of the views that see the point left out and
+    against it, unchecked two-view fit (1.0 or 0.0)."""
+    return confidence_features_from(located.window_cost, located.distinct, located.residual_px,
+                     located.view_count, located.views_seen, located.views_checked,
+                     located.views_against)
+
+
+def confidence_features_from(combined: _F, distinct: _F, residual_px: _F,
+                             view_count: NDArray[np.intp], views_seen: NDArray[np.intp],
+                             looked: NDArray[np.intp], against: NDArray[np.intp]) -> _F:
+    """:func:`confidence_features` from the points' fields, each shape (M,): the window
+    cost, distinctness, residual RMS (px), views in the fit (the reference included),
+    other views that see the window, views left out that see the point and those of
+    them against it; shape (M, 7)."""
+    share = (view_count - 1) / np.maximum(views_seen, 1)
+    two = view_count <= 2
+    against_share = against / np.maximum(view_count - 1 + looked, 1)
+    return np.column_stack([combined, distinct, residual_px, share, two, against_share,
+                            two & (looked == 0)]).astype(float)
