@@ -106,7 +106,7 @@ def _plane_views(baselines: tuple[float, ...], depth: float, size: tuple[int, in
     """Views of a fronto-parallel plane of diagonal stripes `depth` mm away, optical
     centres along x at `baselines` (mm), focal length 1000 px: prepared as
     :func:`~robostereo.robot.views.ray_search.prepare_views` does, by hand."""
-    from robostereo.matcher.edges import smooth
+    from robostereo.matcher.grey_levels import smooth
     from robostereo.robot.views.ray_search import PreparedViews
 
     h, w = size
