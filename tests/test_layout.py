@@ -29,12 +29,12 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("robostereo.simulation", "robostereo.evaluation", "robostereo.rig"),
     ("robostereo.robot",),
     ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
-     "robostereo.batch_workers"),
+     "robostereo.batch_inputs", "robostereo.batch_workers"),
     ("robostereo.cli",),
 )
 #: the application layer, which the library never imports
 APPLICATION = ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
-               "robostereo.batch_workers", "robostereo.cli")
+               "robostereo.batch_inputs", "robostereo.batch_workers", "robostereo.cli")
 #: lines a module may have at most (numba kernel modules excepted)
 MAX_LINES = 700
 
