@@ -30,7 +30,8 @@ import numpy as np
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.evaluation import CURVE_LEVELS, coverage_curve
 from robostereo.matcher.confidence import DEFAULT_MODEL, FEATURES
-from robostereo.matcher.edges import detect_edges, to_grey
+from robostereo.matcher.edges import detect_edges
+from robostereo.matcher.grey_levels import to_grey
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
 from robostereo.matcher.window_match import window_match
 

@@ -181,7 +181,8 @@ def peak_mib(method: str, name: str, options: dict[str, bool]) -> float:
 
 def _stage_times(name: str, repeat: int, params: MatchParameters) -> dict[str, float]:
     """Median ms of each stage of robostereo on pair ``name`` (see :func:`profile`)."""
-    from robostereo.matcher.edges import detect_edges, to_grey
+    from robostereo.matcher.edges import detect_edges
+    from robostereo.matcher.grey_levels import to_grey
     from robostereo.matcher.window_costs import PATH_PENALTIES, coarse_range, window_costs
     from robostereo.matcher.window_match import COARSE_MIN_DISPARITIES, window_match
 

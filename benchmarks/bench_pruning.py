@@ -42,7 +42,7 @@ from bench_match import _time_rounds
 from scipy.ndimage import maximum_filter, minimum_filter
 
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
-from robostereo.matcher.edges import to_grey
+from robostereo.matcher.grey_levels import to_grey
 from robostereo.matcher.pipeline import match_stereo
 from robostereo.matcher.window_costs import coarse_matches, window_costs
 from robostereo.matcher.window_kernels import HALF_WINDOW

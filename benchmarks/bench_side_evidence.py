@@ -38,7 +38,7 @@ import numpy as np
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.evaluation import RULES, coverage_curve, depth_step_mask, near_steps, rule_errors
 from robostereo.matcher.confidence import DEFAULT_MODEL, FEATURES
-from robostereo.matcher.edges import to_grey
+from robostereo.matcher.grey_levels import to_grey
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
 from robostereo.matcher.window_costs import window_costs
 from robostereo.matcher.window_kernels import OUT_OF_VIEW

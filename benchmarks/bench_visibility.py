@@ -46,7 +46,7 @@ from robostereo.evaluation.visibility import (
     left_visibility,
     visibility_figures,
 )
-from robostereo.matcher.edges import to_grey
+from robostereo.matcher.grey_levels import to_grey
 from robostereo.matcher.pipeline import MatchParameters, match_stereo, searched_range
 from robostereo.matcher.window_costs import window_costs
 from robostereo.simulation.occluders import occluder_pair

@@ -1,4 +1,5 @@
-"""Tests for robostereo.batch and ``robostereo batch``: local pool vs Dask, resume, failures."""
+"""Tests for robostereo.batch (its inputs: batch_inputs) and ``robostereo batch``: local pool vs
+Dask, resume, failures."""
 
 from __future__ import annotations
 
@@ -11,7 +12,8 @@ import numpy as np
 import pytest
 from synthetic import synthetic_pair
 
-from robostereo.batch import BatchOptions, find_inputs, process_input, run_batch
+from robostereo.batch import BatchOptions, run_batch
+from robostereo.batch_inputs import find_inputs, process_input
 from robostereo.cli import main
 from robostereo.errors import InputError
 

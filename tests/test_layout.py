@@ -29,12 +29,12 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("robostereo.simulation", "robostereo.evaluation", "robostereo.rig"),
     ("robostereo.robot",),
     ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
-     "robostereo.batch_workers"),
+     "robostereo.batch_inputs", "robostereo.batch_workers"),
     ("robostereo.cli",),
 )
 #: the application layer, which the library never imports
 APPLICATION = ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
-               "robostereo.batch_workers", "robostereo.cli")
+               "robostereo.batch_inputs", "robostereo.batch_workers", "robostereo.cli")
 #: the robot side's sub-packages, lowest first: each imports only its own or lower ones
 ROBOT_LAYERS: tuple[tuple[str, ...], ...] = (
     ("robostereo.robot.arms", "robostereo.robot.capture", "robostereo.robot.handeye"),

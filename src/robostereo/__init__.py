@@ -70,7 +70,8 @@ from robostereo.geometry.triangulation import StereoCamera, triangulate
 from robostereo.io.calibration_files import read_calibration
 from robostereo.io.images import load_image
 from robostereo.matcher.candidates import SimilarityWeights
-from robostereo.matcher.edges import EdgeSet, detect_edges
+from robostereo.matcher.edge_features import EdgeSet
+from robostereo.matcher.edges import detect_edges
 from robostereo.matcher.parameters import MatchParameters
 from robostereo.matcher.pipeline import MatchResult, match_stereo
 from robostereo.matcher.relaxation import RelaxationParameters

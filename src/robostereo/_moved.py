@@ -25,7 +25,8 @@ __all__ = ["MOVED", "install"]
 MOVED: dict[str, tuple[str, ...]] = {
     # the matcher (one folder, kernels apart)
     "robostereo.pipeline": ("robostereo.matcher.pipeline", "robostereo.matcher.parameters"),
-    "robostereo.edges": ("robostereo.matcher.edges",),
+    "robostereo.edges": ("robostereo.matcher.edges", "robostereo.matcher.edge_features",
+                         "robostereo.matcher.grey_levels"),
     "robostereo.matching": ("robostereo.matcher.candidates",),
     "robostereo.relaxation": ("robostereo.matcher.relaxation",),
     "robostereo.confidence": ("robostereo.matcher.confidence",),

@@ -129,7 +129,7 @@ def test_pair_similarity_is_the_seed_formula_and_checks_its_indices(rng):
     """GI, PI, AI, the profile factor and w of random pairs, against the formulas of
     3.2-3.3 written out in NumPy; indices outside the edge sets are refused."""
     from robostereo.matcher.candidates import SimilarityWeights, pair_similarity
-    from robostereo.matcher.edges import pattern_difference
+    from robostereo.matcher.edge_features import pattern_difference
 
     img = (rng.uniform(0, 1, (40, 90)) > 0.5).astype(np.uint8) * 200
     left, right = detect_edges(img), detect_edges(np.roll(img, 3, axis=0))

@@ -164,7 +164,7 @@ def test_rgb_to_grey_equals_numpy_rounded_once_per_multiply_add():
 @pytest.mark.skipif(not _fma_machine(), reason="OpenCV's loops use FMA only with AVX2/FMA")
 @pytest.mark.parametrize("width", [1, 7, 8, 29, 61, 741])
 def test_grey_conversion_gives_opencv_values(width):
-    from robostereo.matcher.edges import _colour_to_grey
+    from robostereo.matcher.grey_levels import _colour_to_grey
 
     rgb = np.random.default_rng(width).integers(0, 256, (6, width, 3), np.uint8)
     want = cv2.cvtColor(rgb.astype(np.float32), cv2.COLOR_RGB2GRAY)
@@ -221,7 +221,7 @@ def test_fine_positions_from_grey_equal_those_from_opencvs_column_blur(blur):
 
 @pytest.mark.parametrize("dtype", [np.uint8, np.int8, np.uint16, np.int16])
 def test_integer_greys_scale_in_one_pass_as_numpy_in_two(dtype):
-    from robostereo.matcher.edges import to_grey
+    from robostereo.matcher.grey_levels import to_grey
 
     info = np.iinfo(dtype)
     img = np.random.default_rng(4).integers(info.min, info.max, (6, 13), endpoint=True)

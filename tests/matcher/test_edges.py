@@ -9,32 +9,9 @@ from synthetic import render_profile
 
 from robostereo.errors import InputError
 from robostereo.evaluation.outlines import RowBoundaries, boundary_offsets
-from robostereo.matcher.edges import (
-    SEED_KERNEL,
-    detect_edges,
-    pattern_difference,
-    pattern_type,
-    smooth,
-    to_grey,
-)
+from robostereo.matcher.edges import detect_edges
+from robostereo.matcher.grey_levels import smooth, to_grey
 from robostereo.simulation.occluders import occluder_pair
-
-
-def test_seed_kernel_is_figure_3_1_normalised():
-    raw = SEED_KERNEL * 127  # 16 x 2 + 8 x 10 + 15 = 127 (seed-notes' "126" is a slip)
-    assert raw[2, 2] == pytest.approx(15)
-    assert raw[1:4, 1:4].sum() == pytest.approx(8 * 10 + 15)
-    assert SEED_KERNEL.sum() == pytest.approx(1.0)
-    assert np.allclose(raw, raw.T) and np.allclose(raw, raw[::-1, ::-1])
-
-
-def test_smoothing_keeps_constant_and_spreads_an_impulse():
-    assert np.allclose(smooth(np.full((9, 9), 50.0)), 50.0)
-    img = np.zeros((9, 9), np.float32)
-    img[4, 4] = 127
-    out = smooth(img)
-    assert out[4, 4] == pytest.approx(15) and out[3, 4] == pytest.approx(10)
-    assert out[2, 2] == pytest.approx(2) and out[1, 1] == pytest.approx(0)
 
 
 def test_grey_scale_is_the_same_contrast_at_any_bit_depth():
@@ -95,24 +72,6 @@ def test_pattern_types_of_a_slanted_edge():
     assert 13 <= e.pattern[0] <= 15 and 10 <= e.pattern[-1] <= 12
     assert e.up[0] == -1 and e.down[-1] == -1
     assert np.all(e.up[1:] == np.arange(10)) and np.all(e.down[:-1] == np.arange(1, 11))
-
-
-def test_pattern_type_numbering_covers_1_to_16():
-    u, v = np.meshgrid([-1, 0, 1], [-1, 0, 1], indexing="ij")
-    both = pattern_type(u.ravel(), v.ravel(), True, True)
-    assert sorted(both.tolist()) == list(range(1, 10))
-    assert pattern_type([-1, 0, 1], 0, True, False).tolist() == [10, 11, 12]
-    assert pattern_type(0, [-1, 0, 1], False, True).tolist() == [13, 14, 15]
-    assert pattern_type(0, 0, False, False).item() == 16
-
-
-def test_pattern_difference_by_hand():
-    # upper: both at offset 0 -> 0; lower: left -1, right +1 -> 2
-    assert pattern_difference(0, -1, True, True, 0, 1, True, True).item() == 2
-    # upper: one connected, the other not -> 3; lower: both absent -> 0
-    assert pattern_difference(0, 0, True, False, 0, 0, False, False).item() == 3
-    assert pattern_difference(1, 1, True, True, -1, 0, False, True).item() == 3 + 1
-    assert pattern_difference(-1, -1, True, True, 1, 1, False, False).item() == 6
 
 
 def test_connectivity_needs_the_same_contrast_sign():
@@ -329,14 +288,6 @@ def test_edge_sets_keep_int32_indices_and_float32_where_computed_in_float32() ->
 def test_an_edge_blur_outside_0_10_is_refused(blur) -> None:
     with pytest.raises(InputError, match="edge_blur_px"):
         detect_edges(np.zeros((9, 20), np.uint8), edge_blur_px=blur)
-
-
-def test_colour_converted_in_blocks_equals_the_whole_image_at_once():
-    rgb = np.random.default_rng(4).integers(0, 256, (150, 517, 3)).astype(np.uint8)
-    assert rgb.shape[0] * rgb.shape[1] > 2 * (1 << 15)  # several blocks, the last partial
-    whole = cv2.cvtColor(rgb.astype(np.float32), cv2.COLOR_RGB2GRAY)
-    whole *= np.float32(127 / 255)
-    assert to_grey(rgb).tobytes() == whole.tobytes()
 
 
 def test_rows_are_the_lines_array_only_where_every_row_is_a_line():

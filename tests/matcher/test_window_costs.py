@@ -9,7 +9,8 @@ from hypothesis import strategies as st
 from synthetic import layered_pair
 
 from robostereo.errors import InputError
-from robostereo.matcher.edges import detect_edges, to_grey
+from robostereo.matcher.edges import detect_edges
+from robostereo.matcher.grey_levels import to_grey
 from robostereo.matcher.pipeline import MatchParameters, match_stereo
 from robostereo.matcher.window_costs import (
     COARSE_MARGIN,

@@ -81,7 +81,8 @@ def test_costs_made_first_give_the_same_match_and_small_chunks_do_too(monkeypatc
     computed a few points at a time; without images or costs it is refused."""
     import importlib
 
-    from robostereo.matcher.edges import detect_edges, to_grey
+    from robostereo.matcher.edges import detect_edges
+    from robostereo.matcher.grey_levels import to_grey
 
     wm_module = importlib.import_module("robostereo.matcher.window_match")
 

@@ -9,9 +9,10 @@ import pytest
 
 from robostereo.geometry.camera import SEED_CAMERA
 from robostereo.geometry.poses import Pose
-from robostereo.simulation.primitives import Box, Cylinder, Disc, NoiseTexture, TablePlane
+from robostereo.simulation.primitives import Box, Cylinder, Disc, TablePlane
 from robostereo.simulation.render import render
 from robostereo.simulation.scenes import Scene, hub_pulley_scene
+from robostereo.simulation.surfaces import NoiseTexture
 
 CAM = SEED_CAMERA
 

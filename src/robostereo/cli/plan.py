@@ -78,7 +78,7 @@ def run_plan(args: argparse.Namespace) -> int:
     }
     if args.image is not None:
         from robostereo.io.images import load_image
-        from robostereo.matcher.edges import to_grey
+        from robostereo.matcher.grey_levels import to_grey
 
         img, bits = load_image(args.image)
         grey = to_grey(np.asarray(img, dtype=np.float64), bit_depth=bits)

@@ -58,7 +58,7 @@ from robostereo.evaluation.rules import (
 )
 from robostereo.geometry.calibrated_rectification import rectify_stereo
 from robostereo.geometry.triangulation import StereoCamera, triangulate
-from robostereo.matcher.edges import to_grey
+from robostereo.matcher.grey_levels import to_grey
 from robostereo.matcher.parameters import MatchParameters
 from robostereo.matcher.pipeline import match_stereo, searched_range
 

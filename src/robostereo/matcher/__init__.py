@@ -2,8 +2,13 @@
 
 The modules in pipeline order:
 
-* :mod:`~robostereo.matcher.edges`: grey levels, edge points along the epipolar lines
-  and their features (3.1-3.2);
+* :mod:`~robostereo.matcher.grey_levels`: grey levels on the thesis's 0..127 scale and
+  its 5 x 5 smoothing filter (3.1);
+* :mod:`~robostereo.matcher.edges`: edge points along the epipolar lines, found to
+  sub-pixel precision (3.1-3.2; :mod:`~robostereo.matcher.edge_kernels`: its numba
+  kernels);
+* :mod:`~robostereo.matcher.edge_features`: the edge points' features and their container
+  :class:`EdgeSet`, connectivity and pattern types (3.2);
 * :mod:`~robostereo.matcher.window_costs`: side-aware census + gradient window costs
   of every disparity at the left edge points, the paths along the rows, the half-size
   pass that narrows a wide range (checks, bands, threads);
@@ -48,17 +53,14 @@ from robostereo.matcher.confidence import (
     fit_confidence,
     isotonic,
 )
-from robostereo.matcher.edges import (
-    SEED_KERNEL,
+from robostereo.matcher.edge_features import (
     EdgeSet,
     connectivity,
-    detect_edges,
     pattern_difference,
     pattern_type,
-    smooth,
-    to_grey,
-    usable_pixels,
 )
+from robostereo.matcher.edges import detect_edges, usable_pixels
+from robostereo.matcher.grey_levels import SEED_KERNEL, smooth, to_grey
 from robostereo.matcher.parallel import n_threads, run_all
 from robostereo.matcher.parameters import DEFAULT_MIN_CONFIDENCE, METHODS, MatchParameters
 from robostereo.matcher.photometric import (

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError, require_finite
-from robostereo.matcher.edges import EdgeSet
+from robostereo.matcher.edge_features import EdgeSet
 from robostereo.matcher.jit import kernel
 
 __all__ = [
@@ -78,7 +78,7 @@ class Candidates:
     Attributes
     ----------
     left, right : ndarray of int
-        Edge indices in the left and right :class:`~robostereo.matcher.edges.EdgeSet`.
+        Edge indices in the left and right :class:`~robostereo.matcher.edge_features.EdgeSet`.
     disparity : ndarray of float
         ``x_left - x_right`` in pixels.
     gi, pi, ai : ndarray of float

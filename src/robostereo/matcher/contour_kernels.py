@@ -5,7 +5,7 @@ connected along an edge contour support each other when their disparities agree:
 edge contour is one surface boundary, and its points move together between the views.
 These kernels measure that evidence for the window matcher's best disparities, one pass
 over the edge points, walking each point's contour up to ``reach`` lines up and down
-through the edge stage's connectivity (:attr:`robostereo.matcher.edges.EdgeSet.up` /
+through the edge stage's connectivity (:attr:`robostereo.matcher.edge_features.EdgeSet.up` /
 ``down``):
 
 * :func:`contour_support`: the neighbours whose best disparity lies within

@@ -1,16 +1,13 @@
-"""Smoothing, edge points along epipolar lines and their features (thesis 3.1-3.2).
+"""Edge points along epipolar lines, found and placed to sub-pixel precision (thesis 3.1-3.2).
 
-Images come in as ``(H, W)`` (or ``(H, W, 3|4)`` colour) arrays of any integer bit
-depth; they are converted to grey and scaled to the thesis's 0..127 grey scale so that
-the thesis's gradient threshold of 8.0 means the same contrast at any bit depth.  The
-rows of a rectified image are its epipolar lines; edge points are the peaks of the
-1-D intensity gradient along the rows of the smoothed image, located to sub-pixel
-precision.
-
-Each edge point ``P[i, j](d, s, m, p, a)`` (thesis 3.2) carries its position ``d``
-(here ``x``, pixels), contrast sign ``s``, gradient magnitude ``m``, connectivity
-pattern type ``p`` (1..16) and 5 x 5 mean grey level ``a``; robostereo adds the
-grey levels on either side of the edge, which tell edges apart better than one mean.
+The rows of a rectified image are its epipolar lines; :func:`detect_edges` finds the
+edge points as the peaks of the 1-D intensity gradient along the rows of the smoothed
+image (grey levels on the thesis's 0..127 scale and the 5 x 5 filter:
+:mod:`robostereo.matcher.grey_levels`), locates them to sub-pixel precision (on request
+moved towards the gradient's peak on a lightly blurred image, :func:`fine_weights`) and
+gives them their features in an :class:`~robostereo.matcher.edge_features.EdgeSet`
+(:mod:`robostereo.matcher.edge_features`).  :func:`usable_pixels` says where those
+features see only valid image data.
 
 The loops over the rows and the edge points (gradient peaks in one pass, features,
 connectivity) are the numba kernels of :mod:`robostereo.matcher.edge_kernels`.
@@ -18,61 +15,31 @@ connectivity) are the numba kernels of :mod:`robostereo.matcher.edge_kernels`.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import cache, lru_cache
+from functools import lru_cache
 
 import cv2
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError, require_int, require_positive
+from robostereo.matcher.edge_features import EdgeSet
 from robostereo.matcher.edge_kernels import (
     FINE_DEAD_ZONE_PX,
     SIDE_OFFSET,
     blur_column,
-    connect,
     fine_positions,
     fine_positions_grey,
-    patterns,
     peak_links,
-    rgb_to_grey,
-    scaled_grey,
     strip_points,
 )
+from robostereo.matcher.grey_levels import OPENCV_LANES, smooth, to_grey
 
 __all__ = [
-    "SEED_KERNEL",
-    "EdgeSet",
     "check_edge_blur",
-    "connectivity",
     "detect_edges",
     "fine_weights",
-    "pattern_difference",
-    "pattern_type",
-    "smooth",
-    "to_grey",
     "usable_pixels",
 ]
-
-_SEED_WEIGHTS = np.array(
-    [
-        [2, 2, 2, 2, 2],
-        [2, 10, 10, 10, 2],
-        [2, 10, 15, 10, 2],
-        [2, 10, 10, 10, 2],
-        [2, 2, 2, 2, 2],
-    ],
-    dtype=float,
-)
-SEED_KERNEL: NDArray[np.float64] = _SEED_WEIGHTS / _SEED_WEIGHTS.sum()
-"""The thesis's 5 x 5 averaging-Gaussian filter (figure 3-1), normalised by its sum.
-
-The weights 2 (16 border cells), 10 (8 inner cells) and 15 (centre) add up to 127;
-seed-notes says 126, an arithmetic slip: dividing by the true sum keeps a constant
-image constant."""
-
-#: grey levels of the thesis's vision system: 0..127 (7 bit)
-SEED_GREY_LEVELS = 128
 
 #: edge points lie at least this many pixels inside the left and right borders, so that
 #: their features (5 x 5 window, side grey levels) are not cut by the border
@@ -107,318 +74,6 @@ def usable_pixels(valid: ArrayLike) -> NDArray[np.bool_]:
     kernel = np.ones((5, 2 * REACH + 1), np.uint8)
     return cv2.erode(v.astype(np.uint8), kernel, borderType=cv2.BORDER_CONSTANT,
                      borderValue=1).astype(bool)
-
-
-#: pixels of a colour image converted at a time (a float buffer of 96 KiB, not a float
-#: copy of the whole image: the 3 MiB buffers of two images converted side by side were
-#: a third of the matcher's peak memory on a colour scene, and a 384 KiB block still a
-#: tenth of it on tsukuba; a few dozen calls an image cost about 0.02 ms more; the grey
-#: levels do not depend on the block)
-_GREY_BLOCK_PIXELS = 1 << 13
-
-
-#: the integer dtypes whose every value a float32 holds exactly
-_EXACT_INTEGERS = (np.uint8, np.int8, np.uint16, np.int16)
-#: lanes of OpenCV's float32 vector loops that :func:`rgb_to_grey` reproduces
-_LANES = 8
-
-
-def _colour_to_grey(rgb: np.ndarray, kernel: bool | None = None) -> NDArray[np.float32]:
-    """``cv2.cvtColor(rgb as float32, RGB2GRAY)``.  With `kernel` (by default for
-    C-contiguous RGB images of the integer dtypes a float32 holds exactly, where
-    :func:`_kernel_grey_agrees`) :func:`rgb_to_grey` reads the integers as they are
-    (one pass, about twice as fast) and OpenCV does the rows' tails; else OpenCV
-    converts a float32 copy of a block of rows at a time."""
-    if rgb.dtype == np.float32:
-        return cv2.cvtColor(np.ascontiguousarray(rgb), cv2.COLOR_RGB2GRAY)
-    if kernel is None:
-        kernel = (rgb.dtype in _EXACT_INTEGERS and rgb.shape[2] == 3
-                  and rgb.flags.c_contiguous and _kernel_grey_agrees())
-    h, w = rgb.shape[:2]
-    grey = np.empty((h, w), np.float32)
-    if kernel:
-        n = w // _LANES * _LANES  # the columns of OpenCV's vector loop
-        rgb_to_grey(rgb.reshape(h, 3 * w), grey, n)
-        if n < w:
-            grey[:, n:] = cv2.cvtColor(rgb[:, n:].astype(np.float32), cv2.COLOR_RGB2GRAY)
-        return grey
-    rows = max(1, _GREY_BLOCK_PIXELS // max(w, 1))
-    buf = np.empty((min(h, rows), w, 3), np.float32)
-    with np.errstate(over="ignore"):  # beyond float32: inf, refused by the caller
-        for y0 in range(0, h, rows):
-            y1 = min(h, y0 + rows)
-            part = buf[:y1 - y0]
-            np.copyto(part, rgb[y0:y1], casting="unsafe")
-            cv2.cvtColor(part, cv2.COLOR_RGB2GRAY, dst=grey[y0:y1])
-    return grey
-
-
-@cache
-def _kernel_grey_agrees() -> bool:
-    """Whether :func:`rgb_to_grey` gives this machine's OpenCV values (OpenCV's loops
-    follow the processor) on random colours, 61 columns: a vector loop of 4, 8, 16 or
-    32 lanes would end at a different column."""
-    probe = np.random.default_rng(0).integers(0, 256, (4, 61, 3), np.uint8)
-    return bool(np.array_equal(_colour_to_grey(probe, True).view(np.uint32),
-                               _colour_to_grey(probe, False).view(np.uint32)))
-
-
-def to_grey(image: ArrayLike, *, bit_depth: int | None = None, name: str = "image") -> NDArray[
-    np.float32
-]:
-    """Convert an image to grey on the thesis's 0..127 scale.
-
-    Parameters
-    ----------
-    image : array_like, shape (H, W) or (H, W, 3) or (H, W, 4)
-        Grey or colour (RGB or RGBA) image, integer or float.
-    bit_depth : int, optional
-        Bits per grey level of the input: its grey levels are on the scale
-        ``0 .. 2**bit_depth - 1``, integer or float.  Default: 8 for ``uint8``, 16 for
-        ``uint16``; a **float image without bit_depth has full scale 1.0** (grey
-        levels 0..1, as most image libraries write floats) and values outside 0..1
-        are refused.  The simulated camera's 7-bit images use ``bit_depth=7``.
-    name : str
-        Name used in error messages.
-
-    Returns
-    -------
-    ndarray of float32, shape (H, W)
-        Grey levels scaled by ``127 / (2**bit_depth - 1)`` (by 127 for floats of full
-        scale 1.0): full scale at any bit depth becomes the thesis's 127.
-
-    Raises
-    ------
-    InputError
-        A shape other than (H, W) or (H, W, 3|4), an empty image, a dtype that is not
-        real integer or float (bool, complex, object), NaN or infinite grey levels,
-        other integer dtypes without `bit_depth`, a float image outside 0..1 without
-        `bit_depth`, a `bit_depth` outside 1..32.
-
-    Examples
-    --------
-    >>> to_grey(np.array([[0, 255]], dtype=np.uint8))
-    array([[  0., 127.]], dtype=float32)
-    >>> to_grey(np.array([[0, 65535]], dtype=np.uint16))
-    array([[  0., 127.]], dtype=float32)
-    >>> to_grey(np.array([[0.0, 1.0]])), to_grey(np.array([[0.0, 255.0]]), bit_depth=8)
-    (array([[  0., 127.]], dtype=float32), array([[  0., 127.]], dtype=float32))
-    """
-    arr = np.asarray(image)
-    if arr.dtype.kind not in "uif":
-        raise InputError(
-            f"{name} must hold real grey levels (an integer or float dtype), got {arr.dtype}"
-        )
-    if bit_depth is not None:
-        bit_depth = require_int("bit_depth", bit_depth, minimum=1)
-    if arr.ndim == 3 and arr.shape[2] in (3, 4):
-        if arr.shape[2] == 4:
-            arr = arr[:, :, :3]
-        grey = _colour_to_grey(arr)
-    elif arr.ndim == 2:
-        grey = None  # integers a float32 holds exactly: converted and scaled below at once
-        if arr.dtype not in _EXACT_INTEGERS:
-            with np.errstate(over="ignore"):
-                grey = arr.astype(np.float32)
-    else:
-        raise InputError(
-            f"{name} must be a grey (H, W) or colour (H, W, 3|4) image, got shape {arr.shape}"
-        )
-    if arr.shape[0] * arr.shape[1] == 0:
-        raise InputError(f"{name} is empty (shape {arr.shape})")
-    unit_float = bit_depth is None and arr.dtype.kind == "f"
-    if bit_depth is None:
-        if arr.dtype == np.uint8 or arr.dtype == np.int8:
-            bit_depth = 8
-        elif arr.dtype in (np.uint16, np.int16):
-            bit_depth = 16
-        elif np.issubdtype(arr.dtype, np.integer):
-            raise InputError(f"{name}: bit_depth must be given for {arr.dtype} images")
-        else:
-            bit_depth = 7
-    if not 1 <= bit_depth <= 32:
-        raise InputError(f"bit_depth must be in 1..32, got {bit_depth}")
-    scale = np.float32(1.0 if bit_depth == 7 else (SEED_GREY_LEVELS - 1) / (2.0**bit_depth - 1))
-    if grey is None:  # one pass: the values of astype(float32), then *= scale
-        scaled_grey(arr, scale, grey := np.empty(arr.shape, np.float32))
-        return grey
-    if arr.dtype.kind == "f" and not np.isfinite(grey).all():  # integers always are
-        raise InputError(f"{name} contains NaN or infinite grey levels")
-    if unit_float:
-        lo, hi = float(arr.min()), float(arr.max())
-        if lo < 0.0 or hi > 1.0:
-            raise InputError(
-                f"{name}: a float image without bit_depth must have grey levels in 0..1 "
-                f"(full scale 1.0), got {lo:g} .. {hi:g}; pass bit_depth for 0..2**b-1 floats"
-            )
-        grey *= np.float32(SEED_GREY_LEVELS - 1)
-    elif bit_depth != 7:
-        grey *= scale
-    return grey
-
-
-def smooth(grey: NDArray[np.floating]) -> NDArray[np.float32]:
-    """Smooth with the thesis's 5 x 5 averaging-Gaussian filter (figure 3-1).
-
-    Parameters
-    ----------
-    grey : ndarray, shape (H, W)
-
-    Returns
-    -------
-    ndarray of float32, shape (H, W)
-        The filtered image; borders are reflected (``BORDER_REFLECT_101``).
-
-    Examples
-    --------
-    >>> img = np.zeros((9, 9), np.float32); img[4, 4] = 127.0
-    >>> smooth(img)[4, 4], smooth(img)[2, 2]
-    (np.float32(15.0), np.float32(2.0))
-    """
-    return cv2.filter2D(
-        np.asarray(grey, dtype=np.float32), -1, SEED_KERNEL, borderType=cv2.BORDER_REFLECT_101
-    )
-
-
-@dataclass(frozen=True)
-class EdgeSet:
-    """Edge points of one image with their features (thesis 3.2, ``P[i, j](d, s, m, p, a)``).
-
-    All arrays have shape ``(N,)`` and are sorted by ``(line, x)``.  Indices are int32
-    and the features computed in float32 are kept in float32 (the position and the
-    mean grey level, summed in float64, stay float64): 52 bytes a point, 48 where every
-    row is a line (``row_step`` 1, ``row_offset`` 0: ``row`` is then the array ``line``
-    itself, so writing into one writes into both).
-
-    Attributes
-    ----------
-    line : ndarray of int32
-        Index ``i`` of the epipolar line (0, 1, ... over the sampled rows).
-    row : ndarray of int32
-        Image row of the line, ``line * row_step + row_offset``.
-    x : ndarray of float64
-        Sub-pixel position along the row (pixels; the thesis's distance ``d``).
-    column : ndarray of int32
-        Pixel column of the gradient peak.
-    sign : ndarray of int8
-        Contrast sign: +1 where the grey level rises along the row, -1 where it falls.
-    magnitude : ndarray of float32
-        Gradient magnitude at the peak (grey levels per pixel, 0..127 scale).
-    pattern : ndarray of int8
-        Connectivity pattern type 1..16 (see :func:`pattern_type`).
-    up, down : ndarray of int32
-        Index of the connected edge point on the line above / below, -1 if none.
-    up_offset, down_offset : ndarray of int8
-        Column offset -1, 0 or +1 of that neighbour; 0 where there is none.
-    mean_grey : ndarray of float64
-        Mean grey level of the 5 x 5 window centred on the edge pixel.
-    grey_before, grey_after : ndarray of float32
-        Smoothed grey level ``SIDE_OFFSET`` pixels before and after the edge along the row.
-    row_step, row_offset : int
-        Sampling of the epipolar lines: rows ``row_offset, row_offset + row_step, ...``.
-    n_lines : int
-        Number of sampled lines.
-    """
-
-    line: NDArray[np.int32]
-    row: NDArray[np.int32]
-    x: NDArray[np.float64]
-    column: NDArray[np.int32]
-    sign: NDArray[np.int8]
-    magnitude: NDArray[np.float32]
-    pattern: NDArray[np.int8]
-    up: NDArray[np.int32]
-    down: NDArray[np.int32]
-    up_offset: NDArray[np.int8]
-    down_offset: NDArray[np.int8]
-    mean_grey: NDArray[np.float64]
-    grey_before: NDArray[np.float32]
-    grey_after: NDArray[np.float32]
-    row_step: int = 1
-    row_offset: int = 0
-    n_lines: int = 0
-
-    def __len__(self) -> int:
-        return int(self.x.shape[0])
-
-    @property
-    def points(self) -> NDArray[np.float64]:
-        """Edge positions as ``(N, 2)`` image points ``(x, y)``."""
-        return np.column_stack([self.x, self.row.astype(float)])
-
-
-def pattern_type(up_offset: ArrayLike, down_offset: ArrayLike, has_up: ArrayLike,
-                 has_down: ArrayLike) -> NDArray[np.int8]:
-    """Connectivity pattern type 1..16 (thesis 3.2, figure 3-2c as read in seed-notes).
-
-    Types 1-9: connected above and below, ``1 + 3 (u + 1) + (v + 1)`` for offsets
-    ``u, v`` in {-1, 0, 1}; 10-12: above only, ``11 + u``; 13-15: below only,
-    ``14 + v``; 16: connected to neither.
-
-    Examples
-    --------
-    >>> pattern_type([0, -1, 1, 0], [0, 0, 0, 1], [True, True, True, False],
-    ...              [True, True, False, False]).tolist()
-    [5, 2, 12, 16]
-    """
-    u, v, hu, hd = np.broadcast_arrays(np.asarray(up_offset, dtype=np.int64),
-                                       np.asarray(down_offset, dtype=np.int64),
-                                       np.asarray(has_up, dtype=bool),
-                                       np.asarray(has_down, dtype=bool))
-    out = patterns(u.ravel(), v.ravel(), hu.ravel(), hd.ravel())
-    return out.reshape(u.shape)
-
-
-def pattern_difference(
-    up_l: ArrayLike, down_l: ArrayLike, has_up_l: ArrayLike, has_down_l: ArrayLike,
-    up_r: ArrayLike, down_r: ArrayLike, has_up_r: ArrayLike, has_down_r: ArrayLike,
-) -> NDArray[np.int8]:
-    """Difference 0..6 of two connectivity patterns (thesis 3.2 (b)).
-
-    The upper neighbours are compared first: 0 when both are absent or at the same
-    offset, 1 or 2 when both are present with offsets one or two apart, 3 when one
-    is connected and the other is not; then the lower ones; the two are added.
-
-    Examples
-    --------
-    >>> pattern_difference(0, 0, True, True, 0, 0, True, True).item()
-    0
-    >>> pattern_difference(-1, 0, True, True, 1, 0, True, False).item()
-    5
-    """
-    def one(a, b, ha, hb):
-        a = np.asarray(a, np.int16)
-        b = np.asarray(b, np.int16)
-        ha = np.asarray(ha, bool)
-        hb = np.asarray(hb, bool)
-        return np.where(ha & hb, np.abs(a - b), np.where(ha == hb, 0, 3))
-
-    return (one(up_l, up_r, has_up_l, has_up_r) + one(down_l, down_r, has_down_l, has_down_r)
-            ).astype(np.int8)
-
-
-def connectivity(
-    line: NDArray[np.intp], column: NDArray[np.intp], sign: NDArray[np.int8], n_lines: int,
-    width: int,
-) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.int8], NDArray[np.int8]]:
-    """Connect each edge point to edge points on the lines above and below.
-
-    Two edge points on neighbouring lines are connected when their pixel columns
-    differ by at most one and their contrast signs agree (thesis 3.2 (b)).  Where
-    several qualify, the one straight above (below) is preferred, then the one at
-    offset -1, then +1.
-
-    Returns
-    -------
-    up, down : ndarray of int, shape (N,)
-        Index of the connected edge point above / below, -1 if none.
-    up_offset, down_offset : ndarray of int8, shape (N,)
-        Its column offset -1, 0 or +1 (0 where none).
-    """
-    up, down, up_off, down_off = connect(
-        np.ascontiguousarray(line, dtype=np.int64), np.ascontiguousarray(column, dtype=np.int64),
-        np.ascontiguousarray(sign, dtype=np.int8), int(n_lines), int(width))
-    return up.astype(np.intp), down.astype(np.intp), up_off, down_off
 
 
 #: the 1-tap kernel of a blur down the columns only
@@ -477,7 +132,8 @@ def fine_weights(edge_blur_px: float | None) -> NDArray[np.float32] | None:
 def _kernel_blur_agrees(weights: bytes) -> bool:
     """Whether :func:`blur_column` gives this machine's OpenCV values for the float32
     `weights` (their bytes): symmetric, and equal on random grey levels, 61 columns
-    (see :func:`_kernel_grey_agrees`; a size OpenCV filters another way fails too)."""
+    (see :func:`~robostereo.matcher.grey_levels._kernel_grey_agrees`; a size OpenCV
+    filters another way fails too)."""
     wt = np.frombuffer(weights, np.float32)
     if wt.size < 3 or not np.array_equal(wt, wt[::-1]):
         return False
@@ -485,7 +141,7 @@ def _kernel_blur_agrees(weights: bytes) -> bool:
     want = cv2.sepFilter2D(probe, -1, _ONE, wt, borderType=cv2.BORDER_REFLECT_101)
     got = np.empty_like(probe)
     for y in range(probe.shape[0]):
-        blur_column(probe, y, wt, 61 // _LANES * _LANES, got[y])
+        blur_column(probe, y, wt, 61 // OPENCV_LANES * OPENCV_LANES, got[y])
     return bool(np.array_equal(got.view(np.uint32), want.view(np.uint32)))
 
 
@@ -504,7 +160,7 @@ def _place_finely(x: NDArray[np.float64], row: NDArray[np.integer],
     if (weights.size > 1 and grey.dtype == np.float32 and grey.flags.c_contiguous
             and _kernel_blur_agrees(weights.tobytes())):
         fine_positions_grey(x, row, column, sign, grey, weights, FINE_DEAD_ZONE_PX,
-                            grey.shape[1] // _LANES * _LANES)
+                            grey.shape[1] // OPENCV_LANES * OPENCV_LANES)
         return
     h = grey.shape[0]
     rad = weights.size // 2
@@ -601,11 +257,12 @@ def detect_edges(
     row_offset : int
         First row used.
     bit_depth : int, optional
-        Bit depth of the input grey levels (see :func:`to_grey`).
+        Bit depth of the input grey levels (see :func:`~robostereo.matcher.grey_levels.to_grey`).
     subpixel : bool
         Locate edges to sub-pixel precision (default) or at whole pixels, as the thesis.
     grey : ndarray, optional
-        The image already converted by :func:`to_grey` (saves the conversion).
+        The image already converted by :func:`~robostereo.matcher.grey_levels.to_grey` (saves
+        the conversion).
     valid : array_like of bool, shape (H, W), optional
         Pixels that hold image data (e.g. the part of a rectified image that has a
         source).  Invalid pixels may hold anything; edge points whose features would
@@ -630,10 +287,10 @@ def detect_edges(
     Raises
     ------
     InputError
-        An image :func:`to_grey` refuses or smaller than 5 x 5 pixels, a threshold that
-        is not a finite number > 0, a `row_step` or `row_offset` that is not an integer
-        (>= 1, in ``0..H-1``), a `valid` mask of another shape, an `edge_blur_px`
-        that is not None or in 0..10.
+        An image :func:`~robostereo.matcher.grey_levels.to_grey` refuses or smaller than
+        5 x 5 pixels, a threshold that is not a finite number > 0, a `row_step` or
+        `row_offset` that is not an integer (>= 1, in ``0..H-1``), a `valid` mask of
+        another shape, an `edge_blur_px` that is not None or in 0..10.
 
     Notes
     -----
@@ -650,9 +307,10 @@ def detect_edges(
        on the lightly blurred image's gradient, less the dead zone (the magnitude
        stays the smoothed one's).
     5. Features: contrast sign ``sign(g)``, connectivity to the lines above and below
-       (:func:`connectivity`) and pattern type (:func:`pattern_type`), the 5 x 5 mean
-       grey level of the unsmoothed image, and the smoothed grey levels four pixels
-       before and after the edge.
+       (:func:`~robostereo.matcher.edge_features.connectivity`) and pattern type
+       (:func:`~robostereo.matcher.edge_features.pattern_type`), the 5 x 5 mean grey
+       level of the unsmoothed image, and the smoothed grey levels four pixels before
+       and after the edge.
 
     References
     ----------

@@ -34,7 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError, require_finite, require_int, require_one_length
 from robostereo.matcher.confidence import isotonic
-from robostereo.matcher.edges import to_grey
+from robostereo.matcher.grey_levels import to_grey
 from robostereo.matcher.photometric_kernels import difference_kernel, places_kernel
 
 __all__ = [
@@ -77,7 +77,7 @@ class GreyMap:
     right_knots, left_knots : tuple of float
         The map, piecewise linear through ``(right_knots[k], left_knots[k])``, both
         non-decreasing, ``right_knots`` increasing; beyond the ends it keeps the end
-        knots' offset (slope 1).  Grey levels on :func:`~robostereo.matcher.edges.to_grey`'s
+        knots' offset (slope 1).  Grey levels on :func:`~robostereo.matcher.grey_levels.to_grey`'s
         0..127 scale.
     residual_identity, residual_mapped : float
         Median absolute difference of the pairs' grey levels, left minus right, as they
@@ -146,7 +146,7 @@ def grey_pairs(left: ArrayLike, right: ArrayLike, rows: ArrayLike, x: ArrayLike,
         Matches: left edge point ``(x, row)`` sees right ``(x - disparity, row)``.  At most
         250 of them are read, evenly spaced.
     bit_depth : int, optional
-        As :func:`~robostereo.matcher.edges.to_grey`.
+        As :func:`~robostereo.matcher.grey_levels.to_grey`.
 
     Returns
     -------

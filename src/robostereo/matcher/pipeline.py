@@ -29,7 +29,8 @@ from robostereo.matcher.candidates import (
     Candidates,
     assign_matches,
 )
-from robostereo.matcher.edges import EdgeSet, to_grey
+from robostereo.matcher.edge_features import EdgeSet
+from robostereo.matcher.grey_levels import to_grey
 from robostereo.matcher.parameters import (  # noqa: F401  (kept importable from here)
     DEFAULT_MIN_CONFIDENCE,
     METHODS,
@@ -359,7 +360,7 @@ def match_stereo(
     InputError
         Images that are not (H, W) or (H, W, 3|4) real-valued arrays of one size, a
         float image outside 0..1 without ``params.bit_depth`` (see
-        :func:`~robostereo.matcher.edges.to_grey`), NaN grey levels, a malformed or empty
+        :func:`~robostereo.matcher.grey_levels.to_grey`), NaN grey levels, a malformed or empty
         `disparity_range` or one outside the image's (one line naming the parameter).
     TypeError
         `params` or `camera` of the wrong type.

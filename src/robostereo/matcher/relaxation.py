@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 
 from robostereo.errors import InputError, require_finite, require_int
 from robostereo.matcher.candidates import Candidates, group_sum
-from robostereo.matcher.edges import EdgeSet
+from robostereo.matcher.edge_features import EdgeSet
 
 __all__ = [
     "RelaxationParameters",

@@ -21,7 +21,9 @@ from robostereo.matcher.candidates import (
     group_argmax,
     initial_probabilities,
 )
-from robostereo.matcher.edges import EdgeSet, detect_edges, to_grey
+from robostereo.matcher.edge_features import EdgeSet
+from robostereo.matcher.edges import detect_edges
+from robostereo.matcher.grey_levels import to_grey
 from robostereo.matcher.parallel import run_all
 from robostereo.matcher.parameters import MatchParameters
 from robostereo.matcher.photometric import GreyMap

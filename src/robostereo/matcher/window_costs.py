@@ -457,7 +457,7 @@ def window_costs(
     Parameters
     ----------
     grey_left, grey_right : ndarray, shape (H, W)
-        Grey images on the thesis's 0..127 scale (:func:`robostereo.matcher.edges.to_grey`).
+        Grey images on the thesis's 0..127 scale (:func:`robostereo.matcher.grey_levels.to_grey`).
     rows, columns : ndarray of int, shape (N,)
         Pixels of the left edge points, sorted by row.
     disparity_range : tuple of int

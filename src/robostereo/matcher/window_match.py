@@ -21,7 +21,7 @@ from robostereo.errors import InputError
 from robostereo.matcher.candidates import SimilarityWeights, pair_similarity
 from robostereo.matcher.confidence import DEFAULT_MODEL, FEATURES, ConfidenceModel
 from robostereo.matcher.contour_kernels import contour_support
-from robostereo.matcher.edges import EdgeSet
+from robostereo.matcher.edge_features import EdgeSet
 from robostereo.matcher.window_costs import (
     PATH_PENALTIES,
     WindowCosts,
@@ -145,7 +145,8 @@ def search_costs(
 
     Examples
     --------
-    >>> from robostereo.matcher.edges import detect_edges, to_grey
+    >>> from robostereo.matcher.edges import detect_edges
+    >>> from robostereo.matcher.grey_levels import to_grey
     >>> rng = np.random.default_rng(0)
     >>> row = np.repeat(rng.integers(0, 2, 40) * 200, 6)[:200].astype(np.uint8)
     >>> left = np.tile(row, (20, 1)); right = np.roll(left, -7, axis=1)
@@ -327,7 +328,7 @@ def contour_accepted(
     thesis's figural continuity, relaxation eq. 4-5).  A match is accepted when its
     confidence reaches `acceptance`, or when it reaches `min_confidence` and at least
     `share` of the ``2 * reach`` places up and down its contour (the edge stage's
-    connectivity, :attr:`~robostereo.matcher.edges.EdgeSet.up` / ``down``) hold a match
+    connectivity, :attr:`~robostereo.matcher.edge_features.EdgeSet.up` / ``down``) hold a match
     within :data:`CONTOUR_TOLERANCE` of its disparity that reaches `acceptance` itself
     (:func:`~robostereo.matcher.contour_kernels.contour_support`).
 

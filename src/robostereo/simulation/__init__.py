@@ -12,8 +12,13 @@ from the images can be checked against the truth.
 Modules
 -------
 :mod:`~robostereo.simulation.primitives`
-    The analytic primitives (:class:`TablePlane`, :class:`Disc`, :class:`Cylinder`,
-    :class:`Box`, :class:`Checkerboard`, :class:`ImagePlane`) and the table's
+    The analytic solid primitives (:class:`TablePlane`, :class:`Disc`,
+    :class:`Cylinder`, :class:`Box`) and ``Primitive``, any primitive.
+:mod:`~robostereo.simulation.targets`
+    The flat printed targets: :class:`Checkerboard` and :class:`ImagePlane` (e.g. a
+    ChArUco board).
+:mod:`~robostereo.simulation.surfaces`
+    What the primitives share: the checks of their parameters and the table's
     :class:`NoiseTexture`.
 :mod:`~robostereo.simulation.scenes`
     :class:`Scene` (primitives and lighting) and the thesis's scenes:
@@ -34,15 +39,7 @@ scenes built here.  The camera conventions are those of :mod:`robostereo.geometr
 """
 
 from robostereo.simulation.occluders import Occluder, OccluderPair, occluder_pair
-from robostereo.simulation.primitives import (
-    Box,
-    Checkerboard,
-    Cylinder,
-    Disc,
-    ImagePlane,
-    NoiseTexture,
-    TablePlane,
-)
+from robostereo.simulation.primitives import Box, Cylinder, Disc, TablePlane
 from robostereo.simulation.render import Rendering, render, sample_offsets, true_disparity
 from robostereo.simulation.scenes import (
     BlockScene,
@@ -51,6 +48,8 @@ from robostereo.simulation.scenes import (
     hub_pulley_scene,
     seed_block_scene,
 )
+from robostereo.simulation.surfaces import NoiseTexture
+from robostereo.simulation.targets import Checkerboard, ImagePlane
 
 __all__ = [
     "BlockScene",

@@ -1,10 +1,13 @@
-"""The analytic primitives of the simulated scenes: table, discs, cylinders, boxes, boards.
+"""The analytic solid primitives of the simulated scenes: table, discs, cylinders, boxes.
 
 Every primitive is a frozen dataclass that validates itself and answers three questions
 of the renderer (:func:`robostereo.simulation.render.render`): ``bounds()``, a (2, 3)
 array of world min/max corners (None when unbounded); ``hit(o, dx, dy, dz)``, the ray
 parameter of the nearest intersection in front of the origin (inf where the ray misses)
 and the surface normal; and ``albedo_at(x, y)``, the grey reflectance at world points.
+:data:`Primitive` is any of them, these here or the flat printed targets of
+:mod:`robostereo.simulation.targets`; the checks they share and the table's texture are
+in :mod:`robostereo.simulation.surfaces`.
 
 World coordinates are millimetres with Z up; the table top is at ``z = 0`` in the
 scenes of :mod:`robostereo.simulation.scenes`.
@@ -13,134 +16,24 @@ scenes of :mod:`robostereo.simulation.scenes`.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.ndimage import gaussian_filter
 
 from robostereo.errors import InputError, require_finite, require_positive
-from robostereo.geometry.poses import SE3
+from robostereo.simulation.surfaces import HIT_EPS, NoiseTexture, require_albedo, xy_pair
+from robostereo.simulation.targets import Checkerboard, ImagePlane
 
 __all__ = [
     "Box",
-    "Checkerboard",
     "Cylinder",
     "Disc",
-    "ImagePlane",
-    "NoiseTexture",
     "Primitive",
     "TablePlane",
-    "xy_pair",
 ]
 
-_EPS = 1e-9
 _Arr = NDArray[np.float64]
-
-
-def _require_albedo(albedo: float) -> None:
-    require_finite("albedo", albedo)
-    if not 0.0 <= albedo <= 1.0:
-        raise InputError(f"albedo must be in [0, 1], got {albedo}")
-
-
-def xy_pair(name: str, value: Sequence[float]) -> tuple[float, float]:
-    """`value` as a pair of finite floats ``(x, y)``; InputError (naming `name`) otherwise.
-
-    Examples
-    --------
-    >>> xy_pair("center", [1, 2.5])
-    (1.0, 2.5)
-    """
-    if len(value) != 2:
-        raise InputError(f"{name} must be (x, y), got {value}")
-    require_finite(name, [float(v) for v in value])
-    return float(value[0]), float(value[1])
-
-
-# --------------------------------------------------------------------------- texture
-
-
-@dataclass(frozen=True, eq=False)
-class NoiseTexture:
-    """A smooth, periodic grey-level pattern for the table (procedural texture).
-
-    The albedo at world ``(x, y)`` is multiplied by ``1 + amplitude * v(x, y)``,
-    where ``v`` is the bilinear interpolation of ``values`` on a periodic grid of
-    cell size ``cell_mm``.  Build one with :meth:`from_rng` so that the pattern is
-    fixed when the scene is built and rendering stays deterministic.
-
-    Parameters
-    ----------
-    values : ndarray, shape (n, m)
-        Pattern values, scaled to ``[-1, 1]``; rows along world y, columns along x.
-    cell_mm : float
-        Grid spacing in millimetres.
-    amplitude : float
-        Relative albedo modulation, in ``[0, 1)``.
-    """
-
-    values: _Arr
-    cell_mm: float = 4.0
-    amplitude: float = 0.15
-
-    def __post_init__(self) -> None:
-        v = np.array(self.values, dtype=float)
-        if v.ndim != 2 or min(v.shape) < 2 or not np.all(np.isfinite(v)):
-            raise InputError(f"values must be a finite 2-D array of at least 2 x 2, got {v.shape}")
-        v.setflags(write=False)
-        object.__setattr__(self, "values", v)
-        require_positive("cell_mm", self.cell_mm)
-        if not 0.0 <= self.amplitude < 1.0:
-            raise InputError(f"amplitude must be in [0, 1), got {self.amplitude}")
-
-    @classmethod
-    def from_rng(
-        cls,
-        rng: np.random.Generator,
-        *,
-        size: int = 64,
-        cell_mm: float = 4.0,
-        amplitude: float = 0.15,
-        smooth_cells: float = 1.5,
-    ) -> NoiseTexture:
-        """Gaussian-smoothed white noise on a ``size x size`` periodic grid.
-
-        Examples
-        --------
-        >>> t = NoiseTexture.from_rng(np.random.default_rng(0), size=16)
-        >>> t.values.shape, float(np.abs(t.values).max())
-        ((16, 16), 1.0)
-        """
-        if not isinstance(rng, np.random.Generator):
-            raise InputError("rng must be a numpy.random.Generator")
-        if int(size) != size or size < 2:
-            raise InputError(f"size must be an integer >= 2, got {size}")
-        noise = rng.standard_normal((int(size), int(size)))
-        v = gaussian_filter(noise, smooth_cells, mode="wrap")
-        v -= v.mean()
-        v /= np.abs(v).max()
-        return cls(v, cell_mm=cell_mm, amplitude=amplitude)
-
-    def factor(self, x: _Arr, y: _Arr) -> _Arr:
-        """Albedo factor ``1 + amplitude * v`` at world points, same shape as `x`."""
-        n, m = self.values.shape
-        u = np.asarray(x, dtype=float) / self.cell_mm
-        w = np.asarray(y, dtype=float) / self.cell_mm
-        u0 = np.floor(u)
-        w0 = np.floor(w)
-        fu = u - u0
-        fw = w - w0
-        j0 = u0.astype(np.int64) % m
-        i0 = w0.astype(np.int64) % n
-        j1 = (j0 + 1) % m
-        i1 = (i0 + 1) % n
-        v = self.values
-        val = (v[i0, j0] * (1 - fu) + v[i0, j1] * fu) * (1 - fw) + (
-            v[i1, j0] * (1 - fu) + v[i1, j1] * fu
-        ) * fw
-        return 1.0 + self.amplitude * val
 
 
 # --------------------------------------------------------------------------- primitives
@@ -173,7 +66,7 @@ class TablePlane:
 
     def __post_init__(self) -> None:
         require_finite("z", self.z)
-        _require_albedo(self.albedo)
+        require_albedo(self.albedo)
 
     def bounds(self) -> _Arr | None:
         return None
@@ -181,7 +74,7 @@ class TablePlane:
     def hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
         with np.errstate(divide="ignore", invalid="ignore"):
             t = (self.z - o[2]) / dz
-        t = np.where(t > _EPS, t, np.inf)
+        t = np.where(t > HIT_EPS, t, np.inf)
         return t, (0.0, 0.0, 1.0)
 
     def albedo_at(self, x: _Arr, y: _Arr) -> _Arr | float:
@@ -233,7 +126,7 @@ class Disc:
             if len(h) != 3 or not all(math.isfinite(v) for v in h) or h[2] <= 0:
                 raise InputError(f"holes must be (dx, dy, r) with r > 0, got {h}")
         object.__setattr__(self, "holes", holes)
-        _require_albedo(self.albedo)
+        require_albedo(self.albedo)
 
     def bounds(self) -> _Arr | None:
         cx, cy = self.center
@@ -246,7 +139,7 @@ class Disc:
         px = o[0] + t * dx - self.center[0]
         py = o[1] + t * dy - self.center[1]
         r2 = px * px + py * py
-        ok = (t > _EPS) & (r2 <= self.radius**2) & (r2 >= self.inner_radius**2)
+        ok = (t > HIT_EPS) & (r2 <= self.radius**2) & (r2 >= self.inner_radius**2)
         for hx, hy, hr in self.holes:
             ok &= (px - hx) ** 2 + (py - hy) ** 2 > hr * hr
         return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
@@ -294,7 +187,7 @@ class Cylinder:
             raise InputError(
                 f"inner_radius must be in [0, radius={self.radius}), got {self.inner_radius}"
             )
-        _require_albedo(self.albedo)
+        require_albedo(self.albedo)
 
     @property
     def z_top(self) -> float:
@@ -333,7 +226,7 @@ class Cylinder:
                 disc = b * b - 4.0 * a * c
                 t = (-b + sign * np.sqrt(disc)) / (2.0 * a)
                 z = o[2] + t * dz
-                ok = (a > 1e-18) & (disc >= 0) & (t > _EPS) & (z >= z0) & (z <= z1)
+                ok = (a > 1e-18) & (disc >= 0) & (t > HIT_EPS) & (z >= z0) & (z <= z1)
                 t = np.where(ok, t, np.inf)
                 px = ox + t * dx
                 py = oy + t * dy
@@ -344,7 +237,7 @@ class Cylinder:
                 px = ox + t * dx
                 py = oy + t * dy
                 r2 = px * px + py * py
-                ok = (t > _EPS) & (r2 <= self.radius**2) & (r2 >= ri * ri)
+                ok = (t > HIT_EPS) & (r2 <= self.radius**2) & (r2 >= ri * ri)
                 take(np.where(ok, t, np.inf), 0.0, 0.0, mz)
         return best, (nx, ny, nz)
 
@@ -388,7 +281,7 @@ class Box:
         for s in self.size:
             require_positive("size", s)
         object.__setattr__(self, "size", tuple(float(s) for s in self.size))
-        _require_albedo(self.albedo)
+        require_albedo(self.albedo)
 
     @property
     def z_top(self) -> float:
@@ -438,7 +331,7 @@ class Box:
         axis = np.argmax(tmin, axis=0)
         t_near = np.take_along_axis(tmin, axis[None], axis=0)[0]
         t_far = np.minimum(np.minimum(tmaxs[0], tmaxs[1]), tmaxs[2])
-        ok = (t_near <= t_far) & (t_near > _EPS)
+        ok = (t_near <= t_far) & (t_near > HIT_EPS)
         t = np.where(ok, t_near, np.inf)
         # local normal: -sign(d) along the entering axis; then yaw back to the world
         lnx = np.where(axis == 0, -np.sign(ld[0]), 0.0)
@@ -450,169 +343,6 @@ class Box:
         if self.texture is None:
             return self.albedo
         return self.albedo * self.texture.factor(x, y)
-
-
-class _FlatPatch:
-    """A flat rectangle at height ``z``, turned by ``yaw`` about ``origin``: its local
-    frame, bounds and ray hits; a subclass gives its ``_extent`` in that frame."""
-
-    origin: tuple[float, float]
-    yaw: float
-    z: float
-
-    def _extent(self) -> tuple[float, float, float, float]:
-        raise NotImplementedError
-
-    def _local(self, x: _Arr, y: _Arr) -> tuple[_Arr, _Arr]:
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        px, py = x - self.origin[0], y - self.origin[1]
-        return c * px + s * py, s * px - c * py
-
-    def bounds(self) -> _Arr | None:
-        x0, x1, y0, y1 = self._extent()
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        pts = np.array([[bx, by] for bx in (x0, x1) for by in (y0, y1)])
-        wx = self.origin[0] + c * pts[:, 0] + s * pts[:, 1]
-        wy = self.origin[1] + s * pts[:, 0] - c * pts[:, 1]
-        return np.array([[wx.min(), wy.min(), self.z], [wx.max(), wy.max(), self.z]])
-
-    def hit(self, o: _Arr, dx: _Arr, dy: _Arr, dz: _Arr) -> tuple[_Arr, tuple]:
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (self.z - o[2]) / dz
-        bx, by = self._local(o[0] + t * dx, o[1] + t * dy)
-        x0, x1, y0, y1 = self._extent()
-        ok = (t > _EPS) & (bx >= x0) & (bx <= x1) & (by >= y0) & (by <= y1)
-        return np.where(ok, t, np.inf), (0.0, 0.0, 1.0)
-
-
-@dataclass(frozen=True)
-class Checkerboard(_FlatPatch):
-    """A flat chessboard calibration target lying on a horizontal plane.
-
-    The board's inner corners are ``(i * square_mm, j * square_mm)`` in the board
-    frame, ``i < columns``, ``j < rows``; the board frame has its origin at the first
-    inner corner, x at `yaw` from world X, y at ``yaw - 90 deg`` and z down into the
-    table (OpenCV's right-handed object frame seen from above), so
-    ``T_world_board = (Rz(yaw) diag(1, -1, -1), origin)``.  The square at board
-    ``(-, -)`` of the first inner corner is dark; one square of light margin surrounds
-    the outer squares.
-
-    Parameters
-    ----------
-    origin : tuple of float
-        ``(x, y)`` of the first inner corner, world millimetres.
-    z : float
-        Height of the board's surface, millimetres.
-    inner_corners : tuple of int
-        ``(columns, rows)`` of inner corners.
-    square_mm : float
-    yaw : float
-        Radians.
-    dark, light : float
-        Albedo of the dark and the light squares (the margin is light).
-    """
-
-    origin: tuple[float, float]
-    z: float = 0.0
-    inner_corners: tuple[int, int] = (9, 6)
-    square_mm: float = 20.0
-    yaw: float = 0.0
-    dark: float = 0.08
-    light: float = 0.85
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "origin", xy_pair("origin", self.origin))
-        require_finite("z", self.z)
-        require_positive("square_mm", self.square_mm)
-        require_finite("yaw", self.yaw)
-        _require_albedo(self.dark)
-        _require_albedo(self.light)
-
-    def _extent(self) -> tuple[float, float, float, float]:
-        q = self.square_mm
-        c, r = self.inner_corners
-        return -2 * q, c * q + q, -2 * q, r * q + q
-
-    def albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
-        bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
-        q = self.square_mm
-        c, r = self.inner_corners
-        i, j = np.floor(bx / q), np.floor(by / q)
-        inside = (i >= -1) & (i <= c - 1) & (j >= -1) & (j <= r - 1)
-        dark = inside & ((i + j) % 2 == 0)
-        return np.where(dark, self.dark, self.light)
-
-    @property
-    def pose(self) -> SE3:
-        """``T_world_board`` (the frame of the inner corners), millimetres."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        R = np.array([[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, -1.0]])
-        return SE3(R, np.array([self.origin[0], self.origin[1], self.z]))
-
-
-@dataclass(frozen=True, eq=False)
-class ImagePlane(_FlatPatch):
-    """A flat printed target (e.g. a ChArUco board) lying on a horizontal plane.
-
-    The grey image is printed with its top-left corner at `origin`, image x at `yaw`
-    from world X and image y at ``yaw - 90 deg``; pixel ``(row i, column j)`` covers
-    ``[j, j + 1) x [i, i + 1)`` times `mm_per_px` in the board frame, whose z points
-    down into the table (``T_world_board = (Rz(yaw) diag(1, -1, -1), origin)``, the
-    frame of OpenCV's board object points).  A light margin of `margin_mm` surrounds it.
-
-    Parameters
-    ----------
-    origin : tuple of float
-        World ``(x, y)`` of the image's top-left corner, millimetres.
-    image : ndarray, shape (H, W)
-        Albedo per pixel in ``[0, 1]`` (an 8-bit board image divided by 255 and
-        scaled to the paper's reflectance).
-    mm_per_px : float
-    z, yaw : float
-    margin_mm : float
-    margin_albedo : float
-    """
-
-    origin: tuple[float, float]
-    image: _Arr
-    mm_per_px: float
-    z: float = 2.0
-    yaw: float = 0.0
-    margin_mm: float = 10.0
-    margin_albedo: float = 0.85
-
-    def __post_init__(self) -> None:
-        object.__setattr__(self, "origin", xy_pair("origin", self.origin))
-        img = np.array(self.image, dtype=float)
-        if img.ndim != 2 or not np.all(np.isfinite(img)) or img.min() < 0 or img.max() > 1:
-            raise InputError("image must be a 2-D array of albedos in [0, 1]")
-        img.setflags(write=False)
-        object.__setattr__(self, "image", img)
-        require_positive("mm_per_px", self.mm_per_px)
-        require_finite("z", self.z)
-        require_finite("yaw", self.yaw)
-        _require_albedo(self.margin_albedo)
-
-    def _extent(self) -> tuple[float, float, float, float]:
-        h, w = self.image.shape
-        m = self.margin_mm
-        return -m, w * self.mm_per_px + m, -m, h * self.mm_per_px + m
-
-    def albedo_at(self, x: _Arr, y: _Arr) -> _Arr:
-        bx, by = self._local(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
-        h, w = self.image.shape
-        j = np.floor(bx / self.mm_per_px).astype(np.int64)
-        i = np.floor(by / self.mm_per_px).astype(np.int64)
-        inside = (i >= 0) & (i < h) & (j >= 0) & (j < w)
-        vals = self.image[np.clip(i, 0, h - 1), np.clip(j, 0, w - 1)]
-        return np.where(inside, vals, self.margin_albedo)
-
-    @property
-    def pose(self) -> SE3:
-        """``T_world_board`` (origin at the image's top-left corner), millimetres."""
-        c, s = math.cos(self.yaw), math.sin(self.yaw)
-        R = np.array([[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, -1.0]])
-        return SE3(R, np.array([self.origin[0], self.origin[1], self.z]))
 
 
 Primitive = TablePlane | Disc | Cylinder | Box | Checkerboard | ImagePlane

@@ -1,10 +1,11 @@
 """The scenes of the thesis's experiments: primitives under a directional light.
 
-:class:`Scene` holds the primitives (:mod:`robostereo.simulation.primitives`), a
-directional light and an ambient term; :func:`seed_block_scene` builds the precision
-block of the thesis's accuracy test (5.2, table 5-1) and :func:`hub_pulley_scene` the
-toothed hub pulley of its effectiveness test (5.1), each with the truth the experiments
-compare against (:class:`BlockScene`, :class:`PulleyScene`).
+:class:`Scene` holds the primitives (:mod:`robostereo.simulation.primitives`,
+:mod:`robostereo.simulation.targets`), a directional light and an ambient term;
+:func:`seed_block_scene` builds the precision block of the thesis's accuracy test (5.2,
+table 5-1) and :func:`hub_pulley_scene` the toothed hub pulley of its effectiveness test
+(5.1), each with the truth the experiments compare against (:class:`BlockScene`,
+:class:`PulleyScene`).
 """
 
 from __future__ import annotations
@@ -16,17 +17,9 @@ import numpy as np
 
 from robostereo.errors import InputError, require_finite, require_nonnegative, require_positive
 from robostereo.geometry.poses import Pose
-from robostereo.simulation.primitives import (
-    Box,
-    Checkerboard,
-    Cylinder,
-    Disc,
-    ImagePlane,
-    NoiseTexture,
-    Primitive,
-    TablePlane,
-    xy_pair,
-)
+from robostereo.simulation.primitives import Box, Cylinder, Disc, Primitive, TablePlane
+from robostereo.simulation.surfaces import NoiseTexture, xy_pair
+from robostereo.simulation.targets import Checkerboard, ImagePlane
 
 __all__ = [
     "BlockScene",

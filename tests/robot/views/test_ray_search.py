@@ -3,7 +3,7 @@ in inverse depth, on views this file prepares itself."""
 
 import numpy as np
 
-from robostereo.matcher.edges import smooth
+from robostereo.matcher.grey_levels import smooth
 from robostereo.robot.views.prepared_views import PreparedViews, reference_edges
 from robostereo.robot.views.ray_search import search_rays
 

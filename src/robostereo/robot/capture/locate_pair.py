@@ -129,7 +129,7 @@ class RectifiedPair:
 def _grey(image: NDArray[Any]) -> NDArray[np.float64]:
     img = np.asarray(image)
     if img.ndim == 3:
-        from robostereo.matcher.edges import to_grey
+        from robostereo.matcher.grey_levels import to_grey
 
         # colour: luminance on the image's own scale (to_grey with bit depth 7 keeps it)
         return to_grey(img.astype(np.float64), bit_depth=7).astype(np.float64)

@@ -21,7 +21,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.geometry.poses import as_se3
-from robostereo.matcher.edges import smooth, to_grey
+from robostereo.matcher.grey_levels import smooth, to_grey
 from robostereo.robot.views.edge_profiles import two_step_edges, view_blurs
 from robostereo.robot.views.viewpoints import ViewsCapture
 from robostereo.robot.views.views_kernels import central_gradient, edge_near, grid_edges
