@@ -11,7 +11,7 @@ lift, the largest depth error of the block's top outline (all of it, and its lon
 edges), whether every point lies within its bound, the median bound, the outline
 coverage, the pulley's matched and false shares (of the points reported: those whose
 confidence reaches ``ViewsParameters.min_confidence``).  Times: the median over `--repeat`
-runs of :func:`~robostereo.robot.views.locate_views.locate_views` on the block (lift 0) and of
+runs of :func:`~robostereo.robot.views.locating.locate_views` on the block (lift 0) and of
 the two-view :func:`~robostereo.robot.capture.locate_pair.locate` on the pair of the two outermost
 views of the same capture, in one process, interleaved; wall-clock time, or with
 ``--cpu-time`` the process's CPU time (steadier on a shared machine).  Rows with the
@@ -29,7 +29,7 @@ from robostereo.errors import InputError
 from robostereo.experiments import run_views_demo
 from robostereo.robot.capture import locate
 from robostereo.robot.simulated.grab_views import simulate_views
-from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.locating import locate_views
 
 
 def _times(count: int, pattern: str, span: float, robot: str, repeat: int, seed: int,

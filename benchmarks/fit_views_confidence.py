@@ -41,8 +41,8 @@ import numpy as np
 
 from robostereo.robot.simulated.grab_views import post_before_a_printed_plane, simulate_views
 from robostereo.robot.simulated.views_truth import views_correct
-from robostereo.robot.views.locate_views import locate_views
 from robostereo.robot.views.located_points import confidence_features, views_confidence
+from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.views_parameters import ViewsParameters
 
 

@@ -25,7 +25,7 @@ from fit_views_confidence import _ece, _fit
 import robostereo.robot.views.edge_votes as votes
 from robostereo.robot.simulated.grab_views import simulate_views
 from robostereo.robot.simulated.views_truth import views_correct
-from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.views_parameters import ViewsParameters
 
 

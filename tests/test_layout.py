@@ -45,7 +45,7 @@ ROBOT_LAYERS: tuple[tuple[str, ...], ...] = (
 #: modules (and sub-packages) that robot/ may hold directly, at most
 MAX_ROBOT_ENTRIES = 8
 #: lines a module may have at most (numba kernel modules excepted)
-MAX_LINES = 700
+MAX_LINES = 600
 
 
 def _module_name(path: Path) -> str:

@@ -75,7 +75,7 @@ MOVED: dict[str, tuple[str, ...]] = {
     "robostereo.robot.handeye_checks": ("robostereo.robot.handeye.checks",),
     "robostereo.robot.views_folder": ("robostereo.robot.views.views_folder",),
     "robostereo.robot.multiview": (
-        "robostereo.robot.views.locate_views",
+        "robostereo.robot.views.locating",
         "robostereo.robot.views.views_parameters",
         "robostereo.robot.views.located_points",
     ),

@@ -46,7 +46,7 @@ from robostereo.robot.simulated.views_truth import (
     views_outline_coverage,
     views_pulley_score,
 )
-from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.views_parameters import ViewsParameters
 from robostereo.simulation import Box
 
@@ -491,7 +491,7 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
     count, pattern, span_mm, robot, seed
         :func:`~robostereo.robot.simulated.grab_views.simulate_views`'s.
     params : ViewsParameters, optional
-        :func:`~robostereo.robot.views.locate_views.locate_views`'s.
+        :func:`~robostereo.robot.views.locating.locate_views`'s.
 
     Returns
     -------
@@ -511,7 +511,7 @@ def run_views_demo(*, count: int = 5, pattern: str = "line", span_mm: float = 80
     Notes
     -----
     1. For lifts 0 and 79.65 mm: :func:`simulate_views` of the block,
-       :func:`~robostereo.robot.views.locate_views.locate_views`, :func:`views_block_truth`.
+       :func:`~robostereo.robot.views.locating.locate_views`, :func:`views_block_truth`.
     2. The hub-pulley the same way, :func:`views_pulley_score`.
 
     References

@@ -128,7 +128,7 @@ def _block_top_mm() -> float:
 
 def test_locate_on_a_views_folder_writes_each_point_with_bound_confidence_and_view_count(
         views_dir, tmp_path, capsys):
-    from robostereo.robot.views.locate_views import locate_views
+    from robostereo.robot.views.locating import locate_views
 
     csv, ply = tmp_path / "p.csv", tmp_path / "p.ply"
     assert main(["locate", str(views_dir), "-o", str(csv), "--ply", str(ply)]) == 0
@@ -160,7 +160,7 @@ def test_a_two_view_folder_read_as_two_views_locates_as_today(tmp_path):
 
     from robostereo.robot.capture import locate_capture, write_capture
     from robostereo.robot.simulated.scara_rig import simulate_capture
-    from robostereo.robot.views.locate_views import locate_views
+    from robostereo.robot.views.locating import locate_views
 
     d = write_capture(tmp_path / "two", simulate_capture("block", seed=0).capture)
     today = locate_capture(d)

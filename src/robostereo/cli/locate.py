@@ -113,7 +113,7 @@ def run_locate_views(args: argparse.Namespace) -> int:
     outs = check_outputs({"-o": output, "--ply": args.ply},
                          inputs=views_folder_files(args.capture))
     capture = read_views_capture(args.capture)
-    from robostereo.robot.views.locate_views import locate_views
+    from robostereo.robot.views.locating import locate_views
 
     status, say = stage_reporter(sys.stderr.isatty())
     with status:

@@ -7,8 +7,8 @@ position, sign, magnitude, the grey levels either side); then, on all the peaks,
 :func:`peak_links`: connectivity (:func:`connect_sorted`), pattern type
 (:func:`pattern_of`) and 5 x 5 mean grey (:func:`mean5_at`).  :func:`edge_points` does
 the same on a whole smoothed image at once.  :func:`connect` and :func:`patterns`
-serve :func:`robostereo.matcher.edges.connectivity` and
-:func:`robostereo.matcher.edges.pattern_type` on points in any order;
+serve :func:`robostereo.matcher.edge_features.connectivity` and
+:func:`robostereo.matcher.edge_features.pattern_type` on points in any order;
 :func:`rgb_to_grey` converts colour images to grey with OpenCV's values (:func:`fma32`).
 Only numba functions and the constants they compile in.
 
@@ -113,7 +113,8 @@ def scaled_grey(img, scale, out):  # type: ignore[no-untyped-def]
 @kernel(nogil=True)
 def pattern_of(u, v, hu, hd):  # type: ignore[no-untyped-def]
     """Pattern type 1..16 of one edge point from its neighbours' offsets ``u`` (above),
-    ``v`` (below) and whether it has them (:func:`robostereo.matcher.edges.pattern_type`)."""
+    ``v`` (below) and whether it has them
+    (:func:`robostereo.matcher.edge_features.pattern_type`)."""
     if hu and hd:
         return 1 + 3 * (u + 1) + (v + 1)
     if hu:
@@ -135,7 +136,7 @@ def patterns(u, v, hu, hd):  # type: ignore[no-untyped-def]
 @kernel(nogil=True)
 def connect(line, column, sign, n_lines, width):  # type: ignore[no-untyped-def]
     """Connected neighbours above and below of points in any order, through a grid of
-    ``(n_lines + 2) x (width + 2)`` indices (:func:`robostereo.matcher.edges.connectivity`).
+    ``(n_lines + 2) x (width + 2)`` indices (:func:`robostereo.matcher.edge_features.connectivity`).
 
     Returns ``up, down`` (index or -1) and ``up_off, down_off`` (int8 offset -1..1)."""
     n = line.shape[0]

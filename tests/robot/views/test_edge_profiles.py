@@ -15,7 +15,7 @@ from robostereo.robot.views.edge_profiles import (
     profiles,
     two_step_edges,
 )
-from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.viewpoints import ViewsCapture
 from robostereo.robot.views.views_parameters import ViewsParameters
 

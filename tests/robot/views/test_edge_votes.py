@@ -8,7 +8,7 @@ import pytest
 from robostereo.errors import InputError
 from robostereo.robot.simulated.views_truth import views_correct, views_pulley_score
 from robostereo.robot.views.edge_votes import edge_votes, votes_confidence
-from robostereo.robot.views.locate_views import locate_views, reference_order
+from robostereo.robot.views.locating import locate_views, reference_order
 from robostereo.robot.views.prepared_views import prepare_views, reference_edges
 from robostereo.robot.views.views_parameters import ViewsParameters
 

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 
 from robostereo.robot.simulated.views_truth import views_correct
-from robostereo.robot.views.locate_views import locate_views
 from robostereo.robot.views.located_points import views_bound, views_confidence
+from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.views_parameters import ViewsParameters
 
 

@@ -15,7 +15,7 @@ import pytest
 from robostereo.errors import InputError, PlausibilityWarning
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3, as_se3, se3_from_scara
-from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.pose_check import (
     EpipolarCheck,
     epipolar_check,
@@ -149,7 +149,7 @@ def test_epipolar_check_validates_itself():
         EpipolarCheck(0, 1, 0.1, 0.1, 2.5)
 
 
-def test_locate_views_warns_when_the_poses_disagree_with_the_images(views):
+def test_locating_warns_when_the_poses_disagree_with_the_images(views):
     images, poses = views
     params = ViewsParameters()
     with warnings.catch_warnings():

@@ -7,7 +7,7 @@ from scipy.ndimage import gaussian_filter
 
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import se3_from_scara
-from robostereo.robot.views.locate_views import locate_views
+from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.viewpoints import ViewsCapture
 from robostereo.robot.views.views_parameters import ViewsParameters
 

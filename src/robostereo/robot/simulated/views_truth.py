@@ -1,6 +1,6 @@
 """The truth of a simulated N-view capture: which located points are right, and how well.
 
-Scoring for :func:`~robostereo.robot.views.locate_views.locate_views` on the captures of
+Scoring for :func:`~robostereo.robot.views.locating.locate_views` on the captures of
 :func:`~robostereo.robot.simulated.grab_views.simulate_views`, whose renderings hold the exact
 depth of every pixel and whose scene holds the block's exact outline:
 

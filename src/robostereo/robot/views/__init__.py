@@ -8,7 +8,7 @@ Modules
 :mod:`~robostereo.robot.views.views_folder`
     N-view capture folders: ``capture.yaml`` with a list of views; a two-view folder
     reads as N = 2.
-:mod:`~robostereo.robot.views.locate_views`
+:mod:`~robostereo.robot.views.locating`
     :func:`locate_views`: each view the reference in turn, its stages run, the points
     gathered and reported once.
 :mod:`~robostereo.robot.views.views_parameters`
@@ -36,7 +36,6 @@ Imports: :mod:`robostereo.errors`, :mod:`robostereo.geometry`, :mod:`robostereo.
 format); not the arms, hand-eye, planning or the simulators.
 """
 
-from robostereo.robot.views.locate_views import locate_views, reference_order
 from robostereo.robot.views.located_points import (
     CONFIDENCE_WEIGHTS,
     LocatedViews,
@@ -45,6 +44,7 @@ from robostereo.robot.views.located_points import (
     views_bound,
     views_confidence,
 )
+from robostereo.robot.views.locating import locate_views, reference_order
 from robostereo.robot.views.pose_check import (
     EPIPOLAR_TOLERANCE_DEG,
     EPIPOLAR_TOLERANCE_PX,

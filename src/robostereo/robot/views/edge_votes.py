@@ -1,6 +1,6 @@
 """The N-view locate's checks by the views' edges, and edge points placed by their votes.
 
-:func:`robostereo.robot.views.locate_views.locate_views` calls these for each reference view:
+:func:`robostereo.robot.views.locating.locate_views` calls these for each reference view:
 
 * :func:`left_out_views`: the views left out of a point's fit that see it, and those
   that find no edge there (a check of two-view fits, which cannot check themselves,

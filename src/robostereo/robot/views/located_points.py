@@ -7,7 +7,7 @@
   :func:`confidence_features` gives (:func:`confidence_features_from` for the search's
   fields before the points are gathered).
 
-:func:`~robostereo.robot.views.locate_views.locate_views` fills them in; the
+:func:`~robostereo.robot.views.locating.locate_views` fills them in; the
 points voted by the views' edges have a confidence of their own
 (:func:`~robostereo.robot.views.edge_votes.votes_confidence`).
 

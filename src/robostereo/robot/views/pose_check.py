@@ -1,6 +1,6 @@
 """Do the views' poses agree with their images?  Places tracked off the epipolar lines.
 
-The N-view search (:func:`~robostereo.robot.views.locate_views.locate_views`) looks for each edge
+The N-view search (:func:`~robostereo.robot.views.locating.locate_views`) looks for each edge
 point along the epipolar lines that the poses give (thesis 2.2: the poses make the
 geometry).  Poses that are slightly wrong -- a hand-eye turned by a degree about the
 optical axis, flange poses of another capture -- turn those lines, and the search

@@ -1,6 +1,6 @@
 """The first stages of the N-view locate: the views prepared, the reference's edge points.
 
-:func:`robostereo.robot.views.locate_views.locate_views` runs these first:
+:func:`robostereo.robot.views.locating.locate_views` runs these first:
 
 * :func:`prepare_views`: every view undistorted to the pinhole camera of its own
   intrinsics, on the thesis's 0..127 grey scale, smoothed (figure 3-1), with its

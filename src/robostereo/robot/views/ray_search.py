@@ -1,6 +1,6 @@
 """The N-view search: each reference edge point's ray searched in inverse depth.
 
-:func:`robostereo.robot.views.locate_views.locate_views` runs :func:`search_rays` for each
+:func:`robostereo.robot.views.locating.locate_views` runs :func:`search_rays` for each
 reference view, between preparing the views
 (:mod:`~robostereo.robot.views.prepared_views`) and refining the points
 (:mod:`~robostereo.robot.views.point_refinement`): each edge point's ray searched in

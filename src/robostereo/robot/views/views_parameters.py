@@ -1,6 +1,6 @@
 """Tuning of the N-view locate: :class:`ViewsParameters`.
 
-:func:`~robostereo.robot.views.locate_views.locate_views` takes one; each attribute says
+:func:`~robostereo.robot.views.locating.locate_views` takes one; each attribute says
 what it does, its default and how that default was chosen (on simulated captures with
 their truth).
 
@@ -24,7 +24,7 @@ __all__ = ["ViewsParameters"]
 
 @dataclass(frozen=True)
 class ViewsParameters:
-    """Tuning of :func:`~robostereo.robot.views.locate_views.locate_views`.
+    """Tuning of :func:`~robostereo.robot.views.locating.locate_views`.
 
     Attributes
     ----------

@@ -1,8 +1,8 @@
 """Locating edge points from N views (multi-baseline stereo with known poses).
 
 The thesis [3]_ locates an object point from two views (2.2, 3.6) with the eq. 9
-bound.  A can grab more views; :func:`locate_views` uses them all, for precision (a long total
-baseline [1]_), completeness (views on both sides of an occluder; edges of every
+bound.  A robot can grab more views; :func:`locate_views` uses them all, for precision (a
+long total baseline [1]_), completeness (views on both sides of an occluder; edges of every
 orientation with a cross of viewpoints) and easy matching (short steps between
 neighbouring views):
 

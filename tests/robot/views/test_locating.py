@@ -1,4 +1,4 @@
-"""Tests of robostereo.robot.views.locate_views: locating edge points from N views."""
+"""Tests of robostereo.robot.views.locating: locating edge points from N views."""
 
 import numpy as np
 import pytest
@@ -6,8 +6,8 @@ import pytest
 from robostereo.errors import InputError
 from robostereo.robot.simulated.grab_views import post_before_a_printed_plane, simulate_views
 from robostereo.robot.simulated.views_truth import views_block_truth, views_correct
-from robostereo.robot.views.locate_views import locate_views
 from robostereo.robot.views.located_points import LocatedViews
+from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.views_parameters import ViewsParameters
 from robostereo.simulation import Box
 
