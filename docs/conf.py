@@ -17,6 +17,9 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "src"))
+sys.path.insert(0, str(HERE / "_ext"))
+
+import results_tables  # noqa: E402
 
 import robostereo  # noqa: E402
 
@@ -36,7 +39,8 @@ extensions = [
     "sphinx_gallery.gen_gallery",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "examples/README.rst"]
+# the generated fragments are included by the guide's pages, not pages of their own
+exclude_patterns = ["_build", "_ext", "results", "examples/README.rst", "guide/_generated"]
 
 autodoc_default_options = {"members": True, "member-order": "bysource"}
 autodoc_typehints = "none"  # numpydoc's Parameters sections say the types
@@ -137,3 +141,4 @@ def _write_api_pages() -> None:
 
 
 _write_api_pages()
+results_tables.write_all(HERE / "guide" / "_generated")
