@@ -1,6 +1,7 @@
 """Coverage against false rate on every developer scene: robostereo against StereoSGBM.
 
-Run:  python benchmarks/bench_curves.py [--rule {project,silhouette}] [SCENE_DIR ...]
+Run:  python benchmarks/bench_curves.py [--rule {project,silhouette}] [--write-results PATH]
+                                       [SCENE_DIR ...]
 
 Per scene (default: all of ../shared/data/stereo or $ROBOSTEREO_DATA), the table that
 ``robostereo evaluate`` prints, in one row per method: the default operating point
@@ -18,13 +19,18 @@ Rows are sorted with the scenes where robostereo's lead over SGBM at <= 3 % fals
 smallest first.  ``--rule`` picks the scoring rule (the project's, default, or the
 silhouette rule of :mod:`robostereo.evaluation.rules`); a second table splits each
 method's default point and curve between edge points near a depth step (within 4 px of
-a ground-truth jump of more than 2 px) and away, by the same rule.
+a ground-truth jump of more than 2 px) and away, by the same rule.  ``--write-results
+PATH`` also writes the first table as the results page's data file
+(``docs/results/real_scenes.json``).
 """
 
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
+
+from results_file import write_results
 
 from robostereo.datasets import available_scenes, find_data_dir, load_scene
 from robostereo.evaluation import CURVE_LEVELS, OUTLINE_LEVELS, RULES, evaluate_scene
@@ -36,6 +42,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("scenes", nargs="*", type=Path, metavar="SCENE_DIR")
     ap.add_argument("--rule", choices=RULES, default="project",
                     help="scoring rule (default: the project's)")
+    ap.add_argument("--write-results", type=Path, metavar="PATH",
+                    help="also write the first table as JSON (docs/results/real_scenes.json)")
     args = ap.parse_args(argv)
     if args.scenes:
         dirs = args.scenes
@@ -83,7 +91,22 @@ def main(argv: list[str] | None = None) -> int:
                              + "".join(f"{100 * c:>7.1f}%" for c in cov))
             print(f"{name:<11} {label:<11} {sides[0]}   {sides[1]}")
             name = ""
+    if args.write_results:
+        write_results(args.write_results, sys.argv[1:] if argv is None else argv,
+                      rule=args.rule, levels_percent=[100 * f for f in CURVE_LEVELS],
+                      scenes=[{"scene": name, "window": _figures(win, "robostereo", 0),
+                               "relaxation": _figures(rel, "robostereo", 0),
+                               "sgbm": _figures(win, "sgbm", 1)}
+                              for _, name, win, rel in rows])
     return 0
+
+
+def _figures(ev, key: str, index: int) -> dict[str, object]:
+    """One method's default point and curve, as the results page's data file has them."""
+    m = ev.methods[index]
+    return {"matched_percent": m.matched_percent, "false_percent": m.false_percent,
+            "rms_px": m.rms_px, "ms": 1000 * m.seconds,
+            "coverage_percent": [100 * ev.coverage_at(key, f) for f in CURVE_LEVELS]}
 
 
 if __name__ == "__main__":

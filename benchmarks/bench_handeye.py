@@ -1,6 +1,7 @@
 """Hand-eye accuracy before and after the joint refinement, on two kinds of views.
 
 Run:  PYTHONPATH=src:tests python benchmarks/bench_handeye.py [--seeds 0 1 2]
+                                                          [--write-results PATH]
 
 * ``renders``: the tests' own ray caster (``tests/board_renders.py``, not the project's
   simulator): 640 x 480, f 800 px, k1 = -0.1, an 8 x 5 chessboard with 20 mm squares,
@@ -11,6 +12,8 @@ Run:  PYTHONPATH=src:tests python benchmarks/bench_handeye.py [--seeds 0 1 2]
 For each seed: the error of the closed form (Park-Martin on calibrateCamera's poses),
 of the joint refinement, and of the refinement with the true intrinsics held
 (``--intrinsics``); the AX = XB translation RMS and the RMS the corner noise explains.
+``--write-results PATH`` also writes the errors as the results page's data file
+(``docs/results/handeye.json``).
 """
 
 from __future__ import annotations
@@ -19,16 +22,26 @@ import argparse
 import contextlib
 import io
 import math
+import sys
 import tempfile
 from pathlib import Path
 
 import yaml
 from board_renders import X_TRUE, render_views
+from results_file import write_results
 
 from robostereo.cli import main
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3, as_se3, pose_from_dict
 from robostereo.robot.handeye import Chessboard, calibrate_eye_in_hand
+
+#: the two kinds of views, as the results page describes them
+VIEWS = {
+    "renders": "the tests' own ray caster (not the project's simulator): 640 x 480, f 800 px, "
+               "k1 = -0.1, 8 x 5 board of 20 mm squares, 14 views",
+    "simulated": "robostereo simulate-handeye (15 views of the 9 x 6 board), then robostereo "
+                 "handeye",
+}
 
 RENDER_CAMERA = Camera(focal_length_mm=4.0, pixel_pitch_mm=(0.005, 0.005),
                        image_size=(640, 480), principal_point=(320.0, 240.0),
@@ -40,7 +53,13 @@ def _err(truth: SE3, X: SE3) -> str:
     return f"{t:.3f} mm {math.degrees(r):.4f} deg"
 
 
-def renders(seed: int) -> None:
+def _errors(truth: SE3, X: SE3) -> list[float]:
+    """The translation (mm) and rotation (deg) of ``X`` off ``truth``."""
+    t, r = truth.distance_to(X)
+    return [float(t), math.degrees(r)]
+
+
+def renders(seed: int) -> dict[str, object]:
     r = render_views(seed)
     board = Chessboard(r.inner_corners, r.square_mm)
     cal = calibrate_eye_in_hand(r.images, r.flange_poses, board, pixel_pitch_mm=0.005)
@@ -50,9 +69,12 @@ def renders(seed: int) -> None:
           f"; fx {cal.camera.fx:.2f} (true 800); pairs {cal.residuals.rms_translation_mm:.3f}"
           f" mm (noise explains {cal.predicted_translation_rms_mm:.3f}); reprojection "
           f"{cal.reprojection_rms_px:.3f} px")
+    return {"views": "renders", "seed": seed, "closed_form": _errors(X_TRUE, cal.closed_form),
+            "refined": _errors(X_TRUE, cal.hand_eye),
+            "intrinsics_held": _errors(X_TRUE, known.hand_eye)}
 
 
-def simulated(seed: int) -> None:
+def simulated(seed: int) -> dict[str, object]:
     with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()):
         d, out = Path(tmp) / "views", Path(tmp) / "camera.yaml"
         assert main(["simulate-handeye", "--out", str(d), "--seed", str(seed)]) == 0
@@ -70,13 +92,21 @@ def simulated(seed: int) -> None:
           f"{_err(X, as_se3(pose_from_dict(data_known['hand_eye'])))}; pairs "
           f"{data['handeye_residuals']['translation_mm_rms']:.3f} mm (noise explains "
           f"{data['handeye_residuals']['translation_mm_rms_predicted']:.3f})", flush=True)
+    return {"views": "simulated", "seed": seed,
+            "closed_form": _errors(X, as_se3(pose_from_dict(data["hand_eye_closed_form"]))),
+            "refined": _errors(X, as_se3(pose_from_dict(data["hand_eye"]))),
+            "intrinsics_held": _errors(X, as_se3(pose_from_dict(data_known["hand_eye"])))}
 
 
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
+    p.add_argument("--write-results", type=Path, metavar="PATH",
+                   help="also write the errors as JSON (docs/results/handeye.json)")
     args = p.parse_args()
-    for s in args.seeds:
-        renders(s)
-    for s in args.seeds:
-        simulated(s)
+    rows = [renders(s) for s in args.seeds] + [simulated(s) for s in args.seeds]
+    if args.write_results:
+        # worst refined rotation first, as the results page shows them
+        rows.sort(key=lambda r: -r["refined"][1])  # type: ignore[index]
+        write_results(args.write_results, sys.argv[1:], env="PYTHONPATH=src:tests",
+                      views=VIEWS, rows=rows)

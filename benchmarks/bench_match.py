@@ -2,7 +2,7 @@
 
 Run:  python benchmarks/bench_match.py [--repeat N] [--threads per-core|all|both]
                                       [--no-memory] [--no-paths] [--no-coarse] [--contour]
-                                      [--profile]
+                                      [--profile] [--write-results PATH] [--write-memory PATH]
 
 For every pair (the six real scenes of ../shared/data/stereo, motorcycle again with
 wider disparity ranges, and synthetic pairs of two sizes) all run in this one process on
@@ -37,7 +37,9 @@ pass without them subtracted) and the rest (evidence, right edge points, confide
 the window-cost pass over one disparity (census, Sobel, rows and the per-point reading
 that do not grow with the range) and a third of ``MODE_SGBM_3WAY``'s time (the whole
 match's budget for 3x it), each timed alone in rounds as CPU time of the thread
-(``time.thread_time``: a loaded machine slows it little).
+(``time.thread_time``: a loaded machine slows it little).  ``--write-results PATH`` and
+``--write-memory PATH`` also write the time tables and the memory table as the results
+page's data files (``docs/results/speed.json``, ``docs/results/memory.json``).
 Speed goals live here, never in the tests.
 """
 
@@ -55,6 +57,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+
+from results_file import write_results
 
 from robostereo.datasets import find_data_dir, load_scene
 from robostereo.evaluation import sgbm_input
@@ -278,7 +282,12 @@ def main() -> None:
                     help="per core: time the calling thread's CPU time (a shared machine)")
     ap.add_argument("--profile", action="store_true",
                     help="where robostereo's time goes, per core, instead of the tables")
+    ap.add_argument("--write-results", type=Path, metavar="PATH",
+                    help="also write the time tables as JSON (docs/results/speed.json)")
+    ap.add_argument("--write-memory", type=Path, metavar="PATH",
+                    help="also write the memory table as JSON (docs/results/memory.json)")
     args = ap.parse_args()
+    outputs = ("--write-results", "--write-memory")
     options = {"paths": not args.no_paths, "coarse": not args.no_coarse,
                "contour": args.contour}
     params = MatchParameters(**options)
@@ -295,6 +304,7 @@ def main() -> None:
           f"{'on' if params.paths else 'off'}, coarse {'on' if params.coarse else 'off'}, "
           f"contour {'on' if params.contour else 'off'}")
     modes = {"per-core": [True], "all": [False], "both": [True, False]}[args.threads]
+    tables: dict[str, list[dict[str, object]]] = {}
     for per_core in modes:
         _threads(per_core, opencv_default)
         clock = "CPU ms" if per_core and args.cpu_time else "ms"
@@ -316,15 +326,28 @@ def main() -> None:
                              for p in PEERS)
             print(f"{name:<20} {n:>6} {1000 * res['robostereo'][0]:>10.2f} {cells}",
                   flush=True)
+            tables.setdefault("per_core" if per_core else "all_cores", []).append(
+                {"pair": name, "edges": n, "robostereo_ms": 1000 * res["robostereo"][0],
+                 "ms": {p: 1000 * res[p][0] for p in PEERS},
+                 "ratio": {p: res[p][1] for p in PEERS}})
+    if args.write_results:
+        write_results(args.write_results, sys.argv[1:], outputs=outputs,
+                      opencv=cv2.__version__, cores=os.cpu_count(), repeat=args.repeat,
+                      cpu_time=args.cpu_time, **tables)
     if args.no_memory:
         return
     _threads(False, opencv_default)
     print("\npeak memory added (MiB): robostereo, SGBM (MODE_SGBM), ratio")
+    memory = []
     for name in pairs:
         m_ours = peak_mib("robostereo", name, options)
         m_sgbm = peak_mib("sgbm", name, options)
         print(f"{name:<20} {m_ours:>8.1f} {m_sgbm:>8.1f} {m_ours / max(m_sgbm, 0.1):>6.2f}x",
               flush=True)
+        memory.append({"pair": name, "robostereo_mib": m_ours, "sgbm_mib": m_sgbm,
+                       "ratio": m_ours / max(m_sgbm, 0.1)})
+    if args.write_memory:
+        write_results(args.write_memory, sys.argv[1:], outputs=outputs, pairs=memory)
 
 
 if __name__ == "__main__":

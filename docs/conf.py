@@ -1,22 +1,25 @@
 """Sphinx configuration of robostereo's documentation site.
 
 Build it with ``python -m sphinx -W -b html docs docs/_build/html`` (``pip install -e
-".[docs]"`` first).  The API pages are written at build time from the package's modules
-(one page per subpackage, every public module on it), so a new module is documented
-without anyone remembering to add it; the gallery's scripts in ``docs/examples`` run
-during the build and their figures appear on the pages.
+".[docs]"`` first).  Two parts are written at build time, so neither can fall behind
+what it describes: the API reference, one page per public module of the package
+(``_ext/api_pages.py``), and the results' tables and figures, from the benchmarks' data
+files in ``docs/results`` (``_ext/results_tables.py``).  The gallery's scripts in
+``docs/examples`` run during the build and their figures appear on the pages.
 """
 
 from __future__ import annotations
 
-import importlib
-import pkgutil
 import sys
 import warnings
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "src"))
+sys.path.insert(0, str(HERE / "_ext"))
+
+import api_pages  # noqa: E402
+import results_tables  # noqa: E402
 
 import robostereo  # noqa: E402
 
@@ -36,7 +39,8 @@ extensions = [
     "sphinx_gallery.gen_gallery",
 ]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
-exclude_patterns = ["_build", "examples/README.rst"]
+# the generated fragments are included by the guide's pages, not pages of their own
+exclude_patterns = ["_build", "_ext", "results", "examples/README.rst", "guide/_generated"]
 
 autodoc_default_options = {"members": True, "member-order": "bysource"}
 autodoc_typehints = "none"  # numpydoc's Parameters sections say the types
@@ -46,8 +50,6 @@ numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
 myst_heading_anchors = 3
 myst_enable_extensions = ["colon_fence"]
-# the guide includes README sections, whose in-page links point at README anchors
-suppress_warnings = ["myst.xref_missing", "myst.header"]
 
 html_theme = "pydata_sphinx_theme"
 html_title = f"robostereo {release}"
@@ -65,75 +67,10 @@ sphinx_gallery_conf = {
 warnings.filterwarnings("ignore", category=UserWarning,
                         message="Matplotlib is currently using agg")
 
-# -- API pages, written from the package ---------------------------------------------------
-
-#: one page per subpackage (or group of top-level modules), in the order of the layers
-API_PAGES: dict[str, tuple[str, str, tuple[str, ...]]] = {
-    "top": ("robostereo", "The top-level names, the glossary and the layout.", ()),
-    "geometry": ("robostereo.geometry", "Cameras, poses, rectifications, triangulation.",
-                 ("robostereo.geometry",)),
-    "io": ("robostereo.io", "Files in and out; scenes with ground truth.",
-           ("robostereo.io", "robostereo.datasets")),
-    "matcher": ("robostereo.matcher", "From a rectified pair to matched edge points.",
-                ("robostereo.matcher",)),
-    "simulation": ("robostereo.simulation", "The simulated camera.",
-                   ("robostereo.simulation",)),
-    "evaluation": ("Evaluation and rigs", "Scoring against ground truth; calibrated rigs.",
-                   ("robostereo.evaluation", "robostereo.rig")),
-    "robot": ("robostereo.robot", "Arms, captures, locating, hand-eye, planning.",
-              ("robostereo.robot",)),
-    "application": ("The application layer", "The thesis's experiments, figures, batches.",
-                    ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
-                     "robostereo.batch_workers")),
-    "errors": ("robostereo.errors", "The one error type and its checks.",
-               ("robostereo.errors",)),
-}
+api_pages.write_pages(HERE / "api")
+results_tables.write_all(HERE / "guide" / "_generated")
 
 
-def _public_modules(prefix: str) -> list[str]:
-    module = importlib.import_module(prefix)
-    names = [prefix]
-    if hasattr(module, "__path__"):
-        for info in pkgutil.walk_packages(module.__path__, prefix + "."):
-            if not any(part.startswith("_") for part in info.name.split(".")):
-                names.append(info.name)
-    return names
-
-
-def _write_api_pages() -> None:
-    listed = {n for _, _, prefixes in API_PAGES.values() for p in prefixes
-              for n in _public_modules(p)}
-    missing = sorted(set(_public_modules("robostereo")) - listed - {"robostereo"}
-                     - set(_public_modules("robostereo.cli")))
-    if missing:  # a new public module must find its page
-        raise RuntimeError(f"docs/conf.py: API_PAGES does not list {missing}")
-    out = HERE / "api"
-    out.mkdir(exist_ok=True)
-    index = ["API reference", "=============", "",
-             "Generated from the docstrings (numpydoc); the command line is described in "
-             "the :doc:`user guide <../guide/index>`.", "", ".. toctree::", "   :maxdepth: 1", ""]
-    for page, (title, blurb, prefixes) in API_PAGES.items():
-        index.append(f"   {page}")
-        lines = [title, "=" * len(title), "", blurb, ""]
-        if page == "top":
-            lines += [".. automodule:: robostereo", "   :no-members:", "",
-                      "The names ``from robostereo import ...`` gives, where each is "
-                      "documented:", ""]
-            for n in robostereo.__all__:
-                obj = getattr(robostereo, n)
-                if n != "__version__":
-                    lines.append(f"* :py:obj:`{n} <{obj.__module__}.{n}>`")
-            lines.append("")
-        for prefix in prefixes:
-            for name in _public_modules(prefix):
-                is_package = hasattr(importlib.import_module(name), "__path__")
-                lines += [name, "-" * len(name), "", f".. automodule:: {name}"]
-                lines += ["   :no-members:", ""] if is_package else [""]
-        text = "\n".join(lines) + "\n"
-        path = out / f"{page}.rst"
-        if not path.exists() or path.read_text() != text:
-            path.write_text(text)
-    (out / "index.rst").write_text("\n".join(index) + "\n")
-
-
-_write_api_pages()
+def setup(app):
+    """Sphinx's hook: numba's compiled kernels stay out of every API page."""
+    app.connect("autodoc-skip-member", api_pages.skip_numba)

@@ -4,7 +4,7 @@ The matcher searches along rows (thesis 3.1): a rectified pair whose rows disagr
 fraction of a pixel -- a pose or hand-eye slightly off before rectification, a rig whose
 calibration has drifted -- is matched on windows that no longer line up.  It does not
 fail loudly: on the developer scenes a 1 px offset takes the default point from 0.0-0.6 %
-to 1.0-6.5 % false (`docs/guide/accuracy.md`).
+to 1.0-6.5 % false (`docs/guide/results.md`).
 
 The accepted matches of a first match give places that both views see.  The matches on
 vertical edges cannot tell a vertical offset (the aperture problem), and a row offset

@@ -118,7 +118,7 @@ class MatchParameters:
         ratio of the silhouette edges' median offset from the boundary to today's, with
         the disparity RMS away from steps at most 3 % above today's on every other
         scene; it won every fold.  On the occluder pairs the matched silhouette edges'
-        median offset fell from 0.28 to 0.22 px (see ``docs/guide/accuracy.md``).
+        median offset fell from 0.28 to 0.22 px (see ``docs/guide/development-log.md``).
     photometric : bool
         Window method: where the two views' grey levels at the accepted matches differ
         by more than noise (a gain, offset, exposure or gamma change), match again with
