@@ -29,6 +29,7 @@ TOP_LEVEL = {
     "robostereo.experiments": "application",
     "robostereo.plots": "application",
     "robostereo.batch": "application",
+    "robostereo.batch_inputs": "application",
     "robostereo.batch_workers": "application",
 }
 #: the groups of the index, in the order of the layers (sub-packages follow their parent)
