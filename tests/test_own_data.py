@@ -190,3 +190,16 @@ def test_shipped_dtu_folders_are_what_the_script_writes(tmp_path):
         pytest.skip("DTU scan 24 is not at hand ($ROBOSTEREO_DTU)")
     script.make(source, tmp_path)
     assert script.differences(tmp_path, DTU) == []
+
+
+def test_the_readme_python_example_of_the_user_paths_runs_as_written(monkeypatch) -> None:
+    """README.md's second Python block (a rig, an arm's two views, N views on the shipped
+    files) runs from the repository's root and gives points on each path."""
+    root = DATA.parents[1]
+    blocks = re.findall(r"```python\n(.*?)```", (root / "README.md").read_text(), re.S)
+    block = next(b for b in blocks if "docs/data/" in b)
+    monkeypatch.chdir(root)
+    names: dict[str, object] = {}
+    exec(compile(block, "README.md", "exec"), names)
+    assert len(names["xyz"]) > 1000 and np.all(np.isfinite(names["bound"]))
+    assert len(names["located"].world) > 500 and len(names["views"].world) > 1000
