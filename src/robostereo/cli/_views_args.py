@@ -23,7 +23,6 @@ __all__ = [
     "add_views_options",
     "check_views_options",
     "on_pattern",
-    "uses_views",
 ]
 
 
@@ -56,12 +55,6 @@ def add_views_options(p: Any, *, plan: bool = False) -> None:
         p.add_argument("--span", type=finite("--span", 1e6), metavar="MM",
                        help=f"with --views: distance between the outermost viewpoints, mm "
                             f"({DEFAULT_SPAN_MM:g})")
-
-
-def uses_views(args: argparse.Namespace) -> bool:
-    """Whether the command was given ``--views`` (``--pattern`` or ``--span`` alone are
-    refused by :func:`check_views_options`)."""
-    return getattr(args, "views", None) is not None
 
 
 def check_views_options(args: argparse.Namespace) -> tuple[int, str, float]:
