@@ -90,6 +90,22 @@ def test_stale_parts_of_killed_runs_are_removed_and_live_ones_kept(tmp_path, cap
     assert remove_stale_parts(tmp_path) == [old]
 
 
+def test_a_killed_runs_nested_part_is_removed_by_the_next_run(tmp_path, capsys):
+    # write_csv writes atomically into the command's own temporary file: a run killed
+    # between the two leaves the outer part and the inner one (named after the outer)
+    left, right = _pair_files(tmp_path)
+    outer = tmp_path / ".out.csv.999999999-abcdefgh.part"
+    nested = tmp_path / "..out.csv.999999999-abcdefgh.part.999999999-ijklmnop.part"
+    live = tmp_path / f"..out.csv.{os.getppid()}-abcdefgh.part.{os.getppid()}-x.part"
+    other = tmp_path / "..notes.txt.999999999-abcdefgh.part.999999999-ijklmnop.part"
+    for p in (outer, nested, live, other):
+        p.write_text("half")
+    assert main(["match", str(left), str(right), "--min-disparity", "0",
+                 "--max-disparity", "16", "-o", str(tmp_path / "out.csv")]) == 0
+    assert not outer.exists() and not nested.exists()
+    assert live.exists() and other.exists()
+
+
 def test_batch_removes_stale_parts_of_its_folder(tmp_path, capsys):
     inp = tmp_path / "in" / "p1"
     inp.mkdir(parents=True)

@@ -93,6 +93,11 @@ def remove_stale_parts(folder: PathLike, names: Iterable[str] | None = None) -> 
     A temporary output ``.NAME.PID-XXXXXXXX.part`` (a file, or a folder for an image
     folder) is stale when no process ``PID`` runs on this machine; one of the former
     naming ``.NAME.XXXXXXXX.part`` when it is older than :data:`OLD_PART_SECONDS`.
+    A writer that writes its own output atomically into a command's temporary file
+    (:func:`write_csv` inside :func:`atomic_outputs`) makes a nested one,
+    ``..NAME.PID-XXXXXXXX.part.PID-YYYYYYYY.part``: it counts as NAME's too, so a run
+    killed between the two leaves nothing the next run does not remove.
+
     Output folders shared by machines (a network file system with a batch on several
     hosts) should not be written by two runs at once anyway: a process id of another
     machine is taken as gone.
@@ -106,7 +111,8 @@ def remove_stale_parts(folder: PathLike, names: Iterable[str] | None = None) -> 
     ['.m.csv.999999999-abcdefgh.part']
     """
     d = Path(folder)
-    wanted = None if names is None else tuple(f".{n}." for n in names)
+    # NAME's temporaries, nested ones (a temporary's own temporary) included
+    wanted = None if names is None else tuple(f"{n.lstrip('.')}." for n in names)
     removed: list[Path] = []
     try:
         entries = list(os.scandir(d))
@@ -117,7 +123,7 @@ def remove_stale_parts(folder: PathLike, names: Iterable[str] | None = None) -> 
         name = e.name
         if not (name.startswith(".") and name.endswith(".part")):
             continue
-        if wanted is not None and not name.startswith(wanted):
+        if wanted is not None and not name.lstrip(".").startswith(wanted):
             continue
         m = _PART.search(name)
         try:
