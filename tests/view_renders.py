@@ -25,7 +25,7 @@ as a real arm and DTU's captures do and the simulator's scenes do not:
 and a :class:`ViewsTruth` to score located world points with: the distance of a point to
 the nearest true surface (box faces and ground), the true depth along a ray, samples of the
 box's top outline, and which points every view sees.  Deterministic per seed; a 5-view
-capture renders in about two seconds.
+capture renders in 2-4 s of CPU.
 """
 
 from __future__ import annotations
