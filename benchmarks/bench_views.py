@@ -1,9 +1,12 @@
-"""N-view locating on the simulated robots: errors, coverage, pulley figures and times.
+"""N-view locating beside the classic pair: on the simulated robots and on renders of our own.
 
 Run:  python benchmarks/bench_views.py [--robot scara|six-axis|both] [--counts 2,3,5,9]
       [--patterns line,cross,arc] [--span 80] [--repeat 3] [--seeds 0] [--cpu-time]
+      PYTHONPATH=src:tests python benchmarks/bench_views.py --renders [--families base,turn]
+      [--patterns line,cross] [--counts 2,5,9] [--spans 80,160] [--seeds 0] [--repeat 1]
+      [--views-pair]
 
-For each robot, pattern and view count it runs
+Simulated robots (the default): for each robot, pattern and view count it runs
 :func:`robostereo.experiments.run_views_demo` (the block at two heights and the
 hub-pulley, SCARA or six-axis with its estimated hand-eye) for each seed of the
 sensor noise (and, six-axis, of the hand-eye views) and prints one row: the
@@ -16,20 +19,83 @@ the two-view :func:`~robostereo.robot.capture.locate_pair.locate` on the pair of
 views of the same capture, in one process, interleaved; wall-clock time, or with
 ``--cpu-time`` the process's CPU time (steadier on a shared machine).  Rows with the
 worst largest error first.  Quality does not depend on the machine; the times do.
+
+Renders (``--renders``; issue 34's test bed): captures the simulator did not make,
+rendered by ``tests/view_renders.py`` (a textured box on a textured ground, a lens with
+``k1``, the viewpoints off the ideal pattern, turns about the optical axis; see its
+docstring).  Each family of ``--families`` (:data:`FAMILIES`) is rendered for each
+pattern, count, span and seed, and three rows are printed one beside the other:
+
+* ``views``: :func:`~robostereo.robot.views.locating.locate_views` on all N views;
+* ``pair``: the classic :func:`~robostereo.robot.capture.locate_pair.locate` on
+  ``capture.pair(i, j)`` of the outer views (a line's ends; a cross's x-arm ends, the
+  arm along the camera's x axis: both arms are `span` long);
+* ``views2`` (with ``--views-pair``, N > 2): the same two outer views written as a
+  ``views:`` capture folder of N = 2, read back and located by ``locate_views``.
+
+Columns: the points reported; the 3-D error of each (its distance to the nearest true
+surface, box faces or ground) over the points within 10 mm of the box: median, p95 and
+max; the share of all points more than 2 mm off; the share within its own bound: the
+point's depth error along its reference camera's optical axis (the located depth minus
+the true depth of the ray from the recorded centre through the point, cast into the true
+scene) at most ``bound_mm`` (N views; ``LocatedViews.bound_mm``, a depth bound along the
+reference's axis) or ``z_bound`` (the pair, eq. (9), along the epipolar frame's axis,
+within a degree or so of the left camera's: taken as the same); the outline coverage (the
+box's top outline, sampled every mm, with a located point within 2 mm); the process's CPU
+time (median of `--repeat`) and the peak memory traced by :mod:`tracemalloc` in a separate
+run (NumPy's allocations; numba's own are not traced).  Groups with the worst N-view share
+beyond 2 mm first.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import statistics
+import sys
+import tempfile
 import time
+import tracemalloc
+import warnings
+from collections.abc import Callable
+from pathlib import Path
 from typing import Any
+
+import numpy as np
 
 from robostereo.errors import InputError
 from robostereo.experiments import run_views_demo
 from robostereo.robot.capture import locate
 from robostereo.robot.simulated.grab_views import simulate_views
 from robostereo.robot.views.locating import locate_views
+from robostereo.robot.views.viewpoints import ViewsCapture, view_offsets
+from robostereo.robot.views.views_folder import read_views_capture, write_views_capture
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from view_renders import RenderSpec, ViewsTruth, render_views
+
+FAMILIES: dict[str, dict[str, Any]] = {
+    "base": {},
+    "coarse": {"texture": "coarse"},
+    "stripes": {"texture": "stripes"},
+    "print": {"texture": "print"},
+    "d300": {"distance_mm": 300.0},
+    "d700": {"distance_mm": 700.0},
+    "d1000": {"distance_mm": 1000.0},
+    "k0": {"k1": 0.0},
+    "k05": {"k1": -0.05},
+    "still": {"jitter_deg": 0.0, "jitter_mm": 0.0},
+    "error": {"jitter_deg": 0.0, "jitter_mm": 0.0, "error_deg": 0.1, "error_mm": 0.2},
+    "turn": {"turn_deg": 30.0},
+    "tilt": {"tilt_deg": 30.0, "aim": True},
+    "dtu": {"texture": "print", "distance_mm": 700.0, "turn_deg": 30.0, "tilt_deg": 20.0,
+            "aim": True},
+}
+"""The render families of ``--renders``: changes to :class:`RenderSpec`'s defaults (fine
+noise, 400 mm, ``k1 = -0.1``, each viewpoint off the pattern by 1 deg and 2 mm as the arm
+went and reported, no turns).  ``error``: the true poses off the reported ones by 0.1 deg
+and 0.2 mm (not recorded); ``dtu``: a printed ground at 700 mm seen obliquely (20 deg)
+by converging views turned up to 30 deg apart about their axes."""
 
 
 def _times(count: int, pattern: str, span: float, robot: str, repeat: int, seed: int,
@@ -50,17 +116,157 @@ def _times(count: int, pattern: str, span: float, robot: str, repeat: int, seed:
     return statistics.median(tv), statistics.median(t2)
 
 
+def _outer_pair(spec: RenderSpec) -> tuple[int, int]:
+    """The outer views: a line's ends, a cross's x-arm ends."""
+    o = view_offsets(spec.pattern, spec.count, spec.span_mm)  # type: ignore[arg-type]
+    on_x = np.nonzero(np.abs(o[:, 1]) < 1e-9)[0]
+    return int(on_x[np.argmin(o[on_x, 0])]), int(on_x[np.argmax(o[on_x, 0])])
+
+
+def _score(truth: ViewsTruth, world: np.ndarray, bound: np.ndarray, origins: np.ndarray,
+           axes: np.ndarray) -> dict[str, Any]:
+    """The quality columns of one method's points (see the module's docstring)."""
+    m = len(world)
+    err = truth.surface_distance(world) if m else np.zeros(0)
+    box = truth.near_box(world) if m else np.zeros(0, bool)
+    within = np.zeros(m, bool)
+    for o in np.unique(origins, axis=0):
+        k = np.nonzero((origins == o).all(axis=1))[0]
+        axis = axes[k[0]]
+        depth = (world[k] - o) @ axis
+        within[k] = np.abs(depth - truth.ray_depth(o, axis, world[k])) <= bound[k]
+    outline = truth.outline()
+    cover = 0.0
+    if m:
+        from scipy.spatial import cKDTree
+        cover = float((cKDTree(world).query(outline)[0] <= 2.0).mean())
+    eb = err[box]
+    return {"points": m, "box": int(box.sum()),
+            "median": float(np.median(eb)) if len(eb) else float("nan"),
+            "p95": float(np.percentile(eb, 95)) if len(eb) else float("nan"),
+            "max": float(eb.max()) if len(eb) else float("nan"),
+            "beyond2": float((err > 2.0).mean()) if m else float("nan"),
+            "within": float(within.mean()) if m else float("nan"), "outline": cover}
+
+
+def _run(fn: Callable[[], Any], repeat: int) -> tuple[Any, float, float]:
+    """`fn`'s result, its median CPU time over `repeat` runs and its traced peak, MB."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        fn()  # compile and warm the caches
+        times = []
+        for _ in range(repeat):
+            t = time.process_time()
+            out = fn()
+            times.append(time.process_time() - t)
+        tracemalloc.start()
+        fn()
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+    return out, statistics.median(times), peak / 2**20
+
+
+def _views_pair(cap: ViewsCapture, i: int, j: int) -> ViewsCapture:
+    """Views `i` and `j` written as a ``views:`` folder of two and read back."""
+    two = dataclasses.replace(cap, images=(cap.images[i], cap.images[j]),
+                              poses=(cap.poses[i], cap.poses[j]),
+                              names=("view_00.png", "view_01.png"))
+    with tempfile.TemporaryDirectory() as tmp:
+        write_views_capture(Path(tmp) / "two", two)
+        return read_views_capture(Path(tmp) / "two")
+
+
+def _render_rows(family: str, spec: RenderSpec, repeat: int,
+                 views_pair: bool) -> list[dict[str, Any]]:
+    cap, truth = render_views(spec)
+    i, j = _outer_pair(spec)
+    poses = cap.poses
+    lv, tv, mv = _run(lambda: locate_views(cap), repeat)
+    ref = lv.reference
+    rows = [{"method": "views", "t": tv, "mem": mv, **_score(
+        truth, lv.world, lv.bound_mm, np.array([poses[r].translation for r in ref]),
+        np.array([poses[r].rotation[:, 2] for r in ref]))}]
+    pair = cap.pair(i, j)
+    lp, tp, mp = _run(lambda: locate(pair), repeat)
+    m = len(lp.world)
+    rows.append({"method": f"pair {i}-{j}", "t": tp, "mem": mp, **_score(
+        truth, lp.world, lp.z_bound, np.tile(poses[i].translation, (m, 1)),
+        np.tile(poses[i].rotation[:, 2], (m, 1)))})
+    if views_pair and spec.count > 2:
+        two = _views_pair(cap, i, j)
+        l2, t2, m2 = _run(lambda: locate_views(two), repeat)
+        rows.append({"method": f"views2 {i}-{j}", "t": t2, "mem": m2, **_score(
+            truth, l2.world, l2.bound_mm,
+            np.array([two.poses[r].translation for r in l2.reference]).reshape(-1, 3),
+            np.array([two.poses[r].rotation[:, 2] for r in l2.reference]).reshape(-1, 3))})
+    for r in rows:
+        r.update(family=family, pattern=spec.pattern, N=spec.count, span=spec.span_mm,
+                 seed=spec.seed)
+    return rows
+
+
+def _percent(v: float, digits: int = 1) -> str:
+    return "nan" if v != v else f"{100 * v:.{digits}f}%"
+
+
+def renders_main(args: argparse.Namespace) -> int:
+    """The ``--renders`` mode: the table of the module's docstring."""
+    groups: list[list[dict[str, Any]]] = []
+    for family in args.families.split(","):
+        if family not in FAMILIES:
+            raise SystemExit(f"unknown family {family!r}: one of {', '.join(FAMILIES)}")
+        for pattern in (args.patterns or "line").split(","):
+            for count in (int(c) for c in (args.counts or "2,5").split(",")):
+                if pattern == "cross" and count < 5:
+                    continue
+                for span in (float(s) for s in args.spans.split(",")):
+                    for seed in (int(s) for s in args.seeds.split(",")):
+                        spec = dataclasses.replace(
+                            RenderSpec(), pattern=pattern, count=count, span_mm=span,
+                            seed=seed, **FAMILIES[family])
+                        groups.append(_render_rows(family, spec, args.repeat,
+                                                   args.views_pair))
+                        print(f"done {family} {pattern} {count} {span:g} seed {seed}",
+                              flush=True)
+    head = ("family", "pattern", "N", "span", "seed", "method", "points", "box pts",
+            "median", "p95", "max", ">2mm", "in bound", "outline", "cpu s", "peak MB")
+    print(" | ".join(head))
+    print(" | ".join("---" for _ in head))
+    groups.sort(key=lambda g: -np.nan_to_num(g[0]["beyond2"], nan=1.0))
+    for g in groups:
+        for r in g:
+            print(" | ".join(str(v) for v in (
+                r["family"], r["pattern"], r["N"], f"{r['span']:g}", r["seed"], r["method"],
+                r["points"], r["box"], f"{r['median']:.2f}", f"{r['p95']:.2f}",
+                f"{r['max']:.2f}", _percent(r["beyond2"], 2), _percent(r["within"]),
+                _percent(r["outline"]), f"{r['t']:.2f}", f"{r['mem']:.0f}")))
+    return 0
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--robot", default="both", choices=("scara", "six-axis", "both"))
-    ap.add_argument("--counts", default="2,3,5,9")
-    ap.add_argument("--patterns", default="line,cross,arc")
+    ap.add_argument("--counts", default=None,
+                    help="comma-separated view counts (default 2,3,5,9; renders 2,5)")
+    ap.add_argument("--patterns", default=None,
+                    help="comma-separated patterns (default line,cross,arc; renders line)")
     ap.add_argument("--span", type=float, default=80.0)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--seeds", default="0", help="comma-separated noise seeds")
     ap.add_argument("--cpu-time", action="store_true",
                     help="time the locates by the process's CPU time, not the wall clock")
+    ap.add_argument("--renders", action="store_true",
+                    help="score on tests/view_renders.py's captures (issue 34's test bed)")
+    ap.add_argument("--families", default="base,stripes,turn,d1000",
+                    help=f"renders: comma-separated of {','.join(FAMILIES)}")
+    ap.add_argument("--spans", default="80", help="renders: comma-separated spans, mm")
+    ap.add_argument("--views-pair", action="store_true",
+                    help="renders: also the outer views as a views: capture of two")
     args = ap.parse_args()
+    if args.renders:
+        return renders_main(args)
+    args.counts = args.counts or "2,3,5,9"
+    args.patterns = args.patterns or "line,cross,arc"
     robots = ("scara", "six-axis") if args.robot == "both" else (args.robot,)
     rows: list[dict[str, Any]] = []
     for robot in robots:
