@@ -57,6 +57,13 @@ _OLD_PART = re.compile(r"\.[A-Za-z0-9_]{8}\.part$")
 OLD_PART_SECONDS = 3600.0
 """Age after which a temporary file of the former naming (no process id) is stale."""
 _live: set[Path] = set()  # this process's temporary outputs, for remove_live_parts
+_stands_for: dict[Path, Path] = {}  # a temporary output -> the output it will become
+
+
+def _output_of(path: Path) -> Path:
+    """The output that `path` will become: itself, or for a temporary output (one
+    nested in another's too) the target the user named; what error messages name."""
+    return _stands_for.get(path, path)
 
 
 def _alive(pid: int) -> bool:
@@ -204,9 +211,13 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
     if target.exists() and (not target.is_dir() or any(target.iterdir())):
         raise InputError(f"{target}: exists and is not an empty folder")
     remove_stale_parts(parent, [target.name])
-    tmp = Path(tempfile.mkdtemp(prefix=_part_prefix(target), suffix=".part", dir=parent))
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=_part_prefix(target), suffix=".part", dir=parent))
+    except OSError as e:
+        raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
     _live.add(tmp)
     try:
+        name = ""
         for name, img in images.items():
             ok, buf = cv2.imencode(".png", np.asarray(img, dtype=np.uint8))
             if not ok:  # pragma: no cover - OpenCV always encodes uint8 grey
@@ -214,12 +225,16 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
             (tmp / name).write_bytes(buf.tobytes())
         for name, text in texts.items():
             (tmp / name).write_text(text, encoding="utf-8")
+        name = ""
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o777 & ~umask)
         if target.is_dir():
             target.rmdir()
         os.replace(tmp, target)
+    except OSError as e:  # a full disk: name the folder asked for, not the temporary one
+        raise InputError(f"{target / name if name else target}: cannot write output "
+                         f"({_why(e)})") from None
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
@@ -431,35 +446,44 @@ def atomic_outputs(outputs: Mapping[str, Path]) -> Iterator[dict[str, Path]]:
                 try:
                     os.replace(temps[key], target)
                 except OSError as e:
-                    raise InputError(f"{target}: cannot write output ({_why(e)})") from None
+                    raise InputError(f"{_output_of(Path(target))}: cannot write output "
+                                     f"({_why(e)})") from None
 
 
 @contextlib.contextmanager
 def _temp_beside(target: Path) -> Iterator[Path]:
     """A temporary file beside `target` with the umask's permissions, removed on exit
-    unless renamed."""
+    unless renamed.
+
+    Errors name the output the user asked for: `target`, or when `target` is itself a
+    temporary output (a writer's own atomic file inside a command's), the output that
+    one stands for.
+    """
+    shown = _output_of(target)
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
-        raise InputError(f"{target}: output folder {parent} does not exist")
+        raise InputError(f"{shown}: output folder {parent} does not exist")
     remove_stale_parts(parent, [target.name])
     try:
         fd, tmp = tempfile.mkstemp(prefix=_part_prefix(target), suffix=".part", dir=parent)
     except OSError as e:
-        raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
+        raise InputError(f"{shown}: cannot write in {parent} ({_why(e)})") from None
     os.close(fd)
     tmp_path = Path(tmp)
     _live.add(tmp_path)
+    _stands_for[tmp_path] = shown
     umask = os.umask(0)
     os.umask(umask)
     try:
         os.chmod(tmp_path, 0o666 & ~umask)
         yield tmp_path
     except OSError as e:
-        raise InputError(f"{target}: cannot write output ({_why(e)})") from None
+        raise InputError(f"{shown}: cannot write output ({_why(e)})") from None
     finally:
         if tmp_path.exists():
             tmp_path.unlink()
         _live.discard(tmp_path)
+        _stands_for.pop(tmp_path, None)
 
 
 def _column_text(values: NDArray[Any]) -> list[str]:
