@@ -1,4 +1,5 @@
-"""PLY point clouds with per-point fields: written, read back by another reader."""
+"""PLY point clouds with per-point fields: written, read back by another reader; a full
+disk names the output, never its temporary file."""
 
 from __future__ import annotations
 
@@ -39,25 +40,6 @@ def test_no_points_with_fields_is_an_empty_cloud_and_bad_fields_are_refused(tmp_
         write_ply(tmp_path / "b.ply", np.zeros((3, 3)), np.zeros((3, 4), np.uint8),
                   fields={"c": np.ones(3)})
     assert not (tmp_path / "b.ply").exists()
-
-
-def test_folder_yaml_reads_back_the_plain_values_of_numpy_ones():
-    import yaml
-
-    from robostereo.io import folder_yaml_text
-
-    data = {"camera": {"size": np.array([509, 481])}, "bits": np.int64(7),
-            "range": (np.float32(0.5), 900.0), "ok": np.bool_(False),
-            "views": [{"image": "a.png", "pose": {"x": np.float64(-20.0)}},
-                      {"image": "b.png", "pose": {"x": 20.0}}]}
-    text = folder_yaml_text(data)
-    assert yaml.safe_load(text) == {
-        "camera": {"size": [509, 481]}, "bits": 7, "range": [0.5, 900.0], "ok": False,
-        "views": [{"image": "a.png", "pose": {"x": -20.0}},
-                  {"image": "b.png", "pose": {"x": 20.0}}]}
-    # numbers in flow lists, each view a block of its own, keys in their order
-    assert "  size: [509, 481]\n" in text and "\n- image: b.png\n" in text
-    assert text.index("camera") < text.index("bits") < text.index("views")
 
 
 # -- a full disk: the error names the output asked for, never its temporary file ------
