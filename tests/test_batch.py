@@ -240,3 +240,93 @@ def test_summary_says_which_pairs_the_checks_corrected(tmp_path: Path) -> None:
     header = (tmp_path / "out" / "summary.csv").read_text().splitlines()[0].split(",")
     assert {"row_offset_px", "row_tilt_px", "row_stretch_px", "rows_moved",
             "grey_mapped"} <= set(header)
+
+
+# -- N-view capture folders ------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def mixed(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A pair folder, a two-view capture folder and an N-view one (three views of the
+    block over 40 mm: ``capture --views 3 --span 40``), side by side."""
+    from robostereo.geometry.camera import Camera
+    from robostereo.geometry.poses import Pose
+    from robostereo.robot.capture import Capture, write_capture
+    from robostereo.robot.simulated.grab_views import simulate_views
+    from robostereo.robot.views.views_folder import write_views_capture
+
+    root = tmp_path_factory.mktemp("mixed") / "in"
+    _write_pair(root / "a_pair", 1, camera=True, range_file=True)
+    left, right, _ = synthetic_pair(np.random.default_rng(3), height=120, width=320)
+    write_capture(root / "b_two", Capture(
+        left=left, right=right, camera=Camera(image_size=(320, 120)),
+        pose_left=Pose(-10.0, 0.0, 900.0, 0.0), pose_right=Pose(10.0, 0.0, 900.0, 0.0),
+        bit_depth=8, disparity_range=RANGE))
+    write_views_capture(root / "c_views",
+                        simulate_views("block", count=3, pattern="line", span_mm=40.0).capture)
+    return root
+
+
+def test_n_view_folders_are_located_as_locate_does_beside_pairs_and_two_views(
+        mixed: Path, tmp_path: Path) -> None:
+    """``batch`` refused every N-view folder ('unknown key views') that ``locate`` takes:
+    now its CSV and PLY are ``locate``'s, byte for byte, its row kind ``views``."""
+    out = tmp_path / "out"
+    rep = run_batch(mixed, out, options=BatchOptions(ply=True), workers=1)
+    assert rep.failed == (), rep.errors
+    rows = {r["input"]: r for r in rep.rows}
+    assert [rows[n]["kind"] for n in ("a_pair", "b_two", "c_views")] == [
+        "pair", "capture", "views"]
+    assert main(["locate", str(mixed / "c_views"), "-o", str(tmp_path / "l.csv"),
+                 "--ply", str(tmp_path / "l.ply")]) == 0
+    assert (out / "c_views.csv").read_bytes() == (tmp_path / "l.csv").read_bytes()
+    assert (out / "c_views.ply").read_bytes() == (tmp_path / "l.ply").read_bytes()
+    n = len((tmp_path / "l.csv").read_text().splitlines()) - 1
+    views = rows["c_views"]
+    assert n > 100 and views["matched"] == views["points_3d"] == n
+    assert views["output"] == "c_views.csv" and views["status"] == "ok"
+    # the two views' matcher's columns have no meaning here: blank, never a made-up 0
+    blank = ("edges_left", "edges_right", "matched_percent", "min_disparity",
+             "max_disparity", "row_offset_px", "rows_moved", "grey_mapped", "error")
+    assert all(views[c] == "" for c in blank)
+    line = next(ln for ln in (out / "summary.csv").read_text().splitlines()
+                if ln.startswith("c_views,"))
+    assert line == f"c_views,ok,views,,,{n},,{n},,,,,,,,c_views.csv,"
+
+
+def test_a_finished_n_view_folder_is_skipped_and_redone_when_a_view_changes(
+        mixed: Path, tmp_path: Path) -> None:
+    import os
+    import shutil
+
+    import yaml
+
+    root = tmp_path / "in"
+    shutil.copytree(mixed, root)
+    views = root / "c_views"
+    # one view's image in a subfolder: its changes count too
+    (views / "imgs").mkdir()
+    (views / "view_02.png").rename(views / "imgs" / "view_02.png")
+    data = yaml.safe_load((views / "capture.yaml").read_text())
+    data["views"][2]["image"] = "imgs/view_02.png"
+    (views / "capture.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    out = tmp_path / "out"
+    first = run_batch(root, out, workers=1)
+    assert first.failed == () and "c_views" in first.processed
+    stamp = (out / "c_views.csv").stat().st_mtime_ns
+    again = run_batch(root, out, workers=1)
+    assert again.processed == () and "c_views" in again.skipped
+    assert (out / "c_views.csv").stat().st_mtime_ns == stamp
+    st = (views / "imgs" / "view_02.png").stat()
+    os.utime(views / "imgs" / "view_02.png", ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))
+    redo = run_batch(root, out, workers=1)
+    assert redo.processed == redo.redone == ("c_views",)
+
+
+def test_n_view_folders_on_dask_give_the_local_outputs(mixed: Path, tmp_path: Path,
+                                                       cluster) -> None:
+    local = run_batch(mixed, tmp_path / "local", workers=2)
+    dask = run_batch(mixed, tmp_path / "dask", scheduler=cluster.scheduler_address)
+    assert local.failed == dask.failed == ()
+    assert [r["kind"] for r in dask.rows] == ["pair", "capture", "views"]
+    assert _csvs(tmp_path / "local") == _csvs(tmp_path / "dask")

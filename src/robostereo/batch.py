@@ -1,7 +1,7 @@
 """Batch runs over many stereo inputs, on the local cores or a Dask cluster, resumable.
 
-:func:`run_batch` processes every input folder of a directory -- pair folders and
-capture folders (:mod:`robostereo.batch_inputs`) -- each by
+:func:`run_batch` processes every input folder of a directory -- pair folders, capture
+folders of two views and of N (:mod:`robostereo.batch_inputs`) -- each by
 :func:`~robostereo.batch_inputs.process_input`, which writes, per input ``NAME``,
 ``OUT/NAME.csv`` (the matched points) [and ``OUT/NAME.ply``] and then ``OUT/NAME.json``
 (its summary row and timings), all atomically; the JSON file marks the input as

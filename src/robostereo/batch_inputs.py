@@ -11,7 +11,16 @@ An input is a folder, one of
   rig and go through :func:`robostereo.rig.match_rig`;
 * a **capture folder**: ``capture.yaml``, ``left.png``, ``right.png`` as
   ``robostereo capture`` writes it, processed by
-  :func:`robostereo.robot.capture.locate_pair.locate_capture`.
+  :func:`robostereo.robot.capture.locate_pair.locate_capture`;
+* an **N-view capture folder**: ``capture.yaml`` with ``views:`` and the views' images,
+  as ``robostereo capture --views N`` writes it, read by
+  :func:`~robostereo.robot.views.views_folder.read_views_capture` and located by
+  :func:`~robostereo.robot.views.locating.locate_views`, as ``robostereo locate`` does:
+  ``NAME.csv`` has ``locate``'s N-view columns (each point with its bound, confidence
+  and view count; ``NAME.ply`` those as vertex properties), and the summary row kind
+  ``views``, ``matched`` and ``points_3d`` the points located (the columns of the
+  matcher of two views -- edge points, disparities, the rows' and grey levels' checks --
+  are blank).
 
 :func:`find_inputs` lists the input folders of a directory (empty subfolders are not
 inputs and are left out).  :func:`process_input` processes one and writes, for input
@@ -20,7 +29,8 @@ inputs and are left out).  :func:`process_input` processes one and writes, for i
 atomically; the JSON file marks the input as finished.  The marker records what shaped
 the outputs (:func:`run_signature`) -- the options (range, PLY, calibration and its
 contents, matcher parameters, robostereo's version) and the name, size and modification
-time of every file of the input folder.  A failed input leaves no output.
+time of every file of the input folder (and of an N-view folder's images in its
+subfolders).  A failed input leaves no output.
 """
 
 from __future__ import annotations
@@ -172,8 +182,11 @@ def _read_range(path: Path) -> tuple[float, float]:
 
 
 def _write_outputs(
-    out: Path, name: str, table: Mapping[str, Any], xyz: Any, ply: bool
+    out: Path, name: str, table: Mapping[str, Any], xyz: Any, ply: bool,
+    fields: Mapping[str, Any] | None = None,
 ) -> str:
+    """``NAME.csv`` [and ``NAME.ply`` of `xyz` (M, 3), with the per-point `fields`],
+    both or neither; an old ``NAME.ply`` not asked for now is removed."""
     from robostereo.io import atomic_outputs, write_csv, write_ply
 
     csv_path, ply_path = out / f"{name}.csv", out / f"{name}.ply"
@@ -183,7 +196,7 @@ def _write_outputs(
     with atomic_outputs(targets) as tmp:  # both or neither
         write_csv(tmp["csv"], table)
         if "ply" in tmp:
-            write_ply(tmp["ply"], xyz)
+            write_ply(tmp["ply"], xyz, fields=fields)
     if "ply" not in targets and ply_path.is_file():
         ply_path.unlink()  # left by a run with other options
     return csv_path.name
@@ -222,6 +235,7 @@ def run_signature(input_dir: PathLike, options: BatchOptions) -> dict[str, Any]:
         )
     except OSError:
         files = []
+    files += _images_below(d)
     o = options
     capture = (d / "capture.yaml").is_file()  # its own range and geometry
     own_range = capture or (d / "disparity.yaml").is_file()
@@ -241,6 +255,25 @@ def run_signature(input_dir: PathLike, options: BatchOptions) -> dict[str, Any]:
         },
         "files": files,
     }  # fmt: skip
+
+
+def _images_below(d: Path) -> list[list[Any]]:
+    """Name, size and modification time of an N-view folder's images that lie in its
+    subfolders (those of the folder itself are among its files already)."""
+    if not _is_views(d):
+        return []
+    from robostereo.robot.views.views_folder import views_folder_files
+
+    below = []
+    for p in views_folder_files(d):
+        rel = os.path.relpath(p, d)
+        if os.sep in rel:
+            try:
+                st = p.stat()
+            except OSError:
+                continue  # the reader says what is wrong with it
+            below.append([rel, st.st_size, st.st_mtime_ns])
+    return sorted(below)
 
 
 def _run_pair(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
@@ -318,6 +351,23 @@ def _run_capture(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
     }  # fmt: skip
 
 
+def _run_views(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
+    """An N-view folder, located as ``robostereo locate`` locates it: the same reader
+    and locate, the same CSV columns and PLY properties."""
+    from robostereo.robot.views.locating import locate_views
+    from robostereo.robot.views.views_folder import read_views_capture
+
+    located = locate_views(read_views_capture(d))
+    table = located.table()
+    n = len(located)
+    return {
+        "kind": "views", "matched": n,
+        "points_3d": int(np.isfinite(located.world).all(axis=1).sum()),
+        "output": _write_outputs(out, d.name, table, located.world, options.ply, fields={
+            k: table[k] for k in ("bound_mm", "confidence", "view_count")}),
+    }  # fmt: skip
+
+
 def _checks(res: MatchResult) -> dict[str, Any]:
     """The summary's columns of the match's own checks (rows, grey levels)."""
     rows = res.row_offset
@@ -328,6 +378,15 @@ def _checks(res: MatchResult) -> dict[str, Any]:
         "rows_moved": int(rows is not None and rows.misaligned),
         "grey_mapped": int(res.grey_map is not None),
     }
+
+
+def _is_views(d: Path) -> bool:
+    """Whether the capture folder `d` holds N views (``views:`` in its capture.yaml)."""
+    try:
+        from robostereo.robot.views.views_folder import is_views_folder
+    except ImportError:
+        return False  # the two-view reader says what is missing
+    return is_views_folder(d)
 
 
 def _blank_row(name: str) -> dict[str, Any]:
@@ -344,7 +403,8 @@ def process_input(
     Parameters
     ----------
     input_dir : path
-        A pair folder or a capture folder (see the module docstring).
+        A pair folder, a capture folder or an N-view capture folder (see the module
+        docstring).
     out_dir : path
         Existing output folder.
     options : BatchOptions, optional
@@ -357,8 +417,9 @@ def process_input(
 
     Notes
     -----
-    1. Recognise the folder (``capture.yaml`` -> capture; ``left.*`` and ``right.*`` ->
-       pair; otherwise an error naming the folder: empty, or no such files).
+    1. Recognise the folder (``capture.yaml`` -> capture, with ``views:`` an N-view
+       one; ``left.*`` and ``right.*`` -> pair; otherwise an error naming the folder:
+       empty, or no such files).
     2. Match (and triangulate, where a camera or calibration is known).
     3. Write ``NAME.csv`` [and ``NAME.ply``], then ``NAME.json``, each atomically: the
        JSON file, written last, marks the input finished.
@@ -381,7 +442,8 @@ def process_input(
         if not entries:
             raise InputError(f"{d}: folder is empty")
         if (d / "capture.yaml").is_file():
-            row.update(_run_capture(d, out, opts))
+            row.update(_run_views(d, out, opts) if _is_views(d) else
+                       _run_capture(d, out, opts))
         elif _is_input(d):
             row.update(_run_pair(d, out, opts))
         else:

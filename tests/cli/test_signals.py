@@ -97,3 +97,87 @@ def test_interrupt_inside_a_numba_call_is_still_an_interrupt(monkeypatch, capsys
     monkeypatch.setattr(plan, "run_plan", lambda args: (_ for _ in ()).throw(SystemError("x")))
     with pytest.raises(SystemError):  # a SystemError of another cause is not hidden
         cli.main(["plan", "--depth", "1000", "--accuracy", "5"])
+
+
+def test_a_second_sigint_soon_after_the_first_is_quiet(tmp_path):
+    """Two Ctrl-C a few milliseconds apart while the matcher's threads run: the second
+    one lands in the unwinding or the interpreter's exit (threads joined, ``atexit``),
+    which printed a ``KeyboardInterrupt`` traceback (or ended by SIGINT) about one run
+    in five; now it is ignored: one line, exit 130, no output, every time."""
+    left, right = _big_pair(tmp_path)
+    env = {**os.environ, "PYTHONPATH": str(SRC), "ROBOSTEREO_THREADS": "2",
+           **{k: "1" for k in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS",
+                               "NUMBA_NUM_THREADS")}}
+    for k, gap in enumerate((0.0, 0.003, 0.01)):
+        p = subprocess.Popen([sys.executable, "-m", "robostereo.cli", "match", str(left),
+                              str(right), "--min-disparity", "0", "--max-disparity", "160",
+                              "-o", str(tmp_path / "out.csv")],
+                             env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+        try:
+            while p.poll() is None and not _pool_running(p.pid):
+                time.sleep(0.005)
+            time.sleep(0.02 * k)  # a little further into the run each time
+            p.send_signal(signal.SIGINT)
+            time.sleep(gap)
+            if p.poll() is None:
+                p.send_signal(signal.SIGINT)
+            _, err = p.communicate(timeout=120)
+        finally:
+            if p.poll() is None:
+                p.kill()
+                p.communicate()
+        assert p.returncode == 130 and err.splitlines() == ["robostereo: interrupted"], (
+            gap, p.returncode, err)
+        assert sorted(q.name for q in tmp_path.iterdir()) == ["l.png", "r.png"]
+
+
+_SECOND_SIGINT = """
+import atexit, os, signal, sys, time
+import robostereo.cli as cli
+from robostereo.cli import plan
+
+def ctrl_c():
+    os.kill(os.getpid(), signal.SIGINT)
+    time.sleep(0.05)
+
+def handler(args):
+    atexit.register(ctrl_c)  # a third one while the interpreter exits
+    try:
+        ctrl_c()  # the first
+    finally:
+        ctrl_c()  # a second one while the command unwinds
+
+plan.run_plan = handler
+sys.argv = ["robostereo", "plan", "--depth", "1000", "--accuracy", "5"]
+sys.exit(cli.main())
+"""
+
+
+def test_interrupts_during_the_unwinding_and_the_exit_are_ignored(tmp_path):
+    """The same windows made certain: SIGINT sent again inside the command's cleanup and
+    in an ``atexit`` callback of the program."""
+    env = {**os.environ, "PYTHONPATH": str(SRC)}
+    p = subprocess.run([sys.executable, "-c", _SECOND_SIGINT], env=env, capture_output=True,
+                       text=True, timeout=120,
+                       preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+    assert p.returncode == 130 and p.stderr.splitlines() == ["robostereo: interrupted"], (
+        p.returncode, p.stderr)
+
+
+def test_main_called_with_arguments_gives_the_signal_handlers_back(monkeypatch, capsys):
+    """In a process that goes on (``main(argv)``), an interrupt leaves SIGINT and SIGTERM
+    as they were."""
+    import robostereo.cli as cli
+    from robostereo.cli import plan
+
+    before = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
+
+    def handler(args):
+        os.kill(os.getpid(), signal.SIGINT)
+        time.sleep(1.0)  # the handler raises here
+
+    monkeypatch.setattr(plan, "run_plan", handler)
+    assert cli.main(["plan", "--depth", "1000", "--accuracy", "5"]) == 130
+    assert capsys.readouterr().err.splitlines() == ["robostereo: interrupted"]
+    assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before

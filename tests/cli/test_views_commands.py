@@ -219,6 +219,22 @@ def test_locate_refuses_an_input_or_one_file_twice_as_its_outputs(views_dir, tmp
              word.format(d=d))
 
 
+@pytest.mark.parametrize("views_first", [True, False])
+def test_locate_fuse_names_the_n_view_folder_whichever_it_is(views_dir, tmp_path, capsys,
+                                                             views_first):
+    """``--fuse`` merges two-view captures: the error names the folder of N views, not
+    the two-view one beside it (it named the first folder whichever was at fault)."""
+    two = tmp_path / "two"
+    assert main(["capture", "--out", str(two)]) == 0
+    views = tmp_path / "views"
+    shutil.copytree(views_dir, views)
+    capsys.readouterr()
+    first, second = (views, two) if views_first else (two, views)
+    err = _refused(["locate", first, "--fuse", second], tmp_path, capsys, "--fuse")
+    assert err.startswith(f"robostereo: error: {views / 'capture.yaml'}: has N views"), err
+    assert str(two) not in err
+
+
 # -- plan ------------------------------------------------------------------------------
 
 

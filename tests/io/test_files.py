@@ -1,4 +1,5 @@
-"""PLY point clouds with per-point fields: written, read back by another reader."""
+"""PLY point clouds with per-point fields: written, read back by another reader; a full
+disk names the output, never its temporary file."""
 
 from __future__ import annotations
 
@@ -41,20 +42,47 @@ def test_no_points_with_fields_is_an_empty_cloud_and_bad_fields_are_refused(tmp_
     assert not (tmp_path / "b.ply").exists()
 
 
-def test_folder_yaml_reads_back_the_plain_values_of_numpy_ones():
-    import yaml
+# -- a full disk: the error names the output asked for, never its temporary file ------
 
-    from robostereo.io import folder_yaml_text
 
-    data = {"camera": {"size": np.array([509, 481])}, "bits": np.int64(7),
-            "range": (np.float32(0.5), 900.0), "ok": np.bool_(False),
-            "views": [{"image": "a.png", "pose": {"x": np.float64(-20.0)}},
-                      {"image": "b.png", "pose": {"x": 20.0}}]}
-    text = folder_yaml_text(data)
-    assert yaml.safe_load(text) == {
-        "camera": {"size": [509, 481]}, "bits": 7, "range": [0.5, 900.0], "ok": False,
-        "views": [{"image": "a.png", "pose": {"x": -20.0}},
-                  {"image": "b.png", "pose": {"x": 20.0}}]}
-    # numbers in flow lists, each view a block of its own, keys in their order
-    assert "  size: [509, 481]\n" in text and "\n- image: b.png\n" in text
-    assert text.index("camera") < text.index("bits") < text.index("views")
+def _disk_full(monkeypatch, method: str) -> None:
+    """Make every ``Path.<method>`` fail as a full disk does (ENOSPC)."""
+    import errno
+    import os
+    from pathlib import Path
+
+    def full(self, *args, **kwargs):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(self))
+
+    monkeypatch.setattr(Path, method, full)
+
+
+@pytest.mark.parametrize("nested", [False, True])
+def test_a_full_disk_names_the_output_not_the_hidden_part_file(tmp_path, monkeypatch, nested):
+    from robostereo.io import atomic_outputs, write_csv
+
+    _disk_full(monkeypatch, "write_text")
+    target = tmp_path / "m.csv"
+    with pytest.raises(InputError) as err:
+        if nested:  # a command's outputs: write_csv's own temporary inside the command's
+            with atomic_outputs({"-o": target}) as tmp:
+                write_csv(tmp["-o"], {"x": np.arange(3)})
+        else:
+            write_csv(target, {"x": np.arange(3)})
+    msg = str(err.value)
+    assert msg.startswith(f"{target}: cannot write output") and "No space left" in msg
+    assert ".part" not in msg
+    assert list(tmp_path.iterdir()) == []  # no output, no temporary file
+
+
+def test_a_full_disk_while_writing_an_image_folder_names_the_folders_file(tmp_path,
+                                                                          monkeypatch):
+    from robostereo.io import write_image_folder
+
+    _disk_full(monkeypatch, "write_bytes")
+    with pytest.raises(InputError) as err:
+        write_image_folder(tmp_path / "cap", {"a.png": np.zeros((4, 4), np.uint8)},
+                           {"c.yaml": "x: 1\n"})
+    msg = str(err.value)
+    assert msg.startswith(f"{tmp_path / 'cap' / 'a.png'}: cannot write output")
+    assert ".part" not in msg and list(tmp_path.iterdir()) == []

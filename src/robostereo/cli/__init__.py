@@ -5,7 +5,9 @@ standard error, ``robostereo: error: ...``, with exit code 2 and no partial outp
 input that is used but looks wrong (:class:`~robostereo.errors.PlausibilityWarning`)
 as ``robostereo: warning: ...``.  SIGTERM ends a command as SIGINT does: one line,
 exit code 143 (130 for SIGINT), nothing half-written: a command's outputs appear all
-together or not at all (an interrupt after they are in place leaves them whole).
+together or not at all (an interrupt after they are in place leaves them whole).  Once
+the first interrupt is being handled, further ones are ignored: a second Ctrl-C cannot
+cut the cleanup short or end the program with a traceback.
 
 Each command lives in its own module, with its parser, its handler and (for ``demo``,
 ``capture``, ``locate`` and ``plan``) its N-view run: :mod:`robostereo.cli.match`,
@@ -78,8 +80,20 @@ class Terminated(KeyboardInterrupt):
     """SIGTERM, raised in the main thread so that it unwinds like Ctrl-C (SIGINT)."""
 
 
-def _on_sigterm(signum: int, frame: Any) -> None:
-    raise Terminated
+#: the signals that end a command: SIGINT (Ctrl-C) and SIGTERM
+_INTERRUPTS = (signal.SIGINT, signal.SIGTERM)
+
+
+def _on_interrupt(signum: int, frame: Any) -> None:
+    """The first SIGINT or SIGTERM: ignore any further one from now on, then unwind.
+
+    A second Ctrl-C soon after the first would otherwise land in the unwinding (the
+    outputs' temporary files removed, the threads joined, the interpreter's exit) and
+    end the program with a ``KeyboardInterrupt`` traceback, or leave a temporary file.
+    """
+    for s in _INTERRUPTS:
+        signal.signal(s, signal.SIG_IGN)
+    raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
 
 
 def _show_warning(message: Warning | str, category: type[Warning], *rest: Any,
@@ -108,12 +122,32 @@ def _interrupt_in(error: BaseException) -> KeyboardInterrupt | None:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; returns the exit code (0 ok, 2 bad input, 130 SIGINT,
-    143 SIGTERM)."""
+    143 SIGTERM).
+
+    Parameters
+    ----------
+    argv : sequence of str, optional
+        The arguments; default ``sys.argv[1:]``: the ``robostereo`` program, which
+        exits when this returns.
+
+    Notes
+    -----
+    On the main thread, SIGTERM (and SIGINT, unless it is ignored or handled by
+    someone else) raise :class:`Terminated` (:class:`KeyboardInterrupt`), and the first
+    of them makes both ignored while the command unwinds.  Called with `argv` (in a
+    process that goes on), the handlers are restored on return; without it (the
+    program) they stay ignored after an interrupt, so that a second Ctrl-C during the
+    interpreter's exit (worker threads joined, ``atexit``) is quiet too.
+    """
     parser = build_parser()
     args = parser.parse_args(argv)
-    previous = None
+    previous: dict[int, Any] = {}
+    interrupted = False
     if threading.current_thread() is threading.main_thread():
-        previous = signal.signal(signal.SIGTERM, _on_sigterm)
+        previous = {s: signal.getsignal(s) for s in _INTERRUPTS}
+        signal.signal(signal.SIGTERM, _on_interrupt)
+        if previous[signal.SIGINT] is signal.default_int_handler:  # not SIG_IGN (nohup)
+            signal.signal(signal.SIGINT, _on_interrupt)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("always", PlausibilityWarning)
@@ -128,21 +162,30 @@ def main(argv: Sequence[str] | None = None) -> int:
         print(f"robostereo: error: {where}{e.strerror or e.__class__.__name__}",
               file=sys.stderr)
         return 2
-    except Terminated:
-        print("robostereo: terminated", file=sys.stderr)
-        return 143
-    except KeyboardInterrupt:
-        print("robostereo: interrupted", file=sys.stderr)
-        return 130
+    except KeyboardInterrupt as e:  # Terminated too
+        interrupted = True
+        return _report_interrupt(e)
     except SystemError as e:
         # the signal handler ran inside a numba dispatcher's call on this thread, which
         # then reports "returned a result with an exception set": the interrupt it is
         cause = _interrupt_in(e)
         if cause is None:
             raise
-        print(f"robostereo: {'terminated' if isinstance(cause, Terminated) else 'interrupted'}",
-              file=sys.stderr)
-        return 143 if isinstance(cause, Terminated) else 130
+        interrupted = True
+        return _report_interrupt(cause)
     finally:
-        if previous is not None:
-            signal.signal(signal.SIGTERM, previous)
+        if not (interrupted and argv is None):  # the program ends quietly: keep ignoring
+            for s, handler in previous.items():
+                if handler is not None:
+                    signal.signal(s, handler)
+
+
+def _report_interrupt(cause: KeyboardInterrupt) -> int:
+    """The one line of an interrupt, and its exit code (143 SIGTERM, 130 SIGINT)."""
+    if threading.current_thread() is threading.main_thread():
+        for s in _INTERRUPTS:  # raised without the handler (a library's own): ignore too
+            if signal.getsignal(s) is _on_interrupt:
+                signal.signal(s, signal.SIG_IGN)
+    terminated = isinstance(cause, Terminated)
+    print(f"robostereo: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
+    return 143 if terminated else 130

@@ -1,4 +1,5 @@
-"""``robostereo batch``: many pairs or capture folders, resumable, local or on Dask.
+"""``robostereo batch``: many pairs or capture folders (two views or N), resumable, local
+or on Dask.
 
 Parses, calls the library's batch runner (:func:`~robostereo.batch.run_batch`) and
 reports; an input that fails is reported (exit code 2 at the end), any other user error
@@ -23,8 +24,10 @@ def add_batch_parser(sub: Any) -> None:
         "batch", help="match many pairs or capture folders, resumable, local or on Dask",
         description="Run the pipeline over every input folder of INPUT_DIR (pair folders: "
                     "left.*, right.*, optional camera.yaml and disparity.yaml; capture "
-                    "folders: capture.yaml, left.png, right.png); write OUT_DIR/NAME.csv per "
-                    "input and OUT_DIR/summary.csv.  Finished inputs are skipped on a rerun.",
+                    "folders: capture.yaml, left.png, right.png; N-view capture folders: "
+                    "capture.yaml with views:, located as robostereo locate does); write "
+                    "OUT_DIR/NAME.csv per input and OUT_DIR/summary.csv.  Finished inputs "
+                    "are skipped on a rerun.",
     )
     p.add_argument("input_dir", type=Path, metavar="INPUT_DIR")
     p.add_argument("--out", type=Path, required=True, metavar="OUT_DIR", help="output folder")

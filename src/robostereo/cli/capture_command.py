@@ -4,7 +4,13 @@ folder.
 Two views from the AdeptOne (the thesis's SCARA) or, with ``--robot six-axis``, the
 six-axis arm; with ``--views N``, N views in a pattern.  Every check runs before any
 work and raises :class:`~robostereo.errors.InputError` (one line, exit code 2, nothing
-written).
+written); an option given where it does not apply is refused, even at its default
+value, never ignored: ``--baseline`` and ``--handeye`` with ``--views`` (``--span``
+sets the views' extent), ``--direction``, ``--roll`` and ``--center`` with the six-axis
+arm, ``--tilt`` and ``--handeye`` with the AdeptOne.  With ``--views`` on the AdeptOne,
+``--direction`` turns the whole set-up (the block, the light, the camera and the
+views' line) about the centre, and ``--roll`` turns the camera and its pattern
+together against the scene (the pattern lies in the camera's frame).
 """
 
 from __future__ import annotations
@@ -49,18 +55,21 @@ def add_capture_parser(sub: Any) -> None:
                    help="simulated object (block)")
     p.add_argument("--lift", type=finite("--lift", 1e6), default=0.0,
                    help="block: raise of its top, mm (0; the thesis's second set: 79.65)")
-    p.add_argument("--baseline", type=finite("--baseline", 1e6), default=20.0,
-                   help="baseline D, mm (20)")
-    p.add_argument("--direction", type=finite("--direction", 1e6), default=0.0,
-                   help="baseline direction from world X, degrees (0)")
-    p.add_argument("--roll", type=finite("--roll", 1e6), default=0.0,
-                   help="camera yaw against the baseline at the centre, degrees (0)")
-    p.add_argument("--center", type=finite("--center", 1e6), nargs=2, default=(400.0, 0.0),
-                   metavar=("X", "Y"), help="mid-baseline point, world mm (400 0)")
+    # the defaults are None, so that an option given where it does not apply is refused
+    p.add_argument("--baseline", type=finite("--baseline", 1e6),
+                   help="two views: baseline D, mm (20; six-axis 40)")
+    p.add_argument("--direction", type=finite("--direction", 1e6),
+                   help="adeptone: baseline direction from world X, degrees (0); with "
+                        "--views the whole set-up turns with it")
+    p.add_argument("--roll", type=finite("--roll", 1e6),
+                   help="adeptone: camera yaw against the baseline at the centre, degrees "
+                        "(0); with --views the pattern turns with the camera")
+    p.add_argument("--center", type=finite("--center", 1e6), nargs=2,
+                   metavar=("X", "Y"), help="adeptone: mid-baseline point, world mm (400 0)")
     p.add_argument("--seed", type=int, default=0, help="sensor-noise seed (0)")
     p.add_argument("--robot", choices=("adeptone", "six-axis"), default="adeptone",
                    help="simulated robot (adeptone: the thesis's SCARA)")
-    p.add_argument("--tilt", type=finite("--tilt"), default=25.0,
+    p.add_argument("--tilt", type=finite("--tilt"),
                    help="six-axis: camera tilt from vertical, degrees (25)")
     p.add_argument("--handeye", type=Path,
                    help="six-axis: record this camera file's camera and hand_eye "
@@ -75,20 +84,15 @@ def run_capture_command(args: argparse.Namespace) -> int:
 
     if args.views is not None or args.pattern is not None or args.span is not None:
         return views_capture(args)
-    baseline = args.baseline
-    if args.robot == "six-axis":
-        if args.direction != 0.0 or args.roll != 0.0 or tuple(args.center) != (400.0, 0.0):
-            raise InputError("--direction, --roll and --center are for --robot adeptone; "
-                             "the six-axis arm takes --baseline, --tilt and --handeye")
-        if baseline == 20.0:  # the SCARA default; the six-axis views stand 40 mm apart
-            baseline = 40.0
+    _refuse_other_robots_options(args, "--baseline, --tilt and --handeye")
     require_seed(args.seed)
     require_empty_folder(args.out)
-    if args.robot == "six-axis":
-        return _run_capture_six_axis(args, baseline)
+    if args.robot == "six-axis":  # its views stand 40 mm apart
+        return _run_capture_six_axis(args, _given(args.baseline, 40.0))
 
-    setup = RigSetup(center_xy=(args.center[0], args.center[1]), baseline_mm=baseline,
-                     direction_deg=args.direction, roll_deg=args.roll)
+    center = (400.0, 0.0) if args.center is None else tuple(args.center)
+    setup = RigSetup(center_xy=center, baseline_mm=_given(args.baseline, 20.0),
+                     direction_deg=_given(args.direction, 0.0), roll_deg=_given(args.roll, 0.0))
     sim = simulate_capture(args.scene, setup=setup, lift_mm=args.lift, seed=args.seed)
     write_capture(args.out, sim.capture)
     g = sim.capture.epipolar
@@ -96,6 +100,18 @@ def run_capture_command(args: argparse.Namespace) -> int:
           f"{math.degrees(g.alpha):.3f} deg, theta_l = {math.degrees(g.theta_l):.3f} deg, "
           f"theta_r = {math.degrees(g.theta_r):.3f} deg")
     return 0
+
+
+def _refuse_other_robots_options(args: argparse.Namespace, six_axis_takes: str) -> None:
+    """Refuse, given at any value, an option of the robot that ``--robot`` does not
+    name (`six_axis_takes`: what the six-axis arm takes instead, for the message)."""
+    if args.robot == "six-axis":
+        if any(v is not None for v in (args.direction, args.roll, args.center)):
+            raise InputError("--direction, --roll and --center are for --robot adeptone; "
+                             f"the six-axis arm takes {six_axis_takes}")
+    elif args.tilt is not None or args.handeye is not None:
+        raise InputError("--tilt and --handeye are for --robot six-axis; the AdeptOne takes "
+                         "--direction, --roll and --center")
 
 
 def _run_capture_six_axis(args: argparse.Namespace, baseline: float) -> int:
@@ -107,17 +123,29 @@ def _run_capture_six_axis(args: argparse.Namespace, baseline: float) -> int:
     if args.handeye is not None:
         camera, hand_eye = load_handeye_yaml(args.handeye)
     require_positive("--baseline", baseline)
-    if not 0 <= args.tilt < 80:
-        raise InputError(f"--tilt must be in [0, 80) degrees, got {args.tilt}")
-    vp = SixAxisViewpoints(baseline_mm=baseline, tilt_deg=args.tilt)
+    tilt = _six_axis_tilt(args)
+    vp = SixAxisViewpoints(baseline_mm=baseline, tilt_deg=tilt)
     sim = simulate_six_axis_capture(args.scene, lift_mm=args.lift, seed=args.seed,
                                     viewpoints=vp, hand_eye=hand_eye, camera=camera)
     write_capture(args.out, sim.capture)
     g = sim.capture.epipolar
     print(f"{args.out}: {args.scene} from the six-axis arm, D = {g.baseline_mm:.3f} mm, "
-          f"camera tilted {args.tilt:g} deg, hand-eye "
+          f"camera tilted {tilt:g} deg, hand-eye "
           f"{'from ' + str(args.handeye) if args.handeye else 'true (simulated)'}")
     return 0
+
+
+def _given(value: float | None, default: float) -> float:
+    """An option's value, or its default when it was not given."""
+    return default if value is None else value
+
+
+def _six_axis_tilt(args: argparse.Namespace) -> float:
+    """``--tilt``, checked; 25 degrees when not given."""
+    tilt = _given(args.tilt, 25.0)
+    if not 0 <= tilt < 80:
+        raise InputError(f"--tilt must be in [0, 80) degrees, got {tilt}")
+    return float(tilt)
 
 
 # -- capture --views N -----------------------------------------------------------------
@@ -129,26 +157,23 @@ def views_capture(args: argparse.Namespace) -> int:
     from robostereo.robot.views.views_folder import write_views_capture
 
     count, pattern, span = check_views_options(args)
-    if args.baseline != 20.0:
+    if args.baseline is not None:  # given at any value, 20 too: never silently ignored
         raise InputError("--baseline is for two views; with --views give --span")
     if args.handeye is not None:
         raise InputError("--handeye is for two views; with --views the six-axis arm records "
                          "the hand-eye transform it estimates from simulated board views")
+    _refuse_other_robots_options(args, "--tilt")
     kw: dict[str, Any] = {}
     if args.robot == "six-axis":
-        if args.direction != 0.0 or args.roll != 0.0 or tuple(args.center) != (400.0, 0.0):
-            raise InputError("--direction, --roll and --center are for --robot adeptone; "
-                             "the six-axis arm takes --tilt")
-        if not 0 <= args.tilt < 80:
-            raise InputError(f"--tilt must be in [0, 80) degrees, got {args.tilt}")
         from robostereo.robot.simulated.sixaxis_rig import SixAxisViewpoints
 
-        kw["viewpoints"] = SixAxisViewpoints(tilt_deg=args.tilt)
+        kw["viewpoints"] = SixAxisViewpoints(tilt_deg=_six_axis_tilt(args))
     else:
         from robostereo.robot.simulated.scara_rig import RigSetup
 
-        kw["setup"] = RigSetup(center_xy=(args.center[0], args.center[1]),
-                               direction_deg=args.direction, roll_deg=args.roll)
+        center = (400.0, 0.0) if args.center is None else tuple(args.center)
+        kw["setup"] = RigSetup(center_xy=center, direction_deg=_given(args.direction, 0.0),
+                               roll_deg=_given(args.roll, 0.0))
     require_seed(args.seed)
     require_empty_folder(args.out)
     status, say = stage_reporter(sys.stderr.isatty())

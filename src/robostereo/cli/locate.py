@@ -104,11 +104,18 @@ def run_locate_views(args: argparse.Namespace) -> int:
     """``locate DIR`` on an N-view folder: every view as reference, the points merged,
     each with its bound, confidence and view count (CSV; optionally PLY)."""
     from robostereo.io import atomic_outputs, check_outputs, write_csv, write_ply
-    from robostereo.robot.views.views_folder import read_views_capture, views_folder_files
+    from robostereo.robot.capture import CAPTURE_YAML
+    from robostereo.robot.views.views_folder import (
+        is_views_folder,
+        read_views_capture,
+        views_folder_files,
+    )
 
-    if args.fuse is not None:
-        raise InputError(f"--fuse merges two-view captures; {args.capture} has N views "
-                         "(locate it alone: every view pair is used)")
+    if args.fuse is not None:  # name the folder of N views: either may be it
+        nview = args.capture if is_views_folder(args.capture) else args.fuse
+        raise InputError(f"{nview / CAPTURE_YAML}: has N views (views:), and --fuse merges "
+                         "two-view captures (locate an N-view folder alone: every view pair "
+                         "is used)")
     output = args.output if args.output is not None else args.capture / "located.csv"
     outs = check_outputs({"-o": output, "--ply": args.ply},
                          inputs=views_folder_files(args.capture))

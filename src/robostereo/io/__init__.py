@@ -3,8 +3,10 @@
 Modules
 -------
 :mod:`~robostereo.io.files`
-    Atomic writers (CSV tables, PLY point clouds, image folders), the output checks of
-    a command, and the YAML file of a folder.
+    Atomic writers (CSV tables, PLY point clouds, image folders) and the output checks
+    of a command.
+:mod:`~robostereo.io.folder_yaml`
+    A folder's YAML file (``capture.yaml``): its text, reading it, the files it names.
 :mod:`~robostereo.io.images`
     Image files (:func:`load_image`) and PFM disparity maps.
 :mod:`~robostereo.io.cameras`
@@ -38,14 +40,17 @@ from robostereo.io.files import (
     atomic_outputs,
     atomic_path,
     check_outputs,
-    folder_yaml_text,
-    plain_values,
-    read_folder_yaml,
     remove_live_parts,
     remove_stale_parts,
     write_csv,
     write_image_folder,
     write_ply,
+)
+from robostereo.io.folder_yaml import (
+    folder_file,
+    folder_yaml_text,
+    plain_values,
+    read_folder_yaml,
 )
 from robostereo.io.images import load_image, read_pfm, write_pfm
 
@@ -54,6 +59,7 @@ __all__ = [
     "atomic_outputs",
     "atomic_path",
     "check_outputs",
+    "folder_file",
     "folder_yaml_text",
     "load_camera_yaml",
     "load_image",

@@ -27,7 +27,7 @@ from robostereo.geometry.camera import Camera, camera_from_dict, camera_to_dict
 from robostereo.geometry.mapping_checks import check_keys
 from robostereo.geometry.poses import Pose, pose_to_dict, scara_pose_from_dict
 from robostereo.geometry.triangulation import StereoCamera
-from robostereo.io.files import folder_yaml_text
+from robostereo.io.folder_yaml import folder_yaml_text
 
 __all__ = [
     "load_camera_yaml",

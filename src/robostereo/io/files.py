@@ -1,4 +1,4 @@
-"""Writing results: CSV tables, PLY point clouds, image folders; folder YAML.
+"""Writing results: CSV tables, PLY point clouds, image folders.
 
 Every writer is atomic: it writes a temporary file beside the target and renames it
 into place only when the whole file is written, so a failure never leaves a partial
@@ -12,7 +12,8 @@ the target ``NAME``, made by process ``PID``: a command that is killed outright
 those whose process is gone, on every later write of the same target (and
 :func:`check_outputs` before any work; a batch for its whole folder).  Images are
 read by :mod:`robostereo.io.images`, cameras by :mod:`robostereo.io.cameras`,
-calibrations by :mod:`robostereo.io.calibration_files`.
+calibrations by :mod:`robostereo.io.calibration_files`, a folder's YAML file by
+:mod:`robostereo.io.folder_yaml`.
 """
 
 from __future__ import annotations
@@ -29,7 +30,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-import yaml
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError
@@ -38,9 +38,6 @@ __all__ = [
     "atomic_outputs",
     "atomic_path",
     "check_outputs",
-    "folder_yaml_text",
-    "plain_values",
-    "read_folder_yaml",
     "remove_live_parts",
     "remove_stale_parts",
     "signals_held",
@@ -51,12 +48,34 @@ __all__ = [
 
 PathLike = str | os.PathLike[str]
 
+#: names that moved to :mod:`robostereo.io.folder_yaml` (0.2), importable here for a release
+_MOVED_NAMES = ("folder_yaml_text", "plain_values", "read_folder_yaml")
+
+
+def __getattr__(name: str) -> Any:
+    if name in _MOVED_NAMES:
+        import warnings
+
+        from robostereo.io import folder_yaml
+
+        warnings.warn(f"robostereo.io.files.{name} moved to robostereo.io.folder_yaml; the "
+                      "old path goes in the next release", DeprecationWarning, stacklevel=2)
+        return getattr(folder_yaml, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 _PART = re.compile(r"\.(\d+)-[A-Za-z0-9_]+\.part$")
 _OLD_PART = re.compile(r"\.[A-Za-z0-9_]{8}\.part$")
 OLD_PART_SECONDS = 3600.0
 """Age after which a temporary file of the former naming (no process id) is stale."""
 _live: set[Path] = set()  # this process's temporary outputs, for remove_live_parts
+_stands_for: dict[Path, Path] = {}  # a temporary output -> the output it will become
+
+
+def _output_of(path: Path) -> Path:
+    """The output that `path` will become: itself, or for a temporary output (one
+    nested in another's too) the target the user named; what error messages name."""
+    return _stands_for.get(path, path)
 
 
 def _alive(pid: int) -> bool:
@@ -204,9 +223,13 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
     if target.exists() and (not target.is_dir() or any(target.iterdir())):
         raise InputError(f"{target}: exists and is not an empty folder")
     remove_stale_parts(parent, [target.name])
-    tmp = Path(tempfile.mkdtemp(prefix=_part_prefix(target), suffix=".part", dir=parent))
+    try:
+        tmp = Path(tempfile.mkdtemp(prefix=_part_prefix(target), suffix=".part", dir=parent))
+    except OSError as e:
+        raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
     _live.add(tmp)
     try:
+        name = ""
         for name, img in images.items():
             ok, buf = cv2.imencode(".png", np.asarray(img, dtype=np.uint8))
             if not ok:  # pragma: no cover - OpenCV always encodes uint8 grey
@@ -214,96 +237,21 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
             (tmp / name).write_bytes(buf.tobytes())
         for name, text in texts.items():
             (tmp / name).write_text(text, encoding="utf-8")
+        name = ""
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o777 & ~umask)
         if target.is_dir():
             target.rmdir()
         os.replace(tmp, target)
+    except OSError as e:  # a full disk: name the folder asked for, not the temporary one
+        raise InputError(f"{target / name if name else target}: cannot write output "
+                         f"({_why(e)})") from None
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
         _live.discard(tmp)
     return target
-
-
-def plain_values(value: Any) -> Any:
-    """`value` with numpy scalars and arrays, tuples and mappings as plain Python values
-    (int, float, bool, list, dict with str keys), for YAML and JSON.
-
-    >>> plain_values({"n": np.int64(3), "xy": np.array([0.5, 1.0]), "ok": np.bool_(True)})
-    {'n': 3, 'xy': [0.5, 1.0], 'ok': True}
-    """
-    if isinstance(value, Mapping):
-        return {str(k): plain_values(x) for k, x in value.items()}
-    if isinstance(value, list | tuple | np.ndarray):
-        return [plain_values(x) for x in value]
-    if isinstance(value, np.bool_):
-        return bool(value)
-    if isinstance(value, np.integer):
-        return int(value)
-    if isinstance(value, np.floating):
-        return float(value)
-    return value
-
-
-class _FolderDumper(yaml.SafeDumper):
-    """Block mappings; lists of numbers flow-style, ``[a, b]``; lists of mappings one
-    entry to a block."""
-
-
-_FolderDumper.add_representer(
-    list, lambda d, v: d.represent_sequence(
-        "tag:yaml.org,2002:seq", v, flow_style=not any(isinstance(x, dict) for x in v))
-)
-
-
-def folder_yaml_text(data: Mapping[str, Any]) -> str:
-    """The text of a folder's YAML file (``capture.yaml``): the keys in their order,
-    block mappings, flow-style lists of numbers (``[0.0172, 0.0137]``), one block per
-    entry of a list of mappings (the views of a capture); numpy values as plain ones
-    (:func:`plain_values`).
-
-    >>> print(folder_yaml_text({"size": (509, 481), "views": [{"image": "a.png"}]}), end="")
-    size: [509, 481]
-    views:
-    - image: a.png
-    """
-    return yaml.dump(plain_values(dict(data)), Dumper=_FolderDumper, sort_keys=False,
-                     default_flow_style=False)
-
-
-def read_folder_yaml(directory: PathLike, filename: str, *, folder: str) -> tuple[Any, Path]:
-    """Parse ``directory/filename`` (YAML) with one-line errors naming what is wrong.
-
-    Parameters
-    ----------
-    directory : path
-    filename : str
-        E.g. ``capture.yaml``.
-    folder : str
-        What the folder is, for the messages (``"capture"``, ``"views"``).
-
-    Returns
-    -------
-    data, path
-        The parsed document and the file's path.
-
-    Raises
-    ------
-    InputError
-        The folder or the file is missing, or the file is not readable YAML.
-    """
-    d = Path(directory)
-    if not d.is_dir():
-        raise InputError(f"{d}: {folder} folder not found")
-    path = d / filename
-    if not path.is_file():
-        raise InputError(f"{path}: missing {folder} file (expected {filename} in {d})")
-    try:
-        return yaml.safe_load(path.read_text(encoding="utf-8")), path
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
-        raise InputError(f"{path}: not a readable YAML file ({exc.__class__.__name__})") from None
 
 
 def _why(e: OSError) -> str:
@@ -431,35 +379,44 @@ def atomic_outputs(outputs: Mapping[str, Path]) -> Iterator[dict[str, Path]]:
                 try:
                     os.replace(temps[key], target)
                 except OSError as e:
-                    raise InputError(f"{target}: cannot write output ({_why(e)})") from None
+                    raise InputError(f"{_output_of(Path(target))}: cannot write output "
+                                     f"({_why(e)})") from None
 
 
 @contextlib.contextmanager
 def _temp_beside(target: Path) -> Iterator[Path]:
     """A temporary file beside `target` with the umask's permissions, removed on exit
-    unless renamed."""
+    unless renamed.
+
+    Errors name the output the user asked for: `target`, or when `target` is itself a
+    temporary output (a writer's own atomic file inside a command's), the output that
+    one stands for.
+    """
+    shown = _output_of(target)
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
-        raise InputError(f"{target}: output folder {parent} does not exist")
+        raise InputError(f"{shown}: output folder {parent} does not exist")
     remove_stale_parts(parent, [target.name])
     try:
         fd, tmp = tempfile.mkstemp(prefix=_part_prefix(target), suffix=".part", dir=parent)
     except OSError as e:
-        raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
+        raise InputError(f"{shown}: cannot write in {parent} ({_why(e)})") from None
     os.close(fd)
     tmp_path = Path(tmp)
     _live.add(tmp_path)
+    _stands_for[tmp_path] = shown
     umask = os.umask(0)
     os.umask(umask)
     try:
         os.chmod(tmp_path, 0o666 & ~umask)
         yield tmp_path
     except OSError as e:
-        raise InputError(f"{target}: cannot write output ({_why(e)})") from None
+        raise InputError(f"{shown}: cannot write output ({_why(e)})") from None
     finally:
         if tmp_path.exists():
             tmp_path.unlink()
         _live.discard(tmp_path)
+        _stands_for.pop(tmp_path, None)
 
 
 def _column_text(values: NDArray[Any]) -> list[str]:

@@ -156,6 +156,60 @@ def test_bad_views_folders_are_refused_naming_the_file_and_view(folder, tmp_path
     assert "\n" not in str(info.value)
 
 
+def _images_named(folder: Path, dst: Path, count: int, name_of) -> Path:
+    """A copy of `folder` with its first `count` views, view k's image named
+    ``name_of(k, dst)``."""
+    def edit(v):
+        v["views"] = v["views"][:count]
+        for k, view in enumerate(v["views"]):
+            view["image"] = str(name_of(k, dst))
+    return _edit(folder, dst, edit)
+
+
+@pytest.mark.parametrize("count", [2, 5])
+@pytest.mark.parametrize("way", ["as given", "folder by a link", "files by a link"])
+def test_an_absolute_image_path_inside_the_folder_is_accepted(line_capture, folder, tmp_path,
+                                                              count, way):
+    """capture.yaml's ``image:`` as an absolute path into the folder (written by a robot
+    that knows only absolute paths) is the folder's file: it was refused as outside."""
+    real = tmp_path / "real"
+    link = tmp_path / "link"
+    link.symlink_to(real, target_is_directory=True)
+    named = {"as given": real, "folder by a link": real, "files by a link": link}[way]
+    _images_named(folder, real, count, lambda k, d: named / f"view_{k:02d}.png")
+    read_from = link if way == "folder by a link" else real
+    back = read_views_capture(read_from)
+    assert back.names == tuple(f"view_{k:02d}.png" for k in range(count))  # as relative
+    for a, b in zip(back.images, line_capture.images[:count], strict=True):
+        assert np.array_equal(a, b)
+    assert [p.name for p in views_folder_files(read_from)][1:] == list(back.names)
+
+
+@pytest.mark.parametrize("count", [2, 5])
+@pytest.mark.parametrize("where", ["another folder", "a linked subfolder", "dot-dot"])
+def test_an_absolute_image_path_outside_the_folder_is_still_refused(folder, tmp_path, count,
+                                                                    where):
+    outside = tmp_path / "outside"
+    outside.mkdir()
+    shutil.copy(folder / "view_01.png", outside / "view_01.png")
+
+    def name_of(k, d):
+        if k != 1:
+            return d / f"view_{k:02d}.png"
+        if where == "another folder":
+            return outside / "view_01.png"
+        if where == "a linked subfolder":  # inside by its path, outside by its link
+            (d / "sub").symlink_to(outside, target_is_directory=True)
+            return d / "sub" / "view_01.png"
+        return f"{d}/../outside/view_01.png"
+
+    d = _images_named(folder, tmp_path / "cap", count, name_of)
+    with pytest.raises(InputError, match=r"views\[1\] \(.*view_01\.png\): the image must be "
+                                         "a file inside the capture folder") as info:
+        read_views_capture(d)
+    assert str(info.value).startswith(str(d / "capture.yaml"))
+
+
 def test_writing_refuses_colour_and_leaves_nothing(line_capture, tmp_path):
     import dataclasses
 

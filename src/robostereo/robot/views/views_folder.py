@@ -253,7 +253,7 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
     100 mm or more away (metres written as millimetres), and when ``hand_eye`` is the
     identity (a placeholder, not a calibration).
     """
-    from robostereo.io import read_folder_yaml
+    from robostereo.io import folder_file, read_folder_yaml
     from robostereo.io.images import load_image
 
     data, ypath = read_folder_yaml(directory, CAPTURE_YAML, folder="capture")
@@ -307,9 +307,11 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
         if not isinstance(name, str) or not name.strip():
             raise InputError(f"{where}: missing key 'image' (the view's image file)")
         where = f"{src}: views[{k}] ({name})"
-        p = PurePosixPath(name)
-        if p.is_absolute() or ".." in p.parts or "\\" in name or Path(name).is_absolute():
-            raise InputError(f"{where}: the image must be a file inside the capture folder")
+        try:  # an absolute path into the folder is taken relative to it
+            name = folder_file(d, name)
+        except InputError:
+            raise InputError(f"{where}: the image must be a file inside the capture "
+                             "folder") from None
         # one file under two names ('./a.png', a link to a.png) is one image too
         file = (d / name).resolve()
         if file in files:
