@@ -28,6 +28,7 @@ from robostereo.geometry.mapping_checks import check_keys
 from robostereo.geometry.poses import Pose, pose_to_dict, scara_pose_from_dict
 from robostereo.geometry.triangulation import StereoCamera
 from robostereo.io.files import folder_yaml_text
+from robostereo.io.yaml_loading import load_yaml
 
 __all__ = [
     "load_camera_yaml",
@@ -52,7 +53,7 @@ def _read_yaml(path: str | os.PathLike[str], what: str) -> Any:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise InputError(f"{name}: cannot read {what} file ({reason})") from None
     try:
-        return yaml.safe_load(text)
+        return load_yaml(text, name)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}" if mark is not None else ""
@@ -211,7 +212,7 @@ def load_stereo_camera(path: PathLike) -> StereoCamera:
     """Read a camera YAML file (see :func:`stereo_camera_from_dict`)."""
     p = require_file(path, "camera file")
     try:
-        data = yaml.safe_load(p.read_text())
+        data = load_yaml(p.read_text(), str(p))
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
         raise InputError(f"{p}: cannot read camera YAML ({e.__class__.__name__})") from None
     return stereo_camera_from_dict(data, source=str(p))

@@ -301,7 +301,9 @@ def read_folder_yaml(directory: PathLike, filename: str, *, folder: str) -> tupl
     if not path.is_file():
         raise InputError(f"{path}: missing {folder} file (expected {filename} in {d})")
     try:
-        return yaml.safe_load(path.read_text(encoding="utf-8")), path
+        from robostereo.io.yaml_loading import load_yaml
+
+        return load_yaml(path.read_text(encoding="utf-8"), str(path)), path
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
         raise InputError(f"{path}: not a readable YAML file ({exc.__class__.__name__})") from None
 
