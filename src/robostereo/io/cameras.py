@@ -22,7 +22,7 @@ from typing import Any
 
 import yaml
 
-from robostereo.errors import InputError, require_file
+from robostereo.errors import InputError, require_file, shown
 from robostereo.geometry.camera import Camera, camera_from_dict, camera_to_dict
 from robostereo.geometry.mapping_checks import check_keys
 from robostereo.geometry.poses import Pose, pose_to_dict, scara_pose_from_dict
@@ -123,10 +123,10 @@ _PIXEL = {
 def _number(source: str, key: str, v: Any) -> float:
     try:
         f = float(v)
-    except (TypeError, ValueError):
-        raise InputError(f"{source}: {key} must be a number, got {v!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{source}: {key} must be a finite number, got {shown(v)}") from None
     if not math.isfinite(f):
-        raise InputError(f"{source}: {key} must be finite, got {v!r}")
+        raise InputError(f"{source}: {key} must be finite, got {shown(v)}")
     return f
 
 
