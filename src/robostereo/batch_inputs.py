@@ -49,6 +49,7 @@ import numpy as np
 import yaml
 
 from robostereo.errors import InputError
+from robostereo.io.yaml_loading import load_yaml
 from robostereo.matcher.parameters import MatchParameters
 
 if TYPE_CHECKING:
@@ -167,7 +168,7 @@ def find_inputs(input_dir: PathLike, *, exclude: PathLike | None = None) -> list
 
 def _read_range(path: Path) -> tuple[float, float]:
     try:
-        data = yaml.safe_load(path.read_text())
+        data = load_yaml(path.read_text(), str(path))
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
         raise InputError(f"{path}: cannot read disparity YAML ({e.__class__.__name__})") from None
     if not isinstance(data, Mapping) or not {"min_disparity", "max_disparity"} <= data.keys():

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import numbers
 import os
+import reprlib
 import warnings
 from collections.abc import Iterable
 from pathlib import Path
@@ -31,6 +32,7 @@ __all__ = [
     "require_one_length",
     "require_positive",
     "require_range",
+    "shown",
     "warn_input",
 ]
 
@@ -70,10 +72,54 @@ class UnreachablePoseError(InputError):
     """A pose that the robot cannot reach (outside its workspace or joint limits)."""
 
 
+class _BoundedRepr(reprlib.Repr):
+    """:mod:`reprlib` with a limit for integers that shows their digit count."""
+
+    def repr_int(self, x: int, level: int) -> str:
+        if x.bit_length() <= 64:
+            return repr(x)
+        # str() of a 5000-digit integer raises (Python's digit limit); its size is enough
+        return f"<integer of {x.bit_length()} bits>"
+
+
+_REPR = _BoundedRepr()
+_REPR.maxlevel, _REPR.maxother = 3, 40
+_REPR.maxlist = _REPR.maxtuple = _REPR.maxdict = _REPR.maxset = 6
+_REPR.maxstring = 60
+
+
+def shown(value: object, width: int = 60) -> str:
+    """A value for an error message: a repr of bounded size, cut to `width` characters.
+
+    Nested lists, mappings, strings and integers are cut before they are written out
+    (:mod:`reprlib`), so a value shared many times over (a YAML alias of aliases) or a
+    5000-digit integer is shown in a few dozen characters, not expanded.
+
+    >>> shown([0.0172, 0.0137])
+    '[0.0172, 0.0137]'
+    >>> a = ["x"] * 9
+    >>> for _ in range(8):
+    ...     a = [a] * 9
+    >>> shown(a)
+    '[[[[...], [...], [...], [...], [...], [...], ...], [[...]...'
+    >>> shown(10**4000)
+    '<integer of 13288 bits>'
+    """
+    r = _REPR.repr(value)
+    return r if len(r) <= width else r[:width - 3] + "..."
+
+
 def _show(value: object) -> str:
-    """A value for an error message: its repr, cut to 60 characters."""
-    r = repr(value)
-    return r if len(r) <= 60 else r[:57] + "..."
+    """A value for an error message: :func:`shown`."""
+    return shown(value)
+
+
+def _finite(v: object) -> bool:
+    """A real number that is finite as a float (an integer too big for a float is not)."""
+    try:
+        return isinstance(v, numbers.Real) and math.isfinite(v)
+    except OverflowError:
+        return False
 
 
 def require_finite(name: str, value: float | Iterable[float]) -> None:
@@ -86,7 +132,7 @@ def require_finite(name: str, value: float | Iterable[float]) -> None:
     robostereo.errors.InputError: pixel_pitch_mm must be finite, got [0.0172, nan]
     """
     values = [value] if isinstance(value, numbers.Real) else list(value)
-    if not all(isinstance(v, numbers.Real) and math.isfinite(v) for v in values):
+    if not all(_finite(v) for v in values):
         shown = value if isinstance(value, numbers.Real) else values
         raise InputError(f"{name} must be finite, got {_show(shown)}")
 
@@ -100,8 +146,7 @@ def require_positive(name: str, value: float) -> None:
     ...
     robostereo.errors.InputError: baseline_mm must be a finite number > 0, got -20.0
     """
-    if (isinstance(value, bool) or not isinstance(value, numbers.Real)
-            or not math.isfinite(value) or value <= 0):
+    if isinstance(value, bool) or not _finite(value) or value <= 0:
         raise InputError(f"{name} must be a finite number > 0, got {_show(value)}")
 
 
@@ -116,7 +161,7 @@ def require_nonnegative(name: str, value: float) -> None:
     """
     require_finite(name, value)
     if value < 0:
-        raise InputError(f"{name} must be >= 0, got {value}")
+        raise InputError(f"{name} must be >= 0, got {_show(value)}")
 
 
 def require_file(path: str | os.PathLike[str], what: str = "file") -> Path:
@@ -150,10 +195,10 @@ def require_int(name: str, value: Any, *, minimum: int | None = None) -> int:
     """
     bound = "" if minimum is None else f" >= {minimum}"
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise InputError(f"{name} must be an integer{bound}, got {value!r}")
+        raise InputError(f"{name} must be an integer{bound}, got {_show(value)}")
     v = int(value)
     if minimum is not None and v < minimum:
-        raise InputError(f"{name} must be an integer{bound}, got {v}")
+        raise InputError(f"{name} must be an integer{bound}, got {_show(v)}")
     return v
 
 
@@ -195,6 +240,8 @@ def require_range(name: str, value: Any) -> tuple[float, float]:
         isinstance(v, numbers.Real) and not isinstance(v, bool) for v in items
     ):
         raise InputError(f"{name} must be (min, max), two numbers, got {shown}")
+    if not (_finite(items[0]) and _finite(items[1])):
+        raise InputError(f"{name} must be finite, got {shown}")
     lo, hi = float(items[0]), float(items[1])
     if not (math.isfinite(lo) and math.isfinite(hi)):
         raise InputError(f"{name} must be finite, got ({lo}, {hi})")

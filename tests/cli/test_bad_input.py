@@ -448,3 +448,32 @@ def test_opencv_nan_and_inf_spellings_are_read(tmp_path: Path) -> None:
         fs.release()
         with pytest.raises(InputError, match=rf"c\.{ext}: T must be finite"):
             read_calibration(tmp_path / f"c.{ext}")
+
+
+# -- issue 36, 8: an alias bomb and absurd camera numbers in capture.yaml --------------
+
+
+@pytest.mark.parametrize(("old", "new", "word"), [
+    ("depth_range_mm: [900.0, 1100.0]", "depth_range_mm: *l8", "alias bomb"),
+    ("focal_length_mm: 25.0", "focal_length_mm: 1.0e+6", "focal_length_mm / pixel_pitch_mm"),
+    ("disparity_px: 0.2", "disparity_px: 1.0e+308", "disparity_px"),
+])
+def test_locate_refuses_a_bomb_or_an_absurd_number_in_one_line_writing_nothing(
+        tmp_path: Path, capsys, old: str, new: str, word: str) -> None:
+    from robostereo.geometry.camera import SEED_CAMERA
+    from robostereo.geometry.poses import se3_from_scara
+    from robostereo.robot.views import ViewsCapture, write_views_capture
+
+    w, h = SEED_CAMERA.image_size
+    folder = write_views_capture(tmp_path / "cap", ViewsCapture(
+        tuple(np.zeros((h, w), np.uint8) for _ in range(3)), SEED_CAMERA,
+        tuple(se3_from_scara(x, 0.0, 1000.0) for x in (-20, 0, 20)),
+        depth_range_mm=(900.0, 1100.0)))
+    yml = folder / "capture.yaml"
+    bomb = "robot:\n  l0: &l0 [x, x, x, x, x, x, x, x, x]\n" + "".join(
+        f"  l{i}: &l{i} [{', '.join([f'*l{i - 1}'] * 9)}]\n" for i in range(1, 9))
+    yml.write_text((bomb if "*l8" in new else "") + yml.read_text().replace(old, new))
+    before = _files(tmp_path)
+    assert main(["locate", str(folder), "-o", str(tmp_path / "out.csv")]) == 2
+    _one_error(capsys, word)
+    assert _files(tmp_path) == before

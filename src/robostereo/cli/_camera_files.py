@@ -24,10 +24,11 @@ def load_any_camera(path: Path) -> tuple[Any, dict[str, float]]:
 
     from robostereo.geometry.camera import Camera, camera_from_dict
     from robostereo.io.cameras import load_camera_yaml, stereo_camera_from_dict
+    from robostereo.io.yaml_loading import load_yaml
 
     require_file(path, "camera file")
     try:
-        data = yaml.safe_load(path.read_text(encoding="utf-8"))
+        data = load_yaml(path.read_text(encoding="utf-8"), str(path))
     except (OSError, UnicodeDecodeError, yaml.YAMLError):
         data = None
     if isinstance(data, dict) and "camera" in data:

@@ -21,7 +21,7 @@ import cv2
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.errors import InputError
+from robostereo.errors import InputError, shown
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
 
@@ -55,7 +55,7 @@ def check_camera_matrix(source: str, name: str, value: Any) -> NDArray[np.float6
     try:
         K = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"{source}: {name} must be a 3x3 matrix, got {value!r}") from None
+        raise InputError(f"{source}: {name} must be a 3x3 matrix, got {shown(value)}") from None
     if K.size == 9 and K.ndim in (1, 2):
         K = K.reshape(3, 3)
     if K.shape != (3, 3):
@@ -84,7 +84,8 @@ def check_distortion(source: str, name: str, value: Any) -> NDArray[np.float64]:
     try:
         D = np.asarray(value, dtype=float).ravel()
     except (TypeError, ValueError):
-        raise InputError(f"{source}: {name} must be a vector of numbers, got {value!r}") from None
+        raise InputError(f"{source}: {name} must be a vector of numbers, got "
+                         f"{shown(value)}") from None
     if D.size == 0:
         return np.zeros(5)
     if D.size not in _DIST_LENGTHS:
@@ -104,7 +105,7 @@ def check_rotation(source: str, name: str, value: Any) -> NDArray[np.float64]:
     try:
         R = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise InputError(f"{source}: {name} must be a 3x3 rotation, got {value!r}") from None
+        raise InputError(f"{source}: {name} must be a 3x3 rotation, got {shown(value)}") from None
     if R.size == 3 and R.ndim <= 2:  # a Rodrigues vector, as cv2.stereoCalibrate users store
         R = cv2.Rodrigues(R.reshape(3, 1))[0] if np.all(np.isfinite(R)) else R.ravel()
     if R.size == 9 and R.ndim in (1, 2):
@@ -132,7 +133,7 @@ def check_translation(source: str, name: str, value: Any) -> NDArray[np.float64]
     try:
         T = np.asarray(value, dtype=float).ravel()
     except (TypeError, ValueError):
-        raise InputError(f"{source}: {name} must be 3 numbers, got {value!r}") from None
+        raise InputError(f"{source}: {name} must be 3 numbers, got {shown(value)}") from None
     if T.size != 3:
         raise InputError(f"{source}: {name} must be a 3-vector, got {T.size} values")
     if not np.all(np.isfinite(T)):
@@ -150,7 +151,7 @@ def check_size(source: str, name: str, value: Any) -> tuple[int, int]:
     try:
         v = np.asarray(value, dtype=float).ravel()
     except (TypeError, ValueError):
-        raise InputError(f"{source}: {name} must be (width, height), got {value!r}") from None
+        raise InputError(f"{source}: {name} must be (width, height), got {shown(value)}") from None
     if v.size != 2 or not np.all(np.isfinite(v)) or np.any(v != np.round(v)) or np.any(v < 2):
         raise InputError(
             f"{source}: {name} must be (width, height), two integers >= 2, got {v.tolist()}"

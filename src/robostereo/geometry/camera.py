@@ -31,8 +31,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from robostereo.errors import InputError, require_finite, require_positive
+from robostereo.errors import InputError, require_finite, require_positive, shown
 from robostereo.geometry.mapping_checks import check_keys, get_number, get_pair, is_number
+from robostereo.geometry.plausibility import MAX_IMAGE_SIDE_PX, check_focal_px
 from robostereo.geometry.poses import SE3
 
 __all__ = [
@@ -100,19 +101,21 @@ class Camera:
         for p in self.pixel_pitch_mm:
             require_positive("pixel_pitch_mm", p)
         w, h = self.image_size
-        if int(w) != w or int(h) != h or w < 5 or h < 5:
+        if int(w) != w or int(h) != h or w < 5 or h < 5 or max(w, h) > MAX_IMAGE_SIDE_PX:
             raise InputError(
-                "image_size must be (width, height) of at least 5 pixels, "
-                f"got {self.image_size}"
+                "image_size must be (width, height) of 5 .. "
+                f"{MAX_IMAGE_SIDE_PX:,} pixels, got {shown(self.image_size)}"
             )
         object.__setattr__(self, "pixel_pitch_mm", tuple(float(p) for p in self.pixel_pitch_mm))
         object.__setattr__(self, "image_size", (int(w), int(h)))
+        check_focal_px(self.fx, self.fy)
         if (
             isinstance(self.grey_levels, bool)
             or not isinstance(self.grey_levels, int | np.integer)
-            or self.grey_levels < 2
+            or not 2 <= self.grey_levels <= 2**16  # bit_depth is 1 .. 16
         ):
-            raise InputError(f"grey_levels must be an integer >= 2, got {self.grey_levels}")
+            raise InputError(f"grey_levels must be an integer in 2 .. 65536, got "
+                             f"{shown(self.grey_levels)}")
         object.__setattr__(self, "grey_levels", int(self.grey_levels))
         if len(self.principal_point) != 2:
             raise InputError(f"principal_point must be (cx, cy), got {self.principal_point}")
@@ -122,7 +125,8 @@ class Camera:
         else:
             require_finite("principal_point", [cx, cy])
             if max(abs(cx), abs(cy)) > 1e7:  # no real camera; triangulation would lose d
-                raise InputError(f"principal_point must be within +-1e7 pixels, got {cx, cy}")
+                raise InputError(f"principal_point must be within +-1e7 pixels, got "
+                             f"{shown((cx, cy))}")
             object.__setattr__(self, "principal_point", (float(cx), float(cy)))
         dist = tuple(float(v) for v in self.distortion)
         if len(dist) not in (0, 4, 5):
@@ -402,12 +406,13 @@ def camera_from_dict(data: Mapping[str, Any], *, source: str = "camera") -> Came
     if "principal_point" in data and data["principal_point"] is not None:
         pp = get_pair(data, "principal_point", source, what="[cx, cy]")
     grey = data.get("grey_levels", 128)
-    if not isinstance(grey, int) or isinstance(grey, bool) or grey < 2:
-        raise InputError(f"{source}: key 'grey_levels' must be an integer >= 2, got {grey!r}")
+    if not isinstance(grey, int) or isinstance(grey, bool) or not 2 <= grey <= 2**16:
+        raise InputError(f"{source}: key 'grey_levels' must be an integer in 2 .. 65536, "
+                         f"got {shown(grey)}")
     dist = data.get("distortion") or ()
     if not isinstance(dist, list | tuple) or not all(is_number(v) for v in dist):
         raise InputError(f"{source}: key 'distortion' must be [k1, k2, p1, p2(, k3)], "
-                         f"got {dist!r}")
+                         f"got {shown(dist)}")
     try:
         return Camera(
             focal_length_mm=f,

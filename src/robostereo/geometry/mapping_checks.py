@@ -10,7 +10,7 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from robostereo.errors import InputError
+from robostereo.errors import InputError, shown
 
 __all__ = ["check_keys", "get_number", "get_pair", "is_number"]
 
@@ -24,6 +24,14 @@ def is_number(v: object) -> bool:
     return isinstance(v, int | float) and not isinstance(v, bool)
 
 
+def _finite(v: float) -> bool:
+    """``math.isfinite``, False for an integer too big for a float."""
+    try:
+        return math.isfinite(v)
+    except OverflowError:
+        return False
+
+
 def get_number(
     data: Mapping[str, Any], key: str, source: str, *, positive: bool = False
 ) -> float:
@@ -35,9 +43,9 @@ def get_number(
     if key not in data:
         raise InputError(f"{source}: missing key '{key}'")
     v = data[key]
-    if not is_number(v) or not math.isfinite(v) or (positive and v <= 0):
+    if not is_number(v) or not _finite(v) or (positive and v <= 0):
         want = "a finite number > 0" if positive else "a finite number"
-        raise InputError(f"{source}: key '{key}' must be {want}, got {v!r}")
+        raise InputError(f"{source}: key '{key}' must be {want}, got {shown(v)}")
     return float(v)
 
 
@@ -60,7 +68,7 @@ def get_pair(
     v = data[key]
     ok = isinstance(v, list | tuple) and len(v) == 2 and all(is_number(e) for e in v)
     if ok:
-        ok = all(math.isfinite(e) for e in v)
+        ok = all(_finite(e) for e in v)
     if ok and positive:
         ok = all(e > 0 for e in v)
     if ok and integer:
@@ -68,7 +76,8 @@ def get_pair(
     if not ok:
         kind = "integers" if integer else "finite numbers"
         cond = " > 0" if positive else ""
-        raise InputError(f"{source}: key '{key}' must be {what}, two {kind}{cond}, got {v!r}")
+        raise InputError(f"{source}: key '{key}' must be {what}, two {kind}{cond}, "
+                         f"got {shown(v)}")
     return (v[0], v[1]) if integer else (float(v[0]), float(v[1]))
 
 

@@ -40,8 +40,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from robostereo.errors import InputError, require_finite, warn_input
+from robostereo.errors import InputError, require_finite, shown, warn_input
 from robostereo.geometry.mapping_checks import check_keys, get_number
+from robostereo.geometry.plausibility import MAX_PHI_DEG, MAX_TRANSLATION_MM, check_translation
 
 __all__ = [
     "ORTHONORMAL_TOLERANCE",
@@ -73,10 +74,10 @@ or missing component, and is refused."""
 def _vector(name: str, value: ArrayLike, n: int) -> NDArray[np.float64]:
     try:
         v = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise InputError(f"{name} must be {n} numbers, got {value!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{name} must be {n} numbers, got {shown(value)}") from None
     if v.shape != (n,) or not np.all(np.isfinite(v)):
-        raise InputError(f"{name} must be {n} finite numbers, got {value!r}")
+        raise InputError(f"{name} must be {n} finite numbers, got {shown(value)}")
     return v
 
 
@@ -115,7 +116,8 @@ class SE3:
         try:
             R = np.asarray(self.rotation, dtype=float)
         except (TypeError, ValueError):
-            raise InputError(f"rotation must be a 3 x 3 matrix, got {self.rotation!r}") from None
+            raise InputError(f"rotation must be a 3 x 3 matrix, got "
+                             f"{shown(self.rotation)}") from None
         if R.shape != (3, 3) or not np.all(np.isfinite(R)):
             raise InputError(f"rotation must be a finite 3 x 3 matrix, got shape {R.shape}")
         err = float(np.abs(R.T @ R - np.eye(3)).max())
@@ -129,6 +131,7 @@ class SE3:
         R = u @ vt
         R.setflags(write=False)
         t = _vector("translation", self.translation, 3).copy()
+        check_translation(t, "pose")
         t.setflags(write=False)
         object.__setattr__(self, "rotation", R)
         object.__setattr__(self, "translation", t)
@@ -145,7 +148,7 @@ class SE3:
         try:
             M = np.asarray(matrix, dtype=float)
         except (TypeError, ValueError):
-            raise InputError(f"matrix must be 4 x 4 numbers, got {matrix!r}") from None
+            raise InputError(f"matrix must be 4 x 4 numbers, got {shown(matrix)}") from None
         if M.shape != (4, 4) or not np.all(np.isfinite(M)):
             raise InputError(f"matrix must be a finite 4 x 4 matrix, got shape {M.shape}")
         if not np.allclose(M[3], [0.0, 0.0, 0.0, 1.0], atol=1e-9):
@@ -328,6 +331,7 @@ class Pose(SE3):
 
     def __post_init__(self) -> None:
         require_finite("pose", [self.x, self.y, self.z, self.phi])
+        check_translation([self.x, self.y, self.z], "pose")
         c, s = math.cos(self.phi), math.sin(self.phi)
         R = np.array([[c, s, 0.0], [s, -c, 0.0], [0.0, 0.0, -1.0]])
         R.setflags(write=False)
@@ -440,7 +444,7 @@ _FORMS = (
 def _unit_scale(data: Mapping[str, Any], source: str) -> float:
     unit = data.get("unit", "mm")
     if unit not in ("mm", "m"):
-        raise InputError(f"{source}: key 'unit' must be 'mm' or 'm', got {unit!r}")
+        raise InputError(f"{source}: key 'unit' must be 'mm' or 'm', got {shown(unit)}")
     return 1000.0 if unit == "m" else 1.0
 
 
@@ -476,6 +480,13 @@ def scara_pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> Po
     y = get_number(data, "y", source)
     z = get_number(data, "z", source)
     phi_deg = get_number(data, "phi_deg", source) if "phi_deg" in data else 0.0
+    for key, v in (("x", x), ("y", y), ("z", z)):
+        if abs(v) > MAX_TRANSLATION_MM:
+            raise InputError(f"{source}: key '{key}' = {v:.3g} mm is beyond "
+                             f"+-{MAX_TRANSLATION_MM:.0e} mm (1000 km): not a robot's pose")
+    if abs(phi_deg) > MAX_PHI_DEG:
+        raise InputError(f"{source}: key 'phi_deg' = {phi_deg:.3g} is beyond "
+                         f"+-{MAX_PHI_DEG:.0e} degrees, where a float no longer holds an angle")
     return Pose(x, y, z, math.radians(phi_deg))
 
 

@@ -22,12 +22,13 @@ from typing import Any
 
 import yaml
 
-from robostereo.errors import InputError, require_file
+from robostereo.errors import InputError, require_file, shown
 from robostereo.geometry.camera import Camera, camera_from_dict, camera_to_dict
 from robostereo.geometry.mapping_checks import check_keys
 from robostereo.geometry.poses import Pose, pose_to_dict, scara_pose_from_dict
 from robostereo.geometry.triangulation import StereoCamera
 from robostereo.io.folder_yaml import folder_yaml_text
+from robostereo.io.yaml_loading import load_yaml
 
 __all__ = [
     "load_camera_yaml",
@@ -52,7 +53,7 @@ def _read_yaml(path: str | os.PathLike[str], what: str) -> Any:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise InputError(f"{name}: cannot read {what} file ({reason})") from None
     try:
-        return yaml.safe_load(text)
+        return load_yaml(text, name)
     except yaml.YAMLError as exc:
         mark = getattr(exc, "problem_mark", None)
         where = f" at line {mark.line + 1}" if mark is not None else ""
@@ -122,10 +123,10 @@ _PIXEL = {
 def _number(source: str, key: str, v: Any) -> float:
     try:
         f = float(v)
-    except (TypeError, ValueError):
-        raise InputError(f"{source}: {key} must be a number, got {v!r}") from None
+    except (TypeError, ValueError, OverflowError):
+        raise InputError(f"{source}: {key} must be a finite number, got {shown(v)}") from None
     if not math.isfinite(f):
-        raise InputError(f"{source}: {key} must be finite, got {v!r}")
+        raise InputError(f"{source}: {key} must be finite, got {shown(v)}")
     return f
 
 
@@ -211,7 +212,7 @@ def load_stereo_camera(path: PathLike) -> StereoCamera:
     """Read a camera YAML file (see :func:`stereo_camera_from_dict`)."""
     p = require_file(path, "camera file")
     try:
-        data = yaml.safe_load(p.read_text())
+        data = load_yaml(p.read_text(), str(p))
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as e:
         raise InputError(f"{p}: cannot read camera YAML ({e.__class__.__name__})") from None
     return stereo_camera_from_dict(data, source=str(p))

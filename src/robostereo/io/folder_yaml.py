@@ -20,6 +20,7 @@ import numpy as np
 import yaml
 
 from robostereo.errors import InputError
+from robostereo.io.yaml_loading import load_yaml
 
 __all__ = [
     "folder_file",
@@ -105,7 +106,7 @@ def read_folder_yaml(directory: PathLike, filename: str, *, folder: str) -> tupl
     if not path.is_file():
         raise InputError(f"{path}: missing {folder} file (expected {filename} in {d})")
     try:
-        return yaml.safe_load(path.read_text(encoding="utf-8")), path
+        return load_yaml(path.read_text(encoding="utf-8"), str(path)), path
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
         raise InputError(f"{path}: not a readable YAML file ({exc.__class__.__name__})") from None
 

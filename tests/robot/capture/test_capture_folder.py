@@ -232,10 +232,10 @@ def test_a_pose_near_the_float_range_gives_no_numpy_warning(block_sim):
 
     from robostereo.geometry.poses import Pose
 
-    far = Pose(1.3407807929942597e154, 0.0, block_sim.capture.pose_left.z, 0.0)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        try:
+        try:  # refused as beyond any robot's reach (MAX_TRANSLATION_MM)
+            far = Pose(1.3407807929942597e154, 0.0, block_sim.capture.pose_left.z, 0.0)
             replace(block_sim.capture, pose_left=far)
         except InputError:
             pass

@@ -242,3 +242,88 @@ def test_translations_in_metres_warn_and_an_identity_hand_eye_warns(tmp_path):
         warnings.simplefilter("always")
         read_views_capture(d2)
     assert any("hand_eye is the identity" in str(w.message) for w in got)
+
+
+# -- absurd numbers and alias bombs in two-view and N-view capture.yaml (issue 36, 8) --
+
+
+def _folders(tmp_path: Path) -> dict[str, Path]:
+    """A two-view and a three-view folder of the seed camera, 20 mm apart, 1 m away."""
+    two = tmp_path / "two"
+    from robostereo.geometry.poses import Pose
+    from robostereo.robot.capture.capture_folder import Capture
+
+    left, right = _images(2)
+    write_capture(two, Capture(left=left, right=right, camera=SEED_CAMERA,
+                               pose_left=Pose(-10.0, 0.0, 1000.0),
+                               pose_right=Pose(10.0, 0.0, 1000.0),
+                               depth_range_mm=(900.0, 1100.0)))
+    three = tmp_path / "three"
+    write_views_capture(three, ViewsCapture(
+        _images(3), SEED_CAMERA, tuple(se3_from_scara(x, 0.0, 1000.0) for x in (-20, 0, 20)),
+        depth_range_mm=(900.0, 1100.0)))
+    return {"two-view": two, "N-view": three}
+
+
+def _edited(folder: Path, old: str, new: str, prefix: str = "") -> Path:
+    path = folder / "capture.yaml"
+    text = path.read_text()
+    assert old in text, (old, text)
+    path.write_text(prefix + text.replace(old, new, 1))
+    return folder
+
+
+BOMB = "robot:\n  l0: &l0 [x, x, x, x, x, x, x, x, x]\n" + "".join(
+    f"  l{i}: &l{i} [{', '.join([f'*l{i - 1}'] * 9)}]\n" for i in range(1, 9))
+BIG = "9" * 4000  # an integer too big for a float (Python reads up to 4300 digits)
+
+ABSURD = [  # (old text, new text, a word the message must hold)
+    ("focal_length_mm: 25.0", "focal_length_mm: 1.0e+6", "focal_length_mm / pixel_pitch_mm"),
+    ("focal_length_mm: 25.0", "focal_length_mm: 1.0e+308", "focal_length_mm / pixel_pitch_mm"),
+    ("pixel_pitch_mm: [0.0172, 0.0137]", "pixel_pitch_mm: [1.0e-300, 0.0137]",
+     "focal_length_mm / pixel_pitch_mm"),
+    ("focal_length_mm: 25.0", f"focal_length_mm: {BIG}", "'focal_length_mm'"),
+    ("image_size: [509, 481]", f"image_size: [{BIG}, 481]", "'image_size'"),
+    ("image_size: [509, 481]", "image_size: [50900000000, 481]", "image_size"),
+    ("grey_levels: 128", f"grey_levels: {BIG}", "'grey_levels'"),
+    ("disparity_px: 0.2", "disparity_px: 1.0e+308", "'disparity_px'"),
+    ("disparity_px: 0.2", f"disparity_px: {BIG}", "'disparity_px'"),
+    ("focal_length_mm: 0.01", "focal_length_mm: 30.0", "'focal_length_mm'"),
+    ("depth_range_mm: [900.0, 1100.0]", "depth_range_mm: [1.0e-300, 1100.0]", "depth_range_mm"),
+    ("depth_range_mm: [900.0, 1100.0]", f"depth_range_mm: [900.0, {BIG}]", "depth_range_mm"),
+    ("depth_range_mm: [900.0, 1100.0]", "depth_range_mm: [1100.0, 900.0]", "depth_range_mm"),
+    ("z: 1000.0", "z: 1.0e+308", "'z'"),
+    ("z: 1000.0", f"z: {BIG}", "'z'"),
+    ("phi_deg: 0.0", "phi_deg: 1.0e+308", "'phi_deg'"),
+]
+
+
+@pytest.mark.parametrize("kind", ["two-view", "N-view"])
+@pytest.mark.parametrize(("old", "new", "word"), ABSURD)
+def test_absurd_numbers_are_refused_in_one_line_naming_the_key(tmp_path, kind, old, new,
+                                                                word) -> None:
+    folder = _edited(_folders(tmp_path)[kind], old, new)
+    with pytest.raises(InputError, match=None) as info:
+        read_views_capture(folder)
+    message = str(info.value)
+    assert word in message and "\n" not in message and len(message) < 400, message
+
+
+@pytest.mark.parametrize("kind", ["two-view", "N-view"])
+@pytest.mark.parametrize(("old", "new"), [
+    ("focal_length_mm: 25.0", "focal_length_mm: *l8"),
+    ("depth_range_mm: [900.0, 1100.0]", "depth_range_mm: *l8"),
+    ("disparity_px: 0.2", "disparity_px: *l8"),
+])
+def test_an_alias_bomb_under_robot_read_from_a_key_is_refused_in_one_line(
+        tmp_path, kind, old, new) -> None:
+    folder = _edited(_folders(tmp_path)[kind], old, new, prefix=BOMB)
+    with pytest.raises(InputError, match="alias bomb") as info:
+        read_views_capture(folder)
+    assert "capture.yaml" in str(info.value) and len(str(info.value)) < 200
+
+
+def test_plausible_numbers_still_read(tmp_path) -> None:
+    for folder in _folders(tmp_path).values():
+        cap = read_views_capture(_edited(folder, "disparity_px: 0.2", "disparity_px: 509"))
+        assert cap.disparity_uncertainty_px == 509.0

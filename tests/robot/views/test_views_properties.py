@@ -49,6 +49,16 @@ W, H = 16, 12
 CAMERA = {"focal_length_mm": 25.0, "pixel_pitch_mm": [0.0172, 0.0137], "image_size": [W, H]}
 
 
+def _near_enough(poses: list[SE3]) -> float:
+    """The nearest depth, mm, at which the widest pair of `poses` (plus the hand-eye's
+    few mm) sees disparities of at most the image width: the depth range then spans at
+    most that, which a real capture does (robostereo.geometry.plausibility)."""
+    t = np.array([p.translation for p in poses])
+    span = float(np.max(np.linalg.norm(t[:, None] - t[None, :], axis=-1)))
+    fx = CAMERA["focal_length_mm"] / CAMERA["pixel_pitch_mm"][0]
+    return fx * (span + 10.0) / W
+
+
 def _result_or_refusal(call: Any, *args: Any, **kwargs: Any) -> Any:
     """The call's result, or None after checking that it raised a one-line InputError."""
     try:
@@ -198,7 +208,7 @@ def views_documents(draw: st.DrawFn) -> tuple[dict[str, Any], list[SE3] | None, 
     for k, (pose, form) in enumerate(zip(truths, forms, strict=True)):
         doc["views"].append({"image": f"v{k}.png", "flange" if flange_form else "pose":
                              _pose_dict(pose, form)})
-    near = draw(st.floats(10, 2000))
+    near = _near_enough(poses) + draw(st.floats(10, 2000))
     doc["depth_range_mm"] = [near, near + draw(st.floats(0, 1000))]
     if draw(st.booleans()):
         doc["bit_depth"] = draw(st.integers(7, 16))
@@ -259,7 +269,7 @@ def captures(draw: st.DrawFn) -> ViewsCapture:
     rng = np.random.default_rng(draw(st.integers(0, 2**32 - 1)))
     bits = draw(st.integers(1, 8))
     images = [rng.integers(0, 2**bits, (H, W), dtype=np.uint8) for _ in range(n)]
-    near = draw(st.floats(1, 2000))
+    near = _near_enough(poses) + draw(st.floats(1, 2000))
     kw: dict[str, Any] = dict(
         depth_range_mm=(near, near + draw(st.floats(0, 1000))), bit_depth=bits,
         baseline_uncertainty_mm=draw(st.floats(0, 0.5)),

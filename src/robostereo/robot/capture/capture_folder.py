@@ -45,14 +45,9 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.errors import (
-    InputError,
-    require_finite,
-    require_nonnegative,
-    require_positive,
-    warn_input,
-)
+from robostereo.errors import InputError, require_finite, require_positive, shown, warn_input
 from robostereo.geometry.camera import Camera, camera_from_dict, camera_to_dict
+from robostereo.geometry.plausibility import check_depth_disparities, check_uncertainties
 from robostereo.geometry.pose_rectification import GeneralEpipolarGeometry
 from robostereo.geometry.poses import SE3, Pose, as_se3
 from robostereo.geometry.poses import pose_from_dict as any_pose_from_dict
@@ -176,7 +171,7 @@ class Capture:
                 )
         b = self.bit_depth
         if isinstance(b, bool) or not isinstance(b, int | np.integer) or not 1 <= b <= 16:
-            raise InputError(f"bit_depth must be an integer in 1..16, got {b!r}")
+            raise InputError(f"bit_depth must be an integer in 1..16, got {shown(b)}")
         for name in ("left", "right"):
             img = np.asarray(getattr(self, name))
             if np.issubdtype(img.dtype, np.integer) and img.size and img.max() >= 2**b:
@@ -198,9 +193,10 @@ class Capture:
                 raise InputError(f"depth_range_mm must be [near, far] with 0 < near <= far, "
                                  f"got {[near, far]}")
             object.__setattr__(self, "depth_range_mm", (near, far))
-        for name in ("baseline_uncertainty_mm", "focal_length_uncertainty_mm",
-                     "disparity_uncertainty_px"):
-            require_nonnegative(name, getattr(self, name))
+        check_uncertainties(self.camera.focal_length_mm, w,
+                            baseline_mm=self.baseline_uncertainty_mm,
+                            focal_length_mm_unc=self.focal_length_uncertainty_mm,
+                            disparity_px=self.disparity_uncertainty_px)
         # math.hypot scales: no overflow for translations near the float range
         d = math.hypot(*(as_se3(self.pose_left).translation
                          - as_se3(self.pose_right).translation))
@@ -219,6 +215,8 @@ class Capture:
         else:
             if not d > 1e-9:
                 raise InputError(f"baseline: the two optical centres coincide (D = {d} mm)")
+        if self.disparity_range is None:  # bounds the disparities searched
+            check_depth_disparities(self.camera.fx, d, self.depth_range_mm, w)
 
     @property
     def is_scara(self) -> bool:
@@ -291,10 +289,10 @@ def _pair(name: str, value: object) -> tuple[float, float]:
     if ok:
         try:
             a, b = float(value[0]), float(value[1])  # type: ignore[index, arg-type]
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             ok = False
     if not ok or isinstance(value[0], bool) or isinstance(value[1], bool):  # type: ignore[index]
-        raise InputError(f"{name} must be a pair [a, b] of numbers, got {value!r}")
+        raise InputError(f"{name} must be a pair [a, b] of numbers, got {shown(value)}")
     require_finite(name, [a, b])
     return a, b
 
@@ -390,8 +388,9 @@ def extras_from_dict(data: Mapping[str, Any], source: str) -> dict[str, Any]:
     Raises
     ------
     InputError
-        ``uncertainty`` not a mapping of its three keys, or a value that is not a finite
-        number >= 0; the message names `source`.
+        ``uncertainty`` not a mapping of its three keys; the message names `source`.
+        The values are checked by the capture
+        (:func:`~robostereo.geometry.plausibility.check_uncertainties`).
     """
     kw: dict[str, Any] = {}
     unc = data.get("uncertainty") or {}
@@ -401,11 +400,10 @@ def extras_from_dict(data: Mapping[str, Any], source: str) -> dict[str, Any]:
     for key, attr in _UNCERTAINTY:
         if key in unc:
             v = unc[key]
-            if isinstance(v, bool) or not isinstance(v, int | float) or not math.isfinite(v) \
-                    or v < 0:
-                raise InputError(f"{source}: uncertainty '{key}' must be a finite number "
-                                 f">= 0, got {v!r}")
-            kw[attr] = float(v)
+            try:  # the capture checks the values (an int too big for a float stays)
+                kw[attr] = float(v) if isinstance(v, int | float) and v is not True else v
+            except OverflowError:
+                kw[attr] = v
     kw["notes"] = {k: data[k] for k in ("robot", "scene") if k in data}
     return kw
 
@@ -495,7 +493,7 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
         bits_file.append(bits)
     bit_depth = data.get("bit_depth", bits_file[0])
     if isinstance(bit_depth, bool) or not isinstance(bit_depth, int):
-        raise InputError(f"{src}: key 'bit_depth' must be an integer, got {bit_depth!r}")
+        raise InputError(f"{src}: key 'bit_depth' must be an integer, got {shown(bit_depth)}")
     kw: dict[str, Any] = {}
     for key in ("disparity_range", "depth_range_mm"):
         if data.get(key) is not None:

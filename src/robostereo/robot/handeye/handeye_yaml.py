@@ -44,10 +44,11 @@ def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
     from robostereo.errors import require_file
     from robostereo.geometry.camera import camera_from_dict
     from robostereo.geometry.poses import as_se3, pose_from_dict
+    from robostereo.io.yaml_loading import load_yaml
 
     p = require_file(path, "hand-eye camera file")
     try:
-        data = yaml.safe_load(Path(p).read_text(encoding="utf-8"))
+        data = load_yaml(Path(p).read_text(encoding="utf-8"), str(p))
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
         raise InputError(f"{p}: not a readable YAML file ({exc.__class__.__name__})") from None
     if not isinstance(data, dict) or "camera" not in data or "hand_eye" not in data:

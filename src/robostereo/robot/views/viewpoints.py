@@ -28,8 +28,9 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.errors import InputError, require_nonnegative, require_positive
+from robostereo.errors import InputError, require_positive, shown
 from robostereo.geometry.camera import Camera
+from robostereo.geometry.plausibility import check_depth_disparities, check_uncertainties
 from robostereo.geometry.poses import SE3, Pose, as_se3
 from robostereo.robot.capture.capture_folder import DISPARITY_UNCERTAINTY_PX, Capture
 
@@ -284,7 +285,7 @@ class ViewsCapture:
                                  f"got {type(p).__name__}")
         b = self.bit_depth
         if isinstance(b, bool) or not isinstance(b, int | np.integer) or not 1 <= b <= 16:
-            raise InputError(f"bit_depth must be an integer in 1..16, got {b!r}")
+            raise InputError(f"bit_depth must be an integer in 1..16, got {shown(b)}")
         for k, img in enumerate(self.images):
             a = np.asarray(img)
             if np.issubdtype(a.dtype, np.integer) and a.size and a.max() >= 2**b:
@@ -295,15 +296,16 @@ class ViewsCapture:
             isinstance(v, bool) for v in rng)
         try:
             near, far = (float(rng[0]), float(rng[1])) if ok else (math.nan, math.nan)
-        except (TypeError, ValueError):
+        except (TypeError, ValueError, OverflowError):
             near = far = math.nan
         if not (math.isfinite(near) and math.isfinite(far) and 0 < near <= far):
             raise InputError(f"depth_range_mm must be [near, far] with 0 < near <= far, got "
-                             f"{rng!r}")
+                             f"{shown(rng)}")
         object.__setattr__(self, "depth_range_mm", (near, far))
-        for name in ("baseline_uncertainty_mm", "focal_length_uncertainty_mm",
-                     "disparity_uncertainty_px"):
-            require_nonnegative(name, getattr(self, name))
+        check_uncertainties(self.camera.focal_length_mm, w,
+                            baseline_mm=self.baseline_uncertainty_mm,
+                            focal_length_mm_unc=self.focal_length_uncertainty_mm,
+                            disparity_px=self.disparity_uncertainty_px)
         if self.names is not None:
             object.__setattr__(self, "names", tuple(str(s) for s in self.names))
             if len(self.names) != n or len(set(self.names)) != n:
@@ -322,6 +324,8 @@ class ViewsCapture:
                 f"all {n} views stand at one point (largest distance between optical centres "
                 f"{self.span_mm:.3g} mm, not longer than its uncertainty "
                 f"{self.baseline_uncertainty_mm:g} mm): move the camera between them")
+        # the widest pair bounds the inverse-depth grid of the ray search
+        check_depth_disparities(self.camera.fx, self.span_mm, (near, far), w)
 
     def _name(self, k: int) -> str:
         if self.names is not None and len(self.names) > k:

@@ -39,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from robostereo.errors import InputError
+from robostereo.errors import InputError, shown
 from robostereo.geometry.camera import camera_from_dict, camera_to_dict
 from robostereo.geometry.poses import SE3, as_se3, pose_from_dict, pose_to_dict
 from robostereo.robot.capture.capture_folder import (
@@ -298,7 +298,7 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
         where = f"{src}: views[{k}]"
         if not isinstance(view, Mapping):
             raise InputError(f"{where}: expected a mapping {{image, pose}} or "
-                             f"{{image, flange}}, got {view!r}")
+                             f"{{image, flange}}, got {shown(view)}")
         bad = [key for key in view if key not in _VIEW_KEYS]
         if bad:
             raise InputError(f"{where}: unknown key '{bad[0]}' (allowed: "
@@ -378,11 +378,12 @@ def _settings(data: Mapping[str, Any], src: str, file_bits: int) -> dict[str, An
     ok = isinstance(rng, list) and len(rng) == 2 and all(
         isinstance(v, int | float) and not isinstance(v, bool) for v in rng)
     if not ok:
-        raise InputError(f"{src}: key 'depth_range_mm' must be [near, far] in mm, got {rng!r}")
-    kw: dict[str, Any] = {"depth_range_mm": (float(rng[0]), float(rng[1]))}
+        raise InputError(f"{src}: key 'depth_range_mm' must be [near, far] in mm, got "
+                         f"{shown(rng)}")
+    kw: dict[str, Any] = {"depth_range_mm": tuple(rng)}  # the capture checks the values
     bit_depth = data.get("bit_depth", file_bits)
     if isinstance(bit_depth, bool) or not isinstance(bit_depth, int):
-        raise InputError(f"{src}: key 'bit_depth' must be an integer, got {bit_depth!r}")
+        raise InputError(f"{src}: key 'bit_depth' must be an integer, got {shown(bit_depth)}")
     kw["bit_depth"] = bit_depth
     kw.update(extras_from_dict(data, src))
     return kw
