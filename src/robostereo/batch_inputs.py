@@ -364,8 +364,8 @@ def _run_views(d: Path, out: Path, options: BatchOptions) -> dict[str, Any]:
     return {
         "kind": "views", "matched": n,
         "points_3d": int(np.isfinite(located.world).all(axis=1).sum()),
-        "output": _write_outputs(out, d.name, table, located.world, options.ply, fields={
-            k: table[k] for k in ("bound_mm", "confidence", "view_count")}),
+        "output": _write_outputs(out, d.name, table, located.world, options.ply,
+                                 fields=located.ply_fields()),
     }  # fmt: skip
 
 

@@ -25,6 +25,7 @@ __all__ = [
     "InputError",
     "PlausibilityWarning",
     "UnreachablePoseError",
+    "is_finite_number",
     "require_file",
     "require_finite",
     "require_int",
@@ -109,13 +110,15 @@ def shown(value: object, width: int = 60) -> str:
     return r if len(r) <= width else r[:width - 3] + "..."
 
 
-def _show(value: object) -> str:
-    """A value for an error message: :func:`shown`."""
-    return shown(value)
+def is_finite_number(v: object) -> bool:
+    """A real number (not a bool) that is finite as a float; an integer too big for a
+    float is not.
 
-
-def _finite(v: object) -> bool:
-    """A real number that is finite as a float (an integer too big for a float is not)."""
+    >>> is_finite_number(2.5), is_finite_number(float("nan")), is_finite_number(10**400)
+    (True, False, False)
+    """
+    if isinstance(v, bool):
+        return False
     try:
         return isinstance(v, numbers.Real) and math.isfinite(v)
     except OverflowError:
@@ -132,9 +135,9 @@ def require_finite(name: str, value: float | Iterable[float]) -> None:
     robostereo.errors.InputError: pixel_pitch_mm must be finite, got [0.0172, nan]
     """
     values = [value] if isinstance(value, numbers.Real) else list(value)
-    if not all(_finite(v) for v in values):
-        shown = value if isinstance(value, numbers.Real) else values
-        raise InputError(f"{name} must be finite, got {_show(shown)}")
+    if not all(is_finite_number(v) or isinstance(v, bool) for v in values):
+        raise InputError(f"{name} must be finite, got "
+                         f"{shown(value if isinstance(value, numbers.Real) else values)}")
 
 
 def require_positive(name: str, value: float) -> None:
@@ -146,8 +149,8 @@ def require_positive(name: str, value: float) -> None:
     ...
     robostereo.errors.InputError: baseline_mm must be a finite number > 0, got -20.0
     """
-    if isinstance(value, bool) or not _finite(value) or value <= 0:
-        raise InputError(f"{name} must be a finite number > 0, got {_show(value)}")
+    if not is_finite_number(value) or value <= 0:
+        raise InputError(f"{name} must be a finite number > 0, got {shown(value)}")
 
 
 def require_nonnegative(name: str, value: float) -> None:
@@ -161,7 +164,7 @@ def require_nonnegative(name: str, value: float) -> None:
     """
     require_finite(name, value)
     if value < 0:
-        raise InputError(f"{name} must be >= 0, got {_show(value)}")
+        raise InputError(f"{name} must be >= 0, got {shown(value)}")
 
 
 def require_file(path: str | os.PathLike[str], what: str = "file") -> Path:
@@ -195,10 +198,10 @@ def require_int(name: str, value: Any, *, minimum: int | None = None) -> int:
     """
     bound = "" if minimum is None else f" >= {minimum}"
     if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise InputError(f"{name} must be an integer{bound}, got {_show(value)}")
+        raise InputError(f"{name} must be an integer{bound}, got {shown(value)}")
     v = int(value)
     if minimum is not None and v < minimum:
-        raise InputError(f"{name} must be an integer{bound}, got {_show(v)}")
+        raise InputError(f"{name} must be an integer{bound}, got {shown(v)}")
     return v
 
 
@@ -232,19 +235,17 @@ def require_range(name: str, value: Any) -> tuple[float, float]:
     ...
     robostereo.errors.InputError: disparity_range must be (min, max), two numbers, got 5
     """
-    shown = _show(value)
+    given = shown(value)
     if isinstance(value, str | bytes) or not isinstance(value, Iterable):
-        raise InputError(f"{name} must be (min, max), two numbers, got {shown}")
+        raise InputError(f"{name} must be (min, max), two numbers, got {given}")
     items = list(value)
     if len(items) != 2 or not all(
         isinstance(v, numbers.Real) and not isinstance(v, bool) for v in items
     ):
-        raise InputError(f"{name} must be (min, max), two numbers, got {shown}")
-    if not (_finite(items[0]) and _finite(items[1])):
-        raise InputError(f"{name} must be finite, got {shown}")
+        raise InputError(f"{name} must be (min, max), two numbers, got {given}")
+    if not (is_finite_number(items[0]) and is_finite_number(items[1])):
+        raise InputError(f"{name} must be finite, got {given}")
     lo, hi = float(items[0]), float(items[1])
-    if not (math.isfinite(lo) and math.isfinite(hi)):
-        raise InputError(f"{name} must be finite, got ({lo}, {hi})")
     if lo > hi:
         raise InputError(f"{name} is empty: min {lo} > max {hi}")
     return lo, hi

@@ -131,8 +131,7 @@ def run_locate_views(args: argparse.Namespace) -> int:
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], table)
         if "--ply" in tmp:
-            write_ply(tmp["--ply"], located.world,
-                      fields={k: table[k] for k in ("bound_mm", "confidence", "view_count")})
+            write_ply(tmp["--ply"], located.world, fields=located.ply_fields())
     n = len(located)
     extra = ""
     if n:

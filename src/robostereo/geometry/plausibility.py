@@ -11,9 +11,8 @@ are far outside every real camera, so no real capture meets them.
 from __future__ import annotations
 
 import math
-import numbers
 
-from robostereo.errors import InputError, shown
+from robostereo.errors import InputError, is_finite_number, shown
 
 __all__ = [
     "MAX_FOCAL_PX",
@@ -144,10 +143,7 @@ def check_uncertainties(focal_length_mm: float, width: int, *, baseline_mm: floa
               ("disparity_px", disparity_px, float(width),
                f" and at most the image width ({width} px)"))
     for key, v, top, why in limits:
-        try:
-            ok = isinstance(v, numbers.Real) and not isinstance(v, bool) and math.isfinite(v)
-        except OverflowError:  # an integer too big for a float
-            ok = False
-        if not (ok and 0 <= v and (v <= top if key == "disparity_px" else v < top)):
+        at_most = key == "disparity_px"  # the image width itself is allowed
+        if not (is_finite_number(v) and 0 <= v and (v <= top if at_most else v < top)):
             raise InputError(f"uncertainty '{key}' must be a finite number >= 0{why}, "
                              f"got {shown(v)}")

@@ -68,14 +68,8 @@ _PART = re.compile(r"\.(\d+)-[A-Za-z0-9_]+\.part$")
 _OLD_PART = re.compile(r"\.[A-Za-z0-9_]{8}\.part$")
 OLD_PART_SECONDS = 3600.0
 """Age after which a temporary file of the former naming (no process id) is stale."""
-_live: set[Path] = set()  # this process's temporary outputs, for remove_live_parts
-_stands_for: dict[Path, Path] = {}  # a temporary output -> the output it will become
-
-
-def _output_of(path: Path) -> Path:
-    """The output that `path` will become: itself, or for a temporary output (one
-    nested in another's too) the target the user named; what error messages name."""
-    return _stands_for.get(path, path)
+#: this process's temporary outputs (for remove_live_parts) -> the output each becomes
+_live: dict[Path, Path] = {}
 
 
 def _alive(pid: int) -> bool:
@@ -112,10 +106,9 @@ def remove_stale_parts(folder: PathLike, names: Iterable[str] | None = None) -> 
     A temporary output ``.NAME.PID-XXXXXXXX.part`` (a file, or a folder for an image
     folder) is stale when no process ``PID`` runs on this machine; one of the former
     naming ``.NAME.XXXXXXXX.part`` when it is older than :data:`OLD_PART_SECONDS`.
-    A writer that writes its own output atomically into a command's temporary file
-    (:func:`write_csv` inside :func:`atomic_outputs`) makes a nested one,
-    ``..NAME.PID-XXXXXXXX.part.PID-YYYYYYYY.part``: it counts as NAME's too, so a run
-    killed between the two leaves nothing the next run does not remove.
+    A nested one, ``..NAME.PID-XXXXXXXX.part.PID-YYYYYYYY.part`` (what a writer's own
+    atomic file inside a command's temporary file was named before :func:`atomic_path`
+    wrote such files in place), counts as NAME's too.
 
     Output folders shared by machines (a network file system with a batch on several
     hosts) should not be written by two runs at once anyway: a process id of another
@@ -173,7 +166,7 @@ def remove_live_parts() -> None:
                 shutil.rmtree(p)
             else:
                 p.unlink()
-        _live.discard(p)
+        _live.pop(p, None)
 
 
 def _part_prefix(target: Path) -> str:
@@ -184,11 +177,20 @@ def _part_prefix(target: Path) -> str:
 def atomic_path(path: PathLike) -> Iterator[Path]:
     """Yield a temporary path beside ``path``; rename it to ``path`` on success.
 
-    On an exception the temporary file is removed and ``path`` is left untouched.
+    On an exception the temporary file is removed and ``path`` is left untouched.  A
+    ``path`` that is already one of this process's temporary outputs (a writer such as
+    :func:`write_csv` given a command's file from :func:`atomic_outputs`) is written in
+    place: the command renames it, and an error names the output it stands for.
     """
     target = Path(path)
     if target.is_dir():
         raise InputError(f"{target}: is a folder, not an output file name")
+    if target in _live:
+        try:
+            yield target
+        except OSError as e:
+            raise InputError(f"{_live[target]}: cannot write output ({_why(e)})") from None
+        return
     with atomic_outputs({"path": target}) as tmp:
         yield tmp["path"]
 
@@ -227,7 +229,7 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
         tmp = Path(tempfile.mkdtemp(prefix=_part_prefix(target), suffix=".part", dir=parent))
     except OSError as e:
         raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
-    _live.add(tmp)
+    _live[tmp] = target
     try:
         name = ""
         for name, img in images.items():
@@ -250,7 +252,7 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
     finally:
         if tmp.exists():
             shutil.rmtree(tmp, ignore_errors=True)
-        _live.discard(tmp)
+        _live.pop(tmp, None)
     return target
 
 
@@ -379,44 +381,35 @@ def atomic_outputs(outputs: Mapping[str, Path]) -> Iterator[dict[str, Path]]:
                 try:
                     os.replace(temps[key], target)
                 except OSError as e:
-                    raise InputError(f"{_output_of(Path(target))}: cannot write output "
-                                     f"({_why(e)})") from None
+                    raise InputError(f"{target}: cannot write output ({_why(e)})") from None
 
 
 @contextlib.contextmanager
 def _temp_beside(target: Path) -> Iterator[Path]:
     """A temporary file beside `target` with the umask's permissions, removed on exit
-    unless renamed.
-
-    Errors name the output the user asked for: `target`, or when `target` is itself a
-    temporary output (a writer's own atomic file inside a command's), the output that
-    one stands for.
-    """
-    shown = _output_of(target)
+    unless renamed."""
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
-        raise InputError(f"{shown}: output folder {parent} does not exist")
+        raise InputError(f"{target}: output folder {parent} does not exist")
     remove_stale_parts(parent, [target.name])
     try:
         fd, tmp = tempfile.mkstemp(prefix=_part_prefix(target), suffix=".part", dir=parent)
     except OSError as e:
-        raise InputError(f"{shown}: cannot write in {parent} ({_why(e)})") from None
+        raise InputError(f"{target}: cannot write in {parent} ({_why(e)})") from None
     os.close(fd)
     tmp_path = Path(tmp)
-    _live.add(tmp_path)
-    _stands_for[tmp_path] = shown
+    _live[tmp_path] = target
     umask = os.umask(0)
     os.umask(umask)
     try:
         os.chmod(tmp_path, 0o666 & ~umask)
         yield tmp_path
     except OSError as e:
-        raise InputError(f"{shown}: cannot write output ({_why(e)})") from None
+        raise InputError(f"{target}: cannot write output ({_why(e)})") from None
     finally:
         if tmp_path.exists():
             tmp_path.unlink()
-        _live.discard(tmp_path)
-        _stands_for.pop(tmp_path, None)
+        _live.pop(tmp_path, None)
 
 
 def _column_text(values: NDArray[Any]) -> list[str]:

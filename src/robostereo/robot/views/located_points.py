@@ -127,6 +127,12 @@ class LocatedViews:
             "residual_px": self.residual_px,
         }
 
+    def ply_fields(self) -> dict[str, NDArray[Any]]:
+        """The per-point properties a PLY file of these points carries besides x, y, z:
+        ``bound_mm``, ``confidence``, ``view_count`` (``locate`` and ``batch`` alike)."""
+        return {"bound_mm": self.bound_mm, "confidence": self.confidence,
+                "view_count": self.view_count}
+
 
 def views_bound(depth_mm: ArrayLike, rho_std_unit: ArrayLike, *, focal_px: float,
                 pixel_pitch_mm: float, disparity_uncertainty_px: float,
