@@ -202,11 +202,12 @@ def test_views_demo_locates_the_block_within_its_bounds_and_the_pulley():
         assert r["all_within_bound"]
         assert abs(r["lift_mm"] - r["lift_true_mm"]) < 0.3
         assert r["max_abs_error_mm"] < 1.5
-        assert r["pulley_matched"] > 0.95
-    # the bound shrinks with the spread of the baselines, and 5 views fit fewer
-    # wrong pulley points than 2 (whose fits cannot check themselves)
+    # two views go through the two-view matcher (issue 34): what the two-view path gives,
+    # fewer points and almost no false ones (the sweep: 97.0 % matched, 4.9 % false)
+    assert two["pulley_matched"] > 0.6 and two["pulley_false"] < 0.005
+    # the bound shrinks with the spread of the baselines, and 5 views find more
     assert five["median_bound_mm"] < two["median_bound_mm"]
-    assert five["pulley_false"] < two["pulley_false"]
+    assert five["pulley_matched"] > two["pulley_matched"] + 0.2
     # the points reported (confidence >= min_confidence): the target is 0.5 % false
     assert five["pulley_false"] < 0.01 and five["pulley_matched"] > 0.98
 

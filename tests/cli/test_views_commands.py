@@ -155,20 +155,47 @@ def test_locate_on_a_views_folder_writes_each_point_with_bound_confidence_and_vi
     assert within.mean() > 0.9, within.mean()
 
 
-def test_a_two_view_folder_read_as_two_views_locates_as_today(tmp_path):
-    from scipy.spatial import cKDTree
-
+def test_a_two_view_folder_read_as_two_views_gives_the_two_view_points(tmp_path):
     from robostereo.robot.capture import locate_capture, write_capture
     from robostereo.robot.simulated.scara_rig import simulate_capture
     from robostereo.robot.views.locating import locate_views
 
     d = write_capture(tmp_path / "two", simulate_capture("block", seed=0).capture)
     today = locate_capture(d)
-    two = locate_views(read_views_capture(d))
-    assert abs(len(two) - len(today)) <= 0.1 * len(today)
-    assert np.median(two.bound_mm) == pytest.approx(np.median(today.z_bound), rel=0.05)
-    dist, _ = cKDTree(today.world).query(two.world)
-    assert (dist <= two.bound_mm).mean() > 0.9
+    two = locate_views(read_views_capture(d))  # through the two-view matcher (issue 34)
+    assert len(two) == len(today) > 100
+    np.testing.assert_allclose(two.world, today.world, atol=1e-9)
+    np.testing.assert_allclose(two.bound_mm, today.z_bound, atol=1e-9)
+    np.testing.assert_allclose(two.confidence, today.probability)
+
+
+def test_locate_matcher_chooses_pairs_or_the_sweep_for_n_views_only(views_dir, tmp_path,
+                                                                    capsys):
+    from robostereo.robot.views.locating import locate_views
+    from robostereo.robot.views.views_parameters import ViewsParameters
+
+    cap = read_views_capture(views_dir)
+    for matcher in ("pairs", "sweep"):
+        csv = tmp_path / f"{matcher}.csv"
+        assert main(["locate", str(views_dir), "--matcher", matcher, "-o", str(csv)]) == 0
+        t = np.genfromtxt(csv, delimiter=",", names=True)
+        lib = locate_views(cap, params=ViewsParameters(matcher=matcher))
+        assert len(t) == len(lib) > 100
+        np.testing.assert_allclose(t["Z_w"], lib.world[:, 2], rtol=1e-5, atol=1e-4)
+    capsys.readouterr()
+    # pairs: every point from the centre view, each seen by it and one or two others
+    t = np.genfromtxt(tmp_path / "pairs.csv", delimiter=",", names=True)
+    assert set(np.unique(t["reference"])) == {1.0}
+    # a two-view folder has one matcher: the option is refused, nothing written
+    from robostereo.robot.capture import write_capture
+    from robostereo.robot.simulated.scara_rig import simulate_capture
+
+    two = write_capture(tmp_path / "two", simulate_capture("block", seed=0).capture)
+    before = sorted(p.name for p in two.iterdir())
+    assert main(["locate", str(two), "--matcher", "pairs"]) == 2
+    err = capsys.readouterr().err
+    assert "--matcher" in err and "capture.yaml" in err and len(err.strip().splitlines()) == 1
+    assert sorted(p.name for p in two.iterdir()) == before
 
 
 # -- locate: bad N-view folders --------------------------------------------------------

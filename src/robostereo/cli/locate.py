@@ -27,9 +27,11 @@ def add_locate_parser(sub: Any) -> None:
         description="Rectify a capture folder's two views by their poses, match the edge "
                     "points, and write world and epipolar-frame coordinates with the eq. 9 "
                     "depth bound of every point (CSV; optionally PLY).  A folder of N views "
-                    "(capture.yaml with views:): search each edge point's ray in the other "
-                    "views, every view as reference, and write each point once with its "
-                    "bound, confidence and view count.",
+                    "(capture.yaml with views:): two views as the two-view folder; more by "
+                    "the plane sweep (each edge point's ray searched in the other views, "
+                    "every view as reference) or by pairs (--matcher pairs: the central "
+                    "view paired with each other view through the two-view matcher), each "
+                    "point written once with its bound, confidence and view count.",
     )
     p.add_argument("capture", type=Path, metavar="DIR", help="capture folder")
     p.add_argument("-o", "--output", type=Path,
@@ -38,6 +40,9 @@ def add_locate_parser(sub: Any) -> None:
     p.add_argument("--fuse", type=Path, metavar="DIR2",
                    help="a second capture of the scene (e.g. an orthogonal baseline): write "
                         "the two point sets merged, each point with its own bound")
+    p.add_argument("--matcher", choices=("auto", "pairs", "sweep"), default=None,
+                   help="N-view folders: pairs through the two-view matcher or the plane "
+                        "sweep (default auto: pairs for two views, the sweep for more)")
     p.set_defaults(handler=run_locate_command)
 
 
@@ -52,6 +57,10 @@ def run_locate_command(args: argparse.Namespace) -> int:
 
     if any(d is not None and is_views_folder(d) for d in (args.capture, args.fuse)):
         return run_locate_views(args)
+    if args.matcher is not None:
+        raise InputError(f"{args.capture / 'capture.yaml'}: --matcher chooses how an N-view "
+                         "folder (views:) is matched; this folder has two views (left, "
+                         "right), which the two-view matcher locates")
     if args.fuse is not None:
         return _run_locate_fused(args)
 
@@ -121,12 +130,17 @@ def run_locate_views(args: argparse.Namespace) -> int:
                          inputs=views_folder_files(args.capture))
     capture = read_views_capture(args.capture)
     from robostereo.robot.views.locating import locate_views
+    from robostereo.robot.views.view_pairs import is_pairs
+    from robostereo.robot.views.views_parameters import ViewsParameters
 
     status, say = stage_reporter(sys.stderr.isatty())
     with status:
         say(f"locating the edge points of {len(capture)} views")
-        located = locate_views(capture, progress=lambda done, total: say(
-            f"locating: {done} of {total} reference views done"))
+        params = ViewsParameters(matcher=args.matcher or "auto")
+        unit = "pairs" if is_pairs(capture, params) else "reference views"
+        located = locate_views(capture, params=params, source=str(
+            args.capture / "capture.yaml"), progress=lambda done, total: say(
+            f"locating: {done} of {total} {unit} done"))
     table = located.table()
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], table)

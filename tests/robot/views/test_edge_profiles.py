@@ -196,7 +196,7 @@ def test_a_band_seen_through_a_narrowing_gap_is_located_within_its_bounds():
                        depth_range_mm=(850.0, 1050.0))
     err = {}
     for reach in (None, ViewsParameters().opposite_edge_px):
-        loc = locate_views(cap, params=ViewsParameters(opposite_edge_px=reach))
+        loc = locate_views(cap, params=ViewsParameters(matcher="sweep", opposite_edge_px=reach))
         on = (np.abs(loc.world[:, 0] - BAND[0]) < 1.0) & (np.abs(loc.world[:, 2]) < 10.0)
         assert on.sum() > 100
         err[reach] = (np.abs(loc.world[on, 2]), loc.bound_mm[on])

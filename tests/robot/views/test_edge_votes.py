@@ -54,8 +54,8 @@ def test_edge_votes_place_edge_points_the_window_search_leaves(six_axis_pulley_c
     # seed 5: the central view's matched share 98.13 -> 98.29 %, false 0.73 -> 0.76 %,
     # 436 points placed by votes, 4 of them wrong
     sim = six_axis_pulley_cross
-    off = locate_views(sim.capture, params=ViewsParameters(edge_votes=None))
-    on = locate_views(sim.capture)
+    off = locate_views(sim.capture, params=ViewsParameters(matcher="sweep", edge_votes=None))
+    on = locate_views(sim.capture, params=ViewsParameters(matcher="sweep"))
     m_off, f_off, _ = views_pulley_score(sim, off)
     m_on, f_on, _ = views_pulley_score(sim, on)
     assert not np.isnan(off.window_cost).any()

@@ -38,7 +38,8 @@ def six_axis_cross(six_axis_pulley_cross):
     """The six-axis arm's hub-pulley from a cross of 5 views (a noise seed the confidence
     was not fitted on), every point the search offers."""
     sim = six_axis_pulley_cross
-    return sim, locate_views(sim.capture, params=ViewsParameters(min_confidence=0.0))
+    return sim, locate_views(sim.capture, params=ViewsParameters(
+        matcher="sweep", min_confidence=0.0))
 
 
 def test_confidence_follows_what_the_views_left_out_of_a_fit_see(six_axis_cross):

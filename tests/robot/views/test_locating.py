@@ -89,8 +89,9 @@ def _found(loc, pixel, ref=2):
 def test_an_occluder_seen_from_both_sides_hides_no_plane_point_from_the_best_half(occluder):
     pixel, depth, hidden = _hidden_plane_edges(occluder)
     assert len(pixel) > 30 and hidden.sum(axis=1).max() < len(occluder.true_poses) - 1
-    best = locate_views(occluder.capture)
-    every = locate_views(occluder.capture, params=ViewsParameters(combine="all"))
+    best = locate_views(occluder.capture, params=ViewsParameters(matcher="sweep"))
+    every = locate_views(occluder.capture, params=ViewsParameters(
+        matcher="sweep", combine="all"))
     found_best, i_best = _found(best, pixel)
     found_all, _ = _found(every, pixel)
     # the views on the far side find most points a view on the near side cannot see,
@@ -130,8 +131,9 @@ def test_bad_captures_are_refused_with_one_line(block_line, change, word):
 
 
 def test_points_below_the_least_confidence_get_the_no_match_label(occluder):
-    every = locate_views(occluder.capture, params=ViewsParameters(min_confidence=0.0))
-    accepted = locate_views(occluder.capture)
+    every = locate_views(occluder.capture, params=ViewsParameters(
+        matcher="sweep", min_confidence=0.0))
+    accepted = locate_views(occluder.capture, params=ViewsParameters(matcher="sweep"))
     assert np.all(accepted.confidence >= ViewsParameters().min_confidence)
     assert every.confidence.min() < ViewsParameters().min_confidence
     right_every, right = views_correct(occluder, every), views_correct(occluder, accepted)
@@ -148,8 +150,9 @@ def test_a_generous_depth_range_is_narrowed_to_the_scene(block_line):
 
     sim, tight = block_line
     wide = dataclasses.replace(sim.capture, depth_range_mm=(300.0, 1070.0))
-    loc = locate_views(wide)
-    every = locate_views(wide, params=ViewsParameters(range_step_px=None))
+    loc = locate_views(wide, params=ViewsParameters(matcher="sweep"))
+    every = locate_views(wide, params=ViewsParameters(
+        matcher="sweep", range_step_px=None))
     on, err, _ = views_block_truth(sim, loc)
     # the same block top as from the capture's tight range, every point within its bound
     assert abs(on.sum() - views_block_truth(sim, tight)[0].sum()) <= 0.05 * on.sum()
@@ -163,9 +166,10 @@ def pulley_pair():
     """A pair of views 60 mm apart (the fit of the confidence saw a pair 80 mm apart):
     every point is a two-view fit, with zero residual whatever its match."""
     sim = simulate_views("pulley", count=2, pattern="line", span_mm=60.0)
-    every = locate_views(sim.capture, params=ViewsParameters(min_confidence=0.0,
+    every = locate_views(sim.capture, params=ViewsParameters(
+        matcher="sweep", min_confidence=0.0,
                                                               range_step_px=None))
-    return sim, every, locate_views(sim.capture)
+    return sim, every, locate_views(sim.capture, params=ViewsParameters(matcher="sweep"))
 
 
 def _calibration_error(p, y, bins=10):

@@ -151,10 +151,19 @@ def test_epipolar_check_validates_itself():
 
 def test_locating_warns_when_the_poses_disagree_with_the_images(views):
     images, poses = views
-    params = ViewsParameters()
+    claimed = (_turned(poses[0], 1.0), poses[1], poses[2])
+    # the plane sweep's own check: corners tracked off the epipolar lines
+    sweep = ViewsParameters(matcher="sweep")
     with warnings.catch_warnings():
         warnings.simplefilter("error", PlausibilityWarning)
-        locate_views(_capture(images, poses), params=params)
-    claimed = (_turned(poses[0], 1.0), poses[1], poses[2])
+        locate_views(_capture(images, poses), params=sweep)
     with pytest.warns(PlausibilityWarning, match="off the epipolar lines"):
-        locate_views(_capture(images, claimed), params=params)
+        locate_views(_capture(images, claimed), params=sweep)
+    # the pairs: the two-view matcher's row check, naming the pair
+    pairs = ViewsParameters(matcher="pairs")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        locate_views(_capture(images, poses), params=pairs)
+    with pytest.warns(PlausibilityWarning, match=r"capture \(views \d and \d\): the rows of "
+                      "the two views disagree"):
+        locate_views(_capture(images, claimed), params=pairs)

@@ -69,7 +69,8 @@ def strip_capture():
 
 
 def _edge_errors(cap: ViewsCapture, blur: float | None) -> tuple[np.ndarray, np.ndarray]:
-    loc = locate_views(cap, params=ViewsParameters(edge_blur_px=blur))
+    loc = locate_views(cap, params=ViewsParameters(
+        matcher="sweep", edge_blur_px=blur))
     w = loc.world
     on = (np.abs(w[:, 0] - HALF[0]) < 1.0) & (np.abs(w[:, 1]) < HALF[1] - 2.0) \
         & (np.abs(w[:, 2] - TOP) < 10.0)
@@ -95,7 +96,8 @@ def test_views_that_cannot_vote_turn_away_wrong_two_view_fits():
     sim = simulate_views("pulley", count=3, pattern="cross", span_mm=80.0, robot="six-axis")
     counts = {}
     for check in (False, True):
-        loc = locate_views(sim.capture, params=ViewsParameters(check_two_view_fits=check))
+        loc = locate_views(sim.capture, params=ViewsParameters(
+        matcher="sweep", check_two_view_fits=check))
         ok = views_correct(sim, loc)
         counts[check] = (int(ok.sum()), int((~ok).sum()))
     assert counts[False][1] > 100  # wrong two-view fits to turn away

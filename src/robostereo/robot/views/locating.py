@@ -56,6 +56,7 @@ from robostereo.robot.views.point_refinement import refine_points
 from robostereo.robot.views.pose_check import views_epipolar_checks, warn_disagreeing
 from robostereo.robot.views.prepared_views import prepare_views, reference_edges
 from robostereo.robot.views.ray_search import search_rays
+from robostereo.robot.views.view_pairs import is_pairs, locate_pairs
 from robostereo.robot.views.viewpoints import ViewsCapture
 from robostereo.robot.views.views_parameters import ViewsParameters
 
@@ -84,7 +85,8 @@ def _empty(n: int) -> LocatedViews:
 
 
 def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None,
-                 progress: Callable[[int, int], None] | None = None) -> LocatedViews:
+                 progress: Callable[[int, int], None] | None = None,
+                 source: str = "capture") -> LocatedViews:
     """Locate the edge points of N views in the world, each with a bound and a confidence.
 
     Parameters
@@ -93,12 +95,19 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
         N >= 2 views with their poses and the expected depth range.
     params : ViewsParameters, optional
     progress : callable, optional
-        ``progress(done, total)`` after each reference view.
+        ``progress(done, total)`` after each reference view (``'sweep'``) or pair
+        (``'pairs'``).
+    source : str
+        The capture's name in warnings and errors (its file, when read from one).
 
     Returns
     -------
     LocatedViews
-        The points whose confidence reaches ``params.min_confidence``.
+        ``params.matcher`` ``'pairs'`` (``'auto'``'s for two views): the widest pair's
+        points and those ``min_pairs`` pairs agree on
+        (:func:`~robostereo.robot.views.view_pairs.locate_pairs`); ``'sweep'``
+        (``'auto'``'s for more): the points whose confidence reaches
+        ``params.min_confidence``.
 
     Raises
     ------
@@ -107,9 +116,9 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
 
     Notes
     -----
-    See the module's steps 1-6.  Two-view captures are located the same way (their
-    results differ from :func:`robostereo.robot.capture.locate_pair.locate`'s, which rectifies and
-    runs the matcher of chapter 3 and stays as it is).
+    ``'pairs'``: :mod:`~robostereo.robot.views.view_pairs`'s steps; two views give the
+    two-view path's (:func:`robostereo.robot.capture.locate_pair.locate`) points exactly.
+    ``'sweep'``: the module's steps 1-6.
 
     References
     ----------
@@ -121,6 +130,8 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     p = params if params is not None else ViewsParameters()
     if not isinstance(p, ViewsParameters):
         raise InputError(f"params must be a ViewsParameters, got {type(p).__name__}")
+    if is_pairs(capture, p):
+        return locate_pairs(capture, params=p, progress=progress, source=source)
     n = len(capture)
     views = prepare_views(capture, p.edge_blur_px, p.opposite_edge_px)
     h, w = views.smoothed.shape[1:]

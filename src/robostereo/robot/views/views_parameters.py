@@ -11,13 +11,14 @@ Kim (1989), the thesis, 3.1 (the edge threshold), 3.5 (the no-match label), 3.7 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
 
 from robostereo.errors import InputError, require_int, require_positive
 from robostereo.matcher.edges import check_edge_blur
+from robostereo.robot.capture.locate_pair import LocateParameters
 
 __all__ = ["ViewsParameters"]
 
@@ -28,6 +29,30 @@ class ViewsParameters:
 
     Attributes
     ----------
+    matcher : {'auto', 'pairs', 'sweep'}
+        ``'pairs'``: the reference paired with each other view through the two-view
+        matcher and the pairs' matches combined
+        (:func:`~robostereo.robot.views.view_pairs.locate_pairs`); two views then give
+        exactly what the two-view path gives.  ``'sweep'``: the plane sweep of every
+        view's windows along each reference ray (:mod:`~robostereo.robot.views.locating`'s
+        steps); the attributes from `threshold` to `edge_votes` tune it alone.
+        ``'auto'`` (the default): ``'pairs'`` for two views, ``'sweep'`` for more.  On
+        issue 34's renders (``benchmarks/bench_views.py --renders``) two views by the
+        sweep put 0.8-19 % of their points more than 2 mm off where the pair put
+        0-2.1 %; with three to nine views the pairs put 0.03-1.6 % there against the
+        sweep's 0.2-8.9 %, but on the simulator's hub-pulley they matched 78 % of the
+        edge points against 99.96 % and on the real DTU views they report no more
+        points than their widest pair (1447 against the sweep's 5115): the two-view
+        matcher is sparse on real views (issue 35).
+    agree_px : float
+        ``'pairs'``: a pair's point joins another pair's within this many pixels in the
+        reference image (when their depths agree within their bounds).
+    min_pairs : int
+        ``'pairs'``: pairs that must agree on a point of a pair other than the widest
+        before it is reported (the widest pair's points are all reported; all the pairs
+        when there are fewer).
+    pair_match : LocateParameters
+        ``'pairs'``: the two-view locate's parameters for each pair (the matcher's).
     threshold : float
         Least gradient magnitude of an edge point on the thesis's 0..127 grey scale
         (the matcher's, thesis 3.1: 8.0).
@@ -150,6 +175,10 @@ class ViewsParameters:
         from 98.58-98.81 % to 98.69-98.93 % at 0.62-0.85 %.
     """
 
+    matcher: Literal["auto", "pairs", "sweep"] = "auto"
+    agree_px: float = 1.0
+    min_pairs: int = 2
+    pair_match: LocateParameters = field(default_factory=LocateParameters)
     threshold: float = 8.0
     half_window: int = 3
     step_px: float = 0.75
@@ -169,6 +198,14 @@ class ViewsParameters:
     edge_votes: int | None = 3
 
     def __post_init__(self) -> None:
+        if self.matcher not in ("auto", "pairs", "sweep"):
+            raise InputError(f"matcher must be 'auto', 'pairs' or 'sweep', got "
+                             f"{self.matcher!r}")
+        require_positive("agree_px", self.agree_px)
+        require_int("min_pairs", self.min_pairs, minimum=1)
+        if not isinstance(self.pair_match, LocateParameters):
+            raise InputError("pair_match must be a LocateParameters, got "
+                             f"{type(self.pair_match).__name__}")
         require_positive("threshold", self.threshold)
         hw = self.half_window
         if isinstance(hw, bool) or not isinstance(hw, int | np.integer) or not 1 <= hw <= 10:
