@@ -115,6 +115,16 @@ class LocatedViews:
         k = np.asarray(keep)
         return LocatedViews(**{f: getattr(self, f)[k] for f in self.__dataclass_fields__})
 
+    def in_views(self, keep: ArrayLike, n: int) -> LocatedViews:
+        """These points, located from the views `keep` of a capture of `n`, with
+        ``reference`` and ``views`` given in that capture's view indices."""
+        k = np.asarray(keep, dtype=np.intp)
+        seen = np.zeros((len(self), n), bool)
+        seen[:, k] = self.views
+        fields = {f: getattr(self, f) for f in self.__dataclass_fields__}
+        fields.update(reference=k[self.reference], views=seen)
+        return LocatedViews(**fields)
+
     def table(self) -> dict[str, NDArray[Any]]:
         """Columns for a CSV: ``X_w, Y_w, Z_w`` (world mm), ``bound_mm``, ``confidence``,
         ``view_count``, ``reference``, ``u, v`` (reference's grabbed image), ``depth_mm``,

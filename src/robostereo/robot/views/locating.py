@@ -39,13 +39,15 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.errors import InputError
+from robostereo.errors import InputError, warn_input
 from robostereo.robot.views.edge_votes import left_out_views, vote_fits, votes_confidence
+from robostereo.robot.views.frame_checks import failed_frames
 from robostereo.robot.views.located_points import (
     LocatedViews,
     confidence_features_from,
@@ -130,6 +132,20 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     p = params if params is not None else ViewsParameters()
     if not isinstance(p, ViewsParameters):
         raise InputError(f"params must be a ViewsParameters, got {type(p).__name__}")
+    if p.min_frame_sharpness is not None:
+        # -- a failed frame (blurred, dark, blank) vetoes right points: named, left out
+        failed = failed_frames(capture, p.min_frame_sharpness)
+        n_all = len(capture)
+        keep = [k for k in range(n_all) if k not in dict(failed)]
+        for k, s in failed:
+            what = "left out" if len(keep) >= 2 else "kept: fewer than two views would remain"
+            warn_input(f"{source}: view {capture._name(k)} looks blurred, dark or blank: its "
+                       f"strongest edges are {s:.2f} of the median view's (under "
+                       f"{p.min_frame_sharpness:g}); {what}")
+        if failed and len(keep) >= 2:
+            rest = locate_views(capture.subset(keep), progress=progress, source=source,
+                                params=replace(p, min_frame_sharpness=None))
+            return rest.in_views(keep, n_all)
     if is_pairs(capture, p):
         return locate_pairs(capture, params=p, progress=progress, source=source)
     n = len(capture)

@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 import numbers
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -346,6 +346,25 @@ class ViewsCapture:
         c = self.centres
         d = c[:, None, :] - c[None, :, :]
         return float(np.sqrt(np.max(np.einsum("ijk,ijk->ij", d, d))))
+
+    def subset(self, keep: Sequence[int]) -> ViewsCapture:
+        """The views `keep` (indices, in that order) as a capture of their own (two or more).
+
+        >>> from robostereo.geometry.camera import SEED_CAMERA
+        >>> from robostereo.geometry.poses import se3_from_scara
+        >>> w, h = SEED_CAMERA.image_size
+        >>> images = tuple(np.zeros((h, w), np.uint8) for _ in range(3))
+        >>> poses = tuple(se3_from_scara(x, 0.0, 1000.0) for x in (-20.0, 0.0, 20.0))
+        >>> cap = ViewsCapture(images, SEED_CAMERA, poses, depth_range_mm=(900.0, 1100.0))
+        >>> round(cap.subset([0, 2]).span_mm, 1)
+        40.0
+        """
+        keep = [int(k) for k in keep]
+        if any(not 0 <= k < len(self) for k in keep):
+            raise InputError(f"keep must be view indices in 0..{len(self) - 1}, got {keep}")
+        pick = lambda seq: None if seq is None else tuple(seq[k] for k in keep)  # noqa: E731
+        return replace(self, images=pick(self.images), poses=pick(self.poses),
+                       names=pick(self.names), flanges=pick(self.flanges))
 
     def pair(self, i: int, j: int) -> Capture:
         """Views `i` and `j` as a two-view :class:`Capture` (`i` left, `j` right)."""

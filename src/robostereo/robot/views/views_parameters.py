@@ -53,6 +53,14 @@ class ViewsParameters:
         when there are fewer).
     pair_match : LocateParameters
         ``'pairs'``: the two-view locate's parameters for each pair (the matcher's).
+    min_frame_sharpness : float or None
+        A view whose strongest edges reach less than this share of the median view's
+        (:func:`~robostereo.robot.views.frame_checks.frame_sharpness`: blurred, dark,
+        blank, another bit depth) is named in a warning and left out, while two or more
+        views remain (with two, it is warned about only).  None: every view is used.
+        0.7 lies below every view of nine captures of sharp views (0.87-1.06) and above
+        every view blurred by a Gaussian of sigma 4 px (0.30-0.63), darkened to a fifth
+        (0.19-0.22) or blank; of sigma 2 px it catches six of nine (0.55-0.94).
     threshold : float
         Least gradient magnitude of an edge point on the thesis's 0..127 grey scale
         (the matcher's, thesis 3.1: 8.0).
@@ -179,6 +187,7 @@ class ViewsParameters:
     agree_px: float = 1.0
     min_pairs: int = 2
     pair_match: LocateParameters = field(default_factory=LocateParameters)
+    min_frame_sharpness: float | None = 0.7
     threshold: float = 8.0
     half_window: int = 3
     step_px: float = 0.75
@@ -206,6 +215,9 @@ class ViewsParameters:
         if not isinstance(self.pair_match, LocateParameters):
             raise InputError("pair_match must be a LocateParameters, got "
                              f"{type(self.pair_match).__name__}")
+        mfs = self.min_frame_sharpness
+        if mfs is not None and not (isinstance(mfs, int | float) and 0 < mfs < 1):
+            raise InputError(f"min_frame_sharpness must be in (0, 1) or None, got {mfs!r}")
         require_positive("threshold", self.threshold)
         hw = self.half_window
         if isinstance(hw, bool) or not isinstance(hw, int | np.integer) or not 1 <= hw <= 10:
