@@ -326,11 +326,6 @@ def locate_pairs(capture: ViewsCapture, *, params: Any = None,
         raise InputError(f"{source}: no pair of views with view {capture._name(ref)} "
                          "shares a scene; check the poses and the depth range")
     # -- gathered in the reference image, widest pair first; agreeing pairs combined
-    # the pair that located the most points first (the widest of equals): its points
-    # are all reported
-    order = sorted(range(len(parts)), key=lambda q: -len(parts[q]["world"]))
-    parts = [parts[q] for q in order]
-    views = [views[q] for q in order]
     g = combine_pairs(centre, axis, parts, agree_px=p.agree_px)
     support = g["members"].sum(axis=1)
     keep = (support >= min(p.min_pairs, len(parts))) | g["members"][:, 0]
