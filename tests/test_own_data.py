@@ -130,6 +130,21 @@ def test_arm_pair_walkthrough_locates_points_that_land_on_edges_in_a_held_out_vi
     assert _held_out_share(world, moved_mm=20.0)[0] <= 0.45  # the guide: 28.2 %
 
 
+def test_arm_pair_at_a_lower_edge_threshold_locates_more_points_still_on_edges_held_out(
+        tmp_path, capsys, pair_world):
+    """The guide's edge-point density: ``--threshold 4`` (the leave-one-scene-out choice
+    when 1 % false by the silhouette rule is allowed) on the pair."""
+    out = _run(["locate", DTU / "pair", "-o", tmp_path / "pair4.csv", "--threshold", "4"],
+               capsys)
+    edges, located = map(int, re.search(r"(\d+) edge points, (\d+) located", out).groups())
+    assert edges >= 8000 and located >= 1.5 * len(pair_world), out  # the guide: 8869, 3548
+    t = _csv(tmp_path / "pair4.csv")
+    world = np.column_stack([t["X_w"], t["Y_w"], t["Z_w"]])
+    share, _ = _held_out_share(world)  # the guide: 89.7 %
+    assert share >= 0.85, share
+    assert _held_out_share(world, moved_mm=20.0)[0] <= 0.45  # the guide: 32.4 %
+
+
 # -- (c) N views -----------------------------------------------------------------------------
 
 

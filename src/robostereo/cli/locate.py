@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from robostereo.cli._args import finite
 from robostereo.cli._console import stage_reporter
 from robostereo.errors import InputError
 
@@ -38,7 +39,21 @@ def add_locate_parser(sub: Any) -> None:
     p.add_argument("--fuse", type=Path, metavar="DIR2",
                    help="a second capture of the scene (e.g. an orthogonal baseline): write "
                         "the two point sets merged, each point with its own bound")
+    p.add_argument("--threshold", type=finite("--threshold"), default=None,
+                   help="edge threshold, grey levels per pixel on the 0..127 scale: lower "
+                        "finds more, weaker edge points (default 8.0; see the guide's "
+                        "'edge-point density')")
     p.set_defaults(handler=run_locate_command)
+
+
+def _locate_parameters(args: argparse.Namespace) -> Any:
+    """The two-view locate's parameters: the defaults, the edge threshold if given."""
+    from robostereo.matcher.parameters import MatchParameters
+    from robostereo.robot.capture import LocateParameters
+
+    if args.threshold is None:
+        return None
+    return LocateParameters(match=MatchParameters(threshold=args.threshold))
 
 
 def run_locate_command(args: argparse.Namespace) -> int:
@@ -57,7 +72,7 @@ def run_locate_command(args: argparse.Namespace) -> int:
 
     output = args.output if args.output is not None else args.capture / "located.csv"
     outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
-    located = locate_capture(args.capture)
+    located = locate_capture(args.capture, params=_locate_parameters(args))
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], located.table())
         if "--ply" in tmp:
@@ -86,7 +101,8 @@ def _run_locate_fused(args: argparse.Namespace) -> int:
 
     output = args.output if args.output is not None else args.capture / "located-fused.csv"
     outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
-    a, b = locate_capture(args.capture), locate_capture(args.fuse)
+    params = _locate_parameters(args)
+    a, b = locate_capture(args.capture, params=params), locate_capture(args.fuse, params=params)
     fused = fuse_located(a, b)
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], fused.table())
@@ -121,11 +137,14 @@ def run_locate_views(args: argparse.Namespace) -> int:
                          inputs=views_folder_files(args.capture))
     capture = read_views_capture(args.capture)
     from robostereo.robot.views.locating import locate_views
+    from robostereo.robot.views.views_parameters import ViewsParameters
+
+    params = None if args.threshold is None else ViewsParameters(threshold=args.threshold)
 
     status, say = stage_reporter(sys.stderr.isatty())
     with status:
         say(f"locating the edge points of {len(capture)} views")
-        located = locate_views(capture, progress=lambda done, total: say(
+        located = locate_views(capture, params=params, progress=lambda done, total: say(
             f"locating: {done} of {total} reference views done"))
     table = located.table()
     with atomic_outputs(outs) as tmp:  # all outputs or none
