@@ -117,16 +117,32 @@ def test_arm_pair_walkthrough_locates_points_that_land_on_edges_in_a_held_out_vi
     out = _run(["locate", DTU / "pair", "-o", tmp_path / "pair.csv",
                 "--ply", tmp_path / "pair.ply"], capsys)
     edges, located = map(int, re.search(r"(\d+) edge points, (\d+) located", out).groups())
-    assert edges >= 3500 and located >= 1300, out  # the guide: 3832, 1447
+    # the guide: 4425, 1978 (3832, 1447 when the rectified frame was the camera's own)
+    assert edges >= 4000 and located >= 1800, out
     t = _csv(tmp_path / "pair.csv")
     world = np.column_stack([t["X_w"], t["Y_w"], t["Z_w"]])
     assert len(world) == located
     np.testing.assert_allclose(world, pair_world, rtol=1e-5, atol=1e-2)
     assert np.all((t["Z"] > 500 - 1) & (t["Z"] < 850 + 1))
     assert np.median(t["z_bound"]) <= 1.5  # the guide: 1.04 mm
-    share, inside = _held_out_share(world)  # the guide: 94.7 % of 1444
-    assert inside >= 0.95 * len(world) and share >= 0.90, (share, inside)
-    assert _held_out_share(world, moved_mm=20.0)[0] <= 0.45  # the guide: 30.1 %
+    share, inside = _held_out_share(world)  # the guide: 92.6 % of 1860
+    assert inside >= 0.9 * len(world) and share >= 0.88, (share, inside)
+    assert _held_out_share(world, moved_mm=20.0)[0] <= 0.45  # the guide: 28.2 %
+
+
+def test_arm_pair_at_a_lower_edge_threshold_locates_more_points_still_on_edges_held_out(
+        tmp_path, capsys, pair_world):
+    """The guide's edge-point density: ``--threshold 4`` (the leave-one-scene-out choice
+    when 1 % false by the silhouette rule is allowed) on the pair."""
+    out = _run(["locate", DTU / "pair", "-o", tmp_path / "pair4.csv", "--threshold", "4"],
+               capsys)
+    edges, located = map(int, re.search(r"(\d+) edge points, (\d+) located", out).groups())
+    assert edges >= 8000 and located >= 1.5 * len(pair_world), out  # the guide: 8869, 3548
+    t = _csv(tmp_path / "pair4.csv")
+    world = np.column_stack([t["X_w"], t["Y_w"], t["Z_w"]])
+    share, _ = _held_out_share(world)  # the guide: 89.7 %
+    assert share >= 0.85, share
+    assert _held_out_share(world, moved_mm=20.0)[0] <= 0.45  # the guide: 32.4 %
 
 
 # -- (c) N views -----------------------------------------------------------------------------
@@ -138,7 +154,7 @@ def test_views_walkthrough_locates_more_points_than_the_pair_most_on_edges_held_
     assert out.startswith(f"{DTU / 'views'}: 3 views"), out  # the guide: 5115 points
     t = _csv(tmp_path / "views.csv")
     world = np.column_stack([t["X_w"], t["Y_w"], t["Z_w"]])
-    assert len(world) >= 3 * len(pair_world)
+    assert len(world) >= 2 * len(pair_world)  # the guide: 5115 and 1978
     assert set(np.unique(t["view_count"])) <= {2.0, 3.0}
     share, _ = _held_out_share(world)  # the guide: 88.4 %
     assert share >= 0.83, share

@@ -155,6 +155,30 @@ def test_locate_on_a_views_folder_writes_each_point_with_bound_confidence_and_vi
     assert within.mean() > 0.9, within.mean()
 
 
+def test_locate_threshold_reaches_the_n_view_search_more_points_at_a_lower_one(
+        views_dir, tmp_path, capsys):
+    counts = {}
+    for t in ("16", "5"):
+        csv = tmp_path / f"t{t}.csv"
+        assert main(["locate", str(views_dir), "-o", str(csv), "--threshold", t]) == 0
+        counts[t] = len(np.genfromtxt(csv, delimiter=",", names=True))
+    capsys.readouterr()
+    assert counts["5"] > counts["16"] > 0, counts  # the block: 293 and 287
+    # the pairs' two-view matcher takes it too
+    for t in ("16", "5"):
+        csv = tmp_path / f"p{t}.csv"
+        assert main(["locate", str(views_dir), "-o", str(csv), "--threshold", t,
+                     "--matcher", "pairs"]) == 0
+        counts["p" + t] = len(np.genfromtxt(csv, delimiter=",", names=True))
+    capsys.readouterr()
+    assert counts["p5"] > counts["p16"] > 0, counts
+
+
+def test_locate_refuses_a_threshold_that_is_not_positive(views_dir, tmp_path, capsys):
+    _refused(["locate", views_dir, "-o", tmp_path / "p.csv", "--threshold", "0"],
+             tmp_path, capsys, "threshold")
+
+
 def test_a_two_view_folder_read_as_two_views_gives_the_two_view_points(tmp_path):
     from robostereo.robot.capture import locate_capture, write_capture
     from robostereo.robot.simulated.scara_rig import simulate_capture

@@ -161,3 +161,62 @@ def test_bad_six_dof_capture_files(scara_captures, tmp_path, capsys):
         err = capsys.readouterr().err
         assert err.startswith("robostereo: error: ") and message in err and err.count("\n") == 1
         assert not (d / "located.csv").exists()
+
+
+def _turned_pair(turn_deg: float) -> tuple[Camera, SE3, SE3]:
+    """Two views 60 mm apart, the right one turned `turn_deg` about its optical axis (as
+    DTU's neighbouring views turn 27 deg), both looking at the origin 700 mm away."""
+    cam = Camera(image_size=(320, 240), pixel_pitch_mm=(0.02, 0.02))
+    a = SE3.look_at([-30.0, -100.0, 700.0], [0.0, 0.0, 0.0])
+    b = SE3.look_at([30.0, -100.0, 700.0], [0.0, 0.0, 0.0])
+    b = b @ SE3.from_rotvec([0.0, 0.0, 0.0], [0.0, 0.0, np.radians(turn_deg)])
+    return cam, a, b
+
+
+def _share_in_frames(g: GeneralEpipolarGeometry, cam: Camera, a: SE3, b: SE3) -> float:
+    """Share of the left pixels the right view sees at 650 mm that lie inside both
+    rectified frames' valid areas."""
+    w, h = cam.image_size
+    u, v = np.meshgrid(np.arange(2.0, w - 2, 4.0), np.arange(2.0, h - 2, 4.0))
+    pix = np.column_stack([u.ravel(), v.ravel()])
+    uv, _ = cam.project(cam.backproject(pix, np.full(len(pix), 650.0), a), b)
+    seen = (uv[:, 0] >= 0) & (uv[:, 0] <= w - 1) & (uv[:, 1] >= 0) & (uv[:, 1] <= h - 1)
+    inside = np.ones(len(pix), dtype=bool)
+    for side, p in (("left", pix), ("right", uv)):
+        mask = g.valid_mask(side)
+        ij = np.rint(g.to_rectified(p, side)).astype(int)
+        ok = (ij[:, 0] >= 0) & (ij[:, 0] < mask.shape[1]) & (ij[:, 1] >= 0) \
+            & (ij[:, 1] < mask.shape[0])
+        ok[ok] = mask[ij[ok, 1], ij[ok, 0]]
+        inside &= ok
+    return float(inside[seen].mean())
+
+
+def test_rectified_frames_hold_every_pixel_both_views_see_when_a_view_is_turned():
+    cam, a, b = _turned_pair(27.0)
+    g = GeneralEpipolarGeometry.from_poses(cam, a, b)
+    kept = GeneralEpipolarGeometry.from_poses(cam, a, b, frame="camera")
+    assert _share_in_frames(g, cam, a, b) >= 0.995
+    assert _share_in_frames(kept, cam, a, b) <= 0.9  # the camera's frame cuts corners off
+    # the pixel scale is the camera's; the frame grows, within its clip
+    assert g.K_rect[0, 0] == cam.fx and g.K_rect[1, 1] == cam.fy
+    w, h = g.size_rect
+    assert cam.width < w <= 2 * cam.width and h <= 2 * cam.height
+    # a point still lands on one row of both frames, at its disparity
+    P = np.array([[5.0, -8.0, 40.0]])
+    pl = g.to_rectified(cam.project(P, a)[0], "left")
+    pr = g.to_rectified(cam.project(P, b)[0], "right")
+    assert abs(pl[0, 1] - pr[0, 1]) < 1e-6
+    Z = g.K_rect[0, 0] * g.baseline_mm / (pl[0, 0] - pr[0, 0])
+    assert Z == pytest.approx(g.from_world(P)[0, 2], rel=1e-9)
+
+
+def test_rectified_frame_of_views_that_are_not_turned_is_the_shared_rows():
+    """Two views side by side, not turned: the rows are the camera's, the columns
+    widen by the disparity at infinity (zero) plus the turn stereoRectify adds (none)."""
+    cam, a, b = _turned_pair(0.0)
+    g = GeneralEpipolarGeometry.from_poses(cam, a, b)
+    w, h = g.size_rect
+    assert abs(h - cam.height) <= 40 and w >= cam.width
+    with pytest.raises(InputError, match="frame"):
+        GeneralEpipolarGeometry.from_poses(cam, a, b, frame="image")

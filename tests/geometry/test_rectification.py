@@ -57,10 +57,13 @@ def test_points_round_trip_through_the_rectified_image(kind: str, side: str) -> 
 
 
 @pytest.mark.parametrize("kind", sorted(RECTIFIERS))
-def test_rectify_and_valid_mask_have_the_image_shape(kind: str) -> None:
+def test_rectify_and_valid_mask_have_the_rectified_frames_shape(kind: str) -> None:
+    """The image's shape, except for general poses, whose frame holds both views."""
     r = RECTIFIERS[kind]()
     w, h = CAM.image_size
-    img = np.random.default_rng(0).uniform(0.0, 255.0, (h, w))
+    if isinstance(r, GeneralEpipolarGeometry):
+        w, h = r.size_rect
+    img = np.random.default_rng(0).uniform(0.0, 255.0, CAM.image_size[::-1])
     for side in ("left", "right"):
         mask = r.valid_mask(side)
         assert mask.shape == (h, w) and mask.dtype == np.bool_ and mask.any()

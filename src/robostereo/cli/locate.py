@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from robostereo.cli._args import finite
 from robostereo.cli._console import stage_reporter
 from robostereo.errors import InputError
 
@@ -43,7 +45,21 @@ def add_locate_parser(sub: Any) -> None:
     p.add_argument("--matcher", choices=("auto", "pairs", "sweep"), default=None,
                    help="N-view folders: pairs through the two-view matcher or the plane "
                         "sweep (default auto: pairs for two views, the sweep for more)")
+    p.add_argument("--threshold", type=finite("--threshold"), default=None,
+                   help="edge threshold, grey levels per pixel on the 0..127 scale: lower "
+                        "finds more, weaker edge points (default 8.0; see the guide's "
+                        "'edge-point density')")
     p.set_defaults(handler=run_locate_command)
+
+
+def _locate_parameters(args: argparse.Namespace) -> Any:
+    """The two-view locate's parameters: the defaults, the edge threshold if given."""
+    from robostereo.matcher.parameters import MatchParameters
+    from robostereo.robot.capture import LocateParameters
+
+    if args.threshold is None:
+        return None
+    return LocateParameters(match=MatchParameters(threshold=args.threshold))
 
 
 def run_locate_command(args: argparse.Namespace) -> int:
@@ -66,7 +82,7 @@ def run_locate_command(args: argparse.Namespace) -> int:
 
     output = args.output if args.output is not None else args.capture / "located.csv"
     outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
-    located = locate_capture(args.capture)
+    located = locate_capture(args.capture, params=_locate_parameters(args))
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], located.table())
         if "--ply" in tmp:
@@ -95,7 +111,8 @@ def _run_locate_fused(args: argparse.Namespace) -> int:
 
     output = args.output if args.output is not None else args.capture / "located-fused.csv"
     outs = check_outputs({"-o": output, "--ply": args.ply}, inputs=_capture_files(args))
-    a, b = locate_capture(args.capture), locate_capture(args.fuse)
+    params = _locate_parameters(args)
+    a, b = locate_capture(args.capture, params=params), locate_capture(args.fuse, params=params)
     fused = fuse_located(a, b)
     with atomic_outputs(outs) as tmp:  # all outputs or none
         write_csv(tmp["-o"], fused.table())
@@ -133,10 +150,14 @@ def run_locate_views(args: argparse.Namespace) -> int:
     from robostereo.robot.views.view_pairs import is_pairs
     from robostereo.robot.views.views_parameters import ViewsParameters
 
+    params = ViewsParameters(matcher=args.matcher or "auto")
+    if args.threshold is not None:  # the sweep's and the pairs' matcher's alike
+        params = replace(params, threshold=args.threshold,
+                         pair_match=_locate_parameters(args))
+
     status, say = stage_reporter(sys.stderr.isatty())
     with status:
         say(f"locating the edge points of {len(capture)} views")
-        params = ViewsParameters(matcher=args.matcher or "auto")
         unit = "pairs" if is_pairs(capture, params) else "reference views"
         located = locate_views(capture, params=params, source=str(
             args.capture / "capture.yaml"), progress=lambda done, total: say(

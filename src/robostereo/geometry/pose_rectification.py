@@ -15,8 +15,14 @@ rectifies such a pair with OpenCV:
    whatever way it runs through the grabbed ones (OpenCV picks rows or columns);
 3. :func:`cv2.initUndistortRectifyMap` and :func:`cv2.remap` resample each view.
 
-The rectified pair keeps the camera's pixel grid (``K``, without distortion), has
-rows that are epipolar lines and ``d = x_l - x_r`` positive in front.  Its
+The rectified pair keeps the camera's pixel scale (its ``fx`` and ``fy``, without
+distortion), has rows that are epipolar lines and ``d = x_l - x_r`` positive in front.
+Its frame is chosen from the views (:func:`rectified_frame`): the rows both grabbed
+images reach once rectified and the columns either reaches, so that every pixel both
+views see lies inside it.  Views turned about their optical axes (DTU's neighbours turn
+27 deg) come out of rectification turned by as much; the camera's own image size and
+principal point would cut their corners off (72 % of the edge pixels both views of the
+shipped DTU pair see lay inside them; ``frame="camera"`` keeps that frame).  Its
 epipolar frame is the thesis's: origin mid-baseline, X along the baseline from the left
 to the right optical centre, Z along the virtual cameras' common optical axis, Y = Z x X;
 :meth:`GeneralEpipolarGeometry.to_world` carries eq. (6)-(8) points into the robot's
@@ -41,12 +47,23 @@ from robostereo.geometry.poses import SE3, as_se3, relative_pose
 from robostereo.geometry.rectification import INTERPOLATION, Side, maps_valid_mask
 
 __all__ = [
+    "MAX_FRAME_GROWTH",
     "MIN_OVERLAP_ROWS",
     "GeneralEpipolarGeometry",
+    "rectified_frame",
 ]
 
 MIN_OVERLAP_ROWS = 10
 """Fewest rectified rows that both views must cover for a pair to be matched."""
+
+MAX_FRAME_GROWTH = 0.5
+"""How far the rectified frame may reach beyond the camera's own image on each side,
+as a fraction of that side: a view turned far out of the baseline's plane maps its far
+corners towards infinity, and the frame stops there (at most twice the side)."""
+
+_BORDER_SAMPLES = 64  # points sampled along each side of a grabbed image's border
+
+Frame = Literal["views", "camera"]
 
 
 def _quarter_turn(b: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -56,6 +73,93 @@ def _quarter_turn(b: NDArray[np.float64]) -> NDArray[np.float64]:
     a = -k * math.pi / 2
     c, s = round(math.cos(a)), round(math.sin(a))
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _border(size: tuple[int, int]) -> NDArray[np.float64]:
+    """Pixel centres along an image's border, ``(4 * _BORDER_SAMPLES, 2)``."""
+    w, h = size
+    t = np.linspace(0.0, 1.0, _BORDER_SAMPLES)
+    x, y = t * (w - 1), t * (h - 1)
+    zero, right, bottom = np.zeros_like(t), np.full_like(t, w - 1.0), np.full_like(t, h - 1.0)
+    return np.concatenate([np.column_stack([x, zero]), np.column_stack([x, bottom]),
+                           np.column_stack([zero, y]), np.column_stack([right, y])])
+
+
+def rectified_frame(
+    camera: Camera, R1: NDArray[np.float64], R2: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], tuple[int, int]]:
+    """The rectified intrinsics and image size that hold every pixel both views see.
+
+    Parameters
+    ----------
+    camera : Camera
+        The grabbing camera (its ``fx``, ``fy`` kept: the pixel scale does not change).
+    R1, R2 : ndarray, shape (3, 3)
+        Rotation from each grabbed camera's frame to its rectified camera's frame.
+
+    Returns
+    -------
+    K_rect : ndarray, shape (3, 3)
+        ``fx``, ``fy`` of the camera; the principal point moved so that the frame's
+        first row and column are pixel 0.
+    size : tuple of int
+        ``(width, height)`` of both rectified images.
+
+    Notes
+    -----
+    1. Points along each grabbed image's border (pixel centres) undistorted and turned
+       by ``R_i`` into its rectified camera; those in front of it projected with the
+       camera's ``fx``, ``fy`` about the camera's principal point.
+    2. Rows: those both outlines reach (a pixel both views see lies on a row of
+       both).  Columns: those either reaches (one ``K_rect`` for both views, so that
+       ``d = x_l - x_r`` keeps eq. 8's meaning).
+    3. Each side clipped to :data:`MAX_FRAME_GROWTH` beyond the camera's own image.
+       When the outlines share no row the camera's own frame is kept (the pair then
+       fails :meth:`GeneralEpipolarGeometry.check_overlap`).
+
+    Examples
+    --------
+    Two views of one camera, the right one turned 20 degrees about its optical axis:
+    its corners stick out of the camera's own frame, and the frame grows to hold them.
+
+    >>> cam = Camera(image_size=(320, 240))
+    >>> turn = SE3.from_rotvec([0.0, 0.0, 0.0], [0.0, 0.0, np.radians(20.0)]).rotation
+    >>> K, (w, h) = rectified_frame(cam, np.eye(3), turn)
+    >>> bool(w > 320), h
+    (True, 240)
+    """
+    w, h = camera.image_size
+    fx, fy = camera.fx, camera.fy
+    cx, cy = camera.principal_point
+    border = _border((w, h))
+    n = camera.undistort(np.column_stack([(border[:, 0] - cx) / fx,
+                                          (border[:, 1] - cy) / fy]))
+    rays = np.column_stack([n, np.ones(len(n))])
+    lo_x, hi_x, lo_y, hi_y = -MAX_FRAME_GROWTH * w, (1 + MAX_FRAME_GROWTH) * w - 1, \
+        -MAX_FRAME_GROWTH * h, (1 + MAX_FRAME_GROWTH) * h - 1
+    xs, ys = [], []
+    for R in (R1, R2):
+        r = rays @ R.T
+        front = r[:, 2] > 1e-6
+        if not front.any():
+            return camera.K.copy(), (w, h)
+        # a border point behind the rectified camera: the outline runs out to the clip
+        x = fx * r[front, 0] / r[front, 2] + cx
+        y = fy * r[front, 1] / r[front, 2] + cy
+        if front.all():
+            xs.append((max(float(x.min()), lo_x), min(float(x.max()), hi_x)))
+            ys.append((max(float(y.min()), lo_y), min(float(y.max()), hi_y)))
+        else:
+            xs.append((lo_x, hi_x))
+            ys.append((lo_y, hi_y))
+    x0, x1 = min(a for a, _ in xs), max(b for _, b in xs)
+    y0, y1 = max(a for a, _ in ys), min(b for _, b in ys)
+    if not y1 > y0:
+        return camera.K.copy(), (w, h)
+    left, top = math.floor(x0), math.floor(y0)
+    size = (math.ceil(x1) - left + 1, math.ceil(y1) - top + 1)
+    K = np.array([[fx, 0.0, cx - left], [0.0, fy, cy - top], [0.0, 0.0, 1.0]])
+    return K, size
 
 
 @dataclass(frozen=True, eq=False)
@@ -73,8 +177,10 @@ class GeneralEpipolarGeometry:
     R1, R2 : ndarray, shape (3, 3)
         Rotation from each grabbed camera's frame to its rectified camera's frame.
     K_rect : ndarray, shape (3, 3)
-        Intrinsics of both rectified views: the grabbing camera's ``K`` (its pixel
-        grid, no distortion).
+        Intrinsics of both rectified views: the grabbing camera's ``fx``, ``fy``, the
+        principal point of the rectified frame (:func:`rectified_frame`), no distortion.
+    size_rect : tuple of int
+        ``(width, height)`` of both rectified images.
     baseline_mm : float
         ``D``, the distance between the optical centres.
     origin : ndarray, shape (3,)
@@ -106,31 +212,45 @@ class GeneralEpipolarGeometry:
     R1: NDArray[np.float64]
     R2: NDArray[np.float64]
     K_rect: NDArray[np.float64]
+    size_rect: tuple[int, int]
     baseline_mm: float
     origin: NDArray[np.float64]
     rotation: NDArray[np.float64]
 
     @classmethod
     def from_poses(
-        cls, camera: Camera, pose_left: SE3, pose_right: SE3
+        cls, camera: Camera, pose_left: SE3, pose_right: SE3, *, frame: Frame = "views"
     ) -> GeneralEpipolarGeometry:
         """Rectify the views at `pose_left` and `pose_right` (camera poses, world mm).
+
+        Parameters
+        ----------
+        camera : Camera
+        pose_left, pose_right : SE3
+        frame : {'views', 'camera'}
+            The rectified images' frame: ``'views'`` holds every pixel both views see
+            (:func:`rectified_frame`); ``'camera'`` keeps the camera's ``K`` and image
+            size (the frame of 0.1, which cuts off the corners of views turned
+            about their optical axes).
 
         Raises
         ------
         InputError
-            Zero baseline (the optical centres coincide).
+            Zero baseline (the optical centres coincide), or an unknown `frame`.
 
         Notes
         -----
         ``T_right_left = T_world_right^-1 T_world_left``; :func:`cv2.stereoRectify`
         on ``K``, the distortion and ``(R, T)`` of it; ``R_i <- Q R_i`` with ``Q`` the
-        quarter turn taking the baseline ``R1 (c_r - c_l)`` to +x; ``K_rect = K``.
+        quarter turn taking the baseline ``R1 (c_r - c_l)`` to +x; ``K_rect`` and the
+        size from :func:`rectified_frame` (or ``K`` and the camera's size).
 
         References
         ----------
         The thesis, 2.2 (the epipolar frame; rectification by theta is the SCARA case).
         """
+        if frame not in ("views", "camera"):
+            raise InputError(f"frame must be 'views' or 'camera', got {frame!r}")
         tl, tr = as_se3(pose_left), as_se3(pose_right)
         rel = relative_pose(tl, tr)
         D = float(np.linalg.norm(tr.translation - tl.translation))
@@ -147,14 +267,18 @@ class GeneralEpipolarGeometry:
         b_left = tl.rotation.T @ (tr.translation - tl.translation)
         Q = _quarter_turn(R1 @ b_left)
         R1, R2 = Q @ R1, Q @ R2
-        # the rectified views keep the grabbing camera's pixel grid (fx, fy, principal
-        # point): no resampling to another scale, so edge thresholds and eq. 9's
-        # d(disp) mean what they mean for the grabbed images (P1's zoom is not used)
-        K_rect = camera.K.copy()
+        # the rectified views keep the grabbing camera's pixel scale (fx, fy): no
+        # resampling to another scale, so edge thresholds and eq. 9's d(disp) mean what
+        # they mean for the grabbed images (P1's zoom is not used); the frame is moved
+        # and grown to hold both views
+        if frame == "views":
+            K_rect, size_rect = rectified_frame(camera, R1, R2)
+        else:
+            K_rect, size_rect = camera.K.copy(), camera.image_size
         rot_epi = tl.rotation @ R1.T  # rectified-left axes in the world
         origin = 0.5 * (tl.translation + tr.translation)
         return cls(camera=camera, pose_left=tl, pose_right=tr, R1=R1, R2=R2, K_rect=K_rect,
-                   baseline_mm=D, origin=origin, rotation=rot_epi)
+                   size_rect=size_rect, baseline_mm=D, origin=origin, rotation=rot_epi)
 
     # --------------------------------------------------------------------- frames
     def _R(self, side: Side) -> NDArray[np.float64]:
@@ -202,7 +326,7 @@ class GeneralEpipolarGeometry:
     def _maps(self, side: Side) -> tuple[NDArray[np.float32], NDArray[np.float32]]:
         mx, my = cv2.initUndistortRectifyMap(
             self.camera.K, self.camera.dist_coeffs, self._R(side), self.K_rect,
-            self.camera.image_size, cv2.CV_32FC1,
+            self.size_rect, cv2.CV_32FC1,
         )
         return mx, my
 
@@ -219,7 +343,8 @@ class GeneralEpipolarGeometry:
         interpolation: Literal["nearest", "linear", "cubic", "lanczos4"] = "linear",
         fill_value: float = math.nan,
     ) -> NDArray[np.float64]:
-        """Undistort and rectify the grabbed image of one view, shape ``(H, W)``.
+        """Undistort and rectify the grabbed image of one view, shape ``(H, W)`` of
+        :attr:`size_rect`.
 
         Pixels whose source lies outside the grabbed image are `fill_value`.
         """

@@ -399,7 +399,8 @@ def locate(capture: Capture, *, params: LocateParameters | None = None,
     4. :func:`robostereo.matcher.pipeline.match_stereo` with the capture's bit depth and
        disparity range (chapter 3).
     5. Eq. (6)-(9) with :func:`robostereo.geometry.triangulation.triangulate` (rectified
-       intrinsics are the camera's; ``D`` from the poses), then to the world frame.
+       ``fx``, ``fy`` are the camera's, the frame holds both views; ``D`` from the poses),
+       then to the world frame.
     6. Each left point mapped back to the grabbed image (exact point map).
     7. Warn when few edge points located (:data:`MIN_LOCATED_FRACTION`).
 
