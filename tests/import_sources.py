@@ -11,6 +11,7 @@ import numpy as np
 from robostereo.geometry.poses import SE3
 
 __all__ = ["CENTRE", "H", "K", "W", "poses", "projected", "sphere_points", "write_colmap",
+           "write_colmap_binary",
            "write_idr", "write_images", "write_mvsnet"]
 
 K = np.array([[500.0, 0.0, 159.5], [0.0, 505.0, 119.5], [0.0, 0.0, 1.0]])
@@ -91,3 +92,36 @@ def write_colmap(tmp_path: Path, model_line: str) -> Path:
     (m / "points3D.txt").write_text("# 3D point list\n" + "\n".join(pts) + "\n")
     write_images(tmp_path / "images", [f"view{i}.png" for i in (1, 2, 3)])
     return m
+
+
+def write_colmap_binary(text_model: Path) -> Path:
+    """The binary files (``*.bin``) of a text model of :func:`write_colmap`, beside it in
+    ``sparse_bin``, written record by record as COLMAP does."""
+    import struct
+
+    out = text_model.parent / "sparse_bin"
+    out.mkdir()
+    ids = {"SIMPLE_PINHOLE": 0, "PINHOLE": 1, "SIMPLE_RADIAL": 2, "RADIAL": 3, "OPENCV": 4}
+    rows = [ln.split() for ln in (text_model / "cameras.txt").read_text().splitlines()
+            if ln and not ln.startswith("#")]
+    data = struct.pack("<Q", len(rows))
+    for t in rows:
+        data += struct.pack("<iiQQ", int(t[0]), ids[t[1]], int(t[2]), int(t[3]))
+        data += struct.pack(f"<{len(t) - 4}d", *map(float, t[4:]))
+    (out / "cameras.bin").write_bytes(data)
+    rows = [ln.split() for ln in (text_model / "images.txt").read_text().splitlines()
+            if ln and not ln.startswith("#")]
+    data = struct.pack("<Q", len(rows))
+    for t in rows:
+        data += struct.pack("<i7di", int(t[0]), *map(float, t[1:8]), int(t[8]))
+        data += t[9].encode() + b"\0" + struct.pack("<Q", 1) + struct.pack("<2dq", 1, 2, -1)
+    (out / "images.bin").write_bytes(data)
+    rows = [ln.split() for ln in (text_model / "points3D.txt").read_text().splitlines()
+            if ln and not ln.startswith("#")]
+    data = struct.pack("<Q", len(rows))
+    for t in rows:
+        track = list(map(int, t[8:]))
+        data += struct.pack("<Q3d3Bd", int(t[0]), *map(float, t[1:4]), 0, 0, 0, float(t[7]))
+        data += struct.pack("<Q", len(track) // 2) + struct.pack(f"<{len(track)}i", *track)
+    (out / "points3D.bin").write_bytes(data)
+    return out

@@ -59,8 +59,8 @@ def add_import_parser(sub: Any) -> None:
                      help="factor on the camera files' fx, fy, cx, cy (MVSNet's DTU "
                           "training cameras: 4)")
     _common(mvs)
-    col = kinds.add_parser("colmap", help="COLMAP text model: cameras.txt, images.txt, "
-                                          "points3D.txt")
+    col = kinds.add_parser("colmap", help="COLMAP model, text or binary: cameras, images, "
+                                          "points3D")
     col.add_argument("model", type=Path, metavar="MODEL_DIR")
     col.add_argument("--images", type=Path, required=True, metavar="DIR",
                      help="the folder the model's image names are relative to")

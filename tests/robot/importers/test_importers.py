@@ -16,6 +16,7 @@ from import_sources import (
     projected,
     sphere_points,
     write_colmap,
+    write_colmap_binary,
     write_idr,
     write_mvsnet,
 )
@@ -130,6 +131,26 @@ def test_colmap_camera_models_give_their_distortion(tmp_path, line, dist):
                                                   tmp_path / "images"))
     assert cap.camera.distortion == tuple(dist)
     assert cap.camera.principal_point == (159.5, 119.5)
+
+
+def test_a_binary_colmap_model_reads_as_its_text_model(tmp_path):
+    m = write_colmap(tmp_path, f"1 OPENCV {W} {H} 500 505 160 120 -0.05 0.01 0.001 -0.001")
+    text = read_colmap(m, tmp_path / "images")
+    binary = read_colmap(write_colmap_binary(m), tmp_path / "images")
+    assert [v.key for v in binary.views] == [v.key for v in text.views]
+    for a, b in zip(binary.views, text.views, strict=True):
+        assert np.array_equal(a.K, b.K) and a.distortion == b.distortion
+        assert np.allclose(a.pose.matrix, b.pose.matrix, atol=1e-9)
+    assert binary.view_depths.keys() == text.view_depths.keys()
+    for k, rng in text.view_depths.items():
+        assert binary.view_depths[k] == pytest.approx(rng)
+
+
+def test_a_truncated_binary_colmap_file_is_refused_naming_it(tmp_path):
+    b = write_colmap_binary(write_colmap(tmp_path, f"1 PINHOLE {W} {H} 500 505 160 120"))
+    (b / "images.bin").write_bytes((b / "images.bin").read_bytes()[:-10])
+    with pytest.raises(InputError, match=r"images.bin: ends inside a record"):
+        read_colmap(b, tmp_path / "images")
 
 
 def test_colmap_unknown_model_is_refused_naming_the_line(tmp_path):

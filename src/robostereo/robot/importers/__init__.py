@@ -10,7 +10,8 @@ Modules
 :mod:`~robostereo.robot.importers.mvsnet`
     MVSNet folders: ``cams/0000000K_cam.txt``, ``images/``, ``pair.txt``.
 :mod:`~robostereo.robot.importers.colmap`
-    COLMAP text models: ``cameras.txt``, ``images.txt``, ``points3D.txt``.
+    COLMAP models: ``cameras``, ``images``, ``points3D`` (text; binary through
+    :mod:`~robostereo.robot.importers.colmap_binary`).
 
 Each reader gives the views in millimetres and ``T_world_camera`` poses; the capture is
 written by :func:`~robostereo.robot.views.views_folder.write_views_capture`.

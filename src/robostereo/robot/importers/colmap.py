@@ -1,4 +1,4 @@
-"""COLMAP text models: ``cameras.txt``, ``images.txt``, ``points3D.txt``.
+"""COLMAP models: ``cameras``, ``images``, ``points3D``, as text (``.txt``) or binary.
 
 ``cameras.txt`` has one line per camera, ``CAMERA_ID MODEL WIDTH HEIGHT PARAMS...``;
 the models read are ``SIMPLE_PINHOLE`` (f cx cy), ``PINHOLE`` (fx fy cx cy),
@@ -6,7 +6,8 @@ the models read are ``SIMPLE_PINHOLE`` (f cx cy), ``PINHOLE`` (fx fy cx cy),
 k1 k2 p1 p2).  ``images.txt`` has two lines per image: ``IMAGE_ID QW QX QY QZ TX TY TZ
 CAMERA_ID NAME`` (world to camera, quaternion scalar first) and its 2-D points.
 ``points3D.txt`` has ``POINT3D_ID X Y Z R G B ERROR TRACK[]`` with the track's
-``IMAGE_ID POINT2D_IDX`` pairs.
+``IMAGE_ID POINT2D_IDX`` pairs.  The binary files hold the same
+(:mod:`~robostereo.robot.importers.colmap_binary`).
 
 COLMAP puts the centre of the top-left pixel at ``(0.5, 0.5)``; robostereo (as OpenCV)
 at ``(0, 0)``: ``cx = cx_colmap - 0.5``, ``cy = cy_colmap - 0.5``.  Each view's depth
@@ -84,8 +85,8 @@ def read_colmap(model: str | os.PathLike[str], images: str | os.PathLike[str], *
     Parameters
     ----------
     model : path
-        The folder with ``cameras.txt``, ``images.txt`` and (for the depth range)
-        ``points3D.txt``.
+        The folder with ``cameras``, ``images`` and (for the depth range)
+        ``points3D``, ``.txt`` (read first) or ``.bin``.
     images : path
         The image folder the model's ``NAME`` s are relative to.
     unit_to_mm : float
@@ -100,58 +101,89 @@ def read_colmap(model: str | os.PathLike[str], images: str | os.PathLike[str], *
     Raises
     ------
     InputError
-        A missing file, a binary model alone, a line that does not parse (named by
-        file and line), a camera model not read.
+        A missing file, a line or record that does not parse (named by file and
+        line), a camera model not read.
     """
     m, imgdir = Path(model), Path(images)
-    if not (m / "cameras.txt").is_file():
-        hint = " (a binary model: convert it with 'colmap model_converter " \
-               "--output_type TXT')" if (m / "cameras.bin").is_file() else ""
-        raise InputError(f"{m}: no cameras.txt{hint}")
-    cams: dict[int, tuple[np.ndarray, tuple[float, ...]]] = {}
-    for n, line in enumerate(_lines(m / "cameras.txt", keep_comments=True), 1):
+    if (m / "cameras.txt").is_file():
+        cams = _text_cameras(m / "cameras.txt")
+        images_ = _text_images(m / "images.txt")
+        points = _text_points(m / "points3D.txt") if (m / "points3D.txt").is_file() \
+            else None
+    elif (m / "cameras.bin").is_file():
+        from robostereo.robot.importers.colmap_binary import (
+            read_cameras_bin,
+            read_images_bin,
+            read_points3d_bin,
+        )
+
+        cams = read_cameras_bin(m / "cameras.bin")
+        images_ = read_images_bin(m / "images.bin")
+        points = read_points3d_bin(m / "points3D.bin") if (m / "points3D.bin").is_file() \
+            else None
+    else:
+        raise InputError(f"{m}: no cameras.txt or cameras.bin (not a COLMAP model)")
+    intrinsics = {}
+    for cid, (name, params) in cams.items():
+        try:
+            intrinsics[cid] = colmap_intrinsics(name, params)
+        except InputError as exc:
+            raise InputError(f"{m}: camera {cid}: {exc}") from None
+    views: list[tuple[int, ImportedView]] = []
+    for iid, q, tr, cid, name in images_:
+        if cid not in intrinsics:
+            raise InputError(f"{m}: image {name} has camera {cid}, which the cameras lack")
+        world_to_cam = SE3.from_quaternion(tr, [*q[1:], q[0]], source=f"{m}: {name}")
+        pose = world_to_cam.inv()
+        pose = SE3(pose.rotation, pose.translation * unit_to_mm)
+        K, dist = intrinsics[cid]
+        views.append((iid, ImportedView(name, imgdir / name, K, pose, dist)))
+    views.sort(key=lambda v: v[0])
+    depths = {} if points is None else _view_depths(points, views, unit_to_mm)
+    return Imported(tuple(v for _, v in views), None, depths, source=str(m))
+
+
+#: what the text and binary readers give: cameras {id: (model, params)}, images
+#: [(id, (qw, qx, qy, qz), (tx, ty, tz), camera id, name)], points ((N, 3), [image ids])
+Cameras = dict[int, tuple[str, list[float]]]
+Images = list[tuple[int, list[float], list[float], int, str]]
+Points = tuple[np.ndarray, list[set[int]]]
+
+
+def _text_cameras(path: Path) -> Cameras:
+    cams: Cameras = {}
+    for n, line in enumerate(_lines(path, keep_comments=True), 1):
         t = line.split()
         if not t or line.startswith("#"):
             continue
         try:
-            cams[int(t[0])] = colmap_intrinsics(t[1], [float(v) for v in t[4:]])
+            cams[int(t[0])] = (t[1], [float(v) for v in t[4:]])
+            colmap_intrinsics(t[1], cams[int(t[0])][1])
         except InputError as exc:
-            raise InputError(f"{m / 'cameras.txt'}: line {n}: {exc}") from None
+            raise InputError(f"{path}: line {n}: {exc}") from None
         except (ValueError, IndexError):
-            raise InputError(f"{m / 'cameras.txt'}: line {n} is not CAMERA_ID MODEL "
-                             "WIDTH HEIGHT PARAMS") from None
-    rows = _lines(m / "images.txt")
-    views: list[tuple[int, ImportedView]] = []
+            raise InputError(f"{path}: line {n} is not CAMERA_ID MODEL WIDTH HEIGHT "
+                             "PARAMS") from None
+    return cams
+
+
+def _text_images(path: Path) -> Images:
+    rows = _lines(path)
+    out: Images = []
     for n in range(0, len(rows), 2):
         t = rows[n].split()
         if not t:
             continue
         try:
-            iid, q, tr, cid = int(t[0]), [float(v) for v in t[1:5]], \
-                [float(v) for v in t[5:8]], int(t[8])
-            name = " ".join(t[9:])
+            out.append((int(t[0]), [float(v) for v in t[1:5]], [float(v) for v in t[5:8]],
+                        int(t[8]), " ".join(t[9:])))
         except (ValueError, IndexError):
-            raise InputError(f"{m / 'images.txt'}: an image line does not read as IMAGE_ID "
-                             "QW QX QY QZ TX TY TZ CAMERA_ID NAME") from None
-        if cid not in cams:
-            raise InputError(f"{m / 'images.txt'}: image {name} has camera {cid}, which "
-                             "cameras.txt lacks")
-        world_to_cam = SE3.from_quaternion(tr, q[1:] + q[:1],
-                                           source=f"{m / 'images.txt'}: {name}")
-        pose = world_to_cam.inv()
-        pose = SE3(pose.rotation, pose.translation * unit_to_mm)
-        K, dist = cams[cid]
-        views.append((iid, ImportedView(name, imgdir / name, K, pose, dist)))
-    views.sort(key=lambda v: v[0])
-    depths: dict[str, tuple[float, float]] = {}
-    if (m / "points3D.txt").is_file():
-        depths = _view_depths(m / "points3D.txt", views, unit_to_mm)
-    return Imported(tuple(v for _, v in views), None, depths, source=str(m))
+            raise InputError(f"{path}: an image line does not read as IMAGE_ID QW QX QY QZ "
+                             "TX TY TZ CAMERA_ID NAME") from None
+    return out
 
 
-def _view_depths(path: Path, views: list[tuple[int, ImportedView]],
-                 unit_to_mm: float) -> dict[str, tuple[float, float]]:
-    """Each view's depth range from the points whose track has it."""
+def _text_points(path: Path) -> Points:
     xyz, seen = [], []
     for line in _lines(path):
         t = line.split()
@@ -163,7 +195,14 @@ def _view_depths(path: Path, views: list[tuple[int, ImportedView]],
         except ValueError:
             raise InputError(f"{path}: a line does not read as POINT3D_ID X Y Z R G B "
                              "ERROR TRACK") from None
-    pts = np.array(xyz).reshape(-1, 3) * unit_to_mm
+    return np.array(xyz, dtype=float).reshape(-1, 3), seen
+
+
+def _view_depths(points: Points, views: list[tuple[int, ImportedView]],
+                 unit_to_mm: float) -> dict[str, tuple[float, float]]:
+    """Each view's depth range from the points whose track has it."""
+    xyz, seen = points
+    pts = xyz * unit_to_mm
     out = {}
     for iid, v in views:
         mask = np.array([iid in s for s in seen], bool)
