@@ -59,3 +59,11 @@ def test_import_refuses_a_folder_that_is_not_empty(tmp_path, capsys):
     d = write_mvsnet(tmp_path)
     assert main(["import", "mvsnet", str(d), "--out", str(d)]) == 2
     assert "not an empty folder" in capsys.readouterr().err
+
+
+def test_import_mvsnet_pair_of_keeps_a_view_and_its_best_neighbours(tmp_path):
+    d = write_mvsnet(tmp_path)  # pair.txt: view 2's best are 1, then 0
+    out = tmp_path / "cap"
+    assert main(["import", "mvsnet", str(d), "--intrinsics-scale", "4", "--pair-of", "2",
+                 "--neighbours", "1", "--out", str(out)]) == 0
+    assert read_views_capture(out).names == ("00000002.png", "00000001.png")

@@ -58,6 +58,11 @@ def add_import_parser(sub: Any) -> None:
     mvs.add_argument("--intrinsics-scale", type=finite("--intrinsics-scale"), default=1.0,
                      help="factor on the camera files' fx, fy, cx, cy (MVSNet's DTU "
                           "training cameras: 4)")
+    mvs.add_argument("--pair-of", metavar="ID",
+                     help="keep view ID and its best neighbours from pair.txt (in place of "
+                          "--views)")
+    mvs.add_argument("--neighbours", type=int, default=2,
+                     help="how many of pair.txt's neighbours --pair-of keeps (default 2)")
     _common(mvs)
     col = kinds.add_parser("colmap", help="COLMAP model, text or binary: cameras, images, "
                                           "points3D")
@@ -66,6 +71,23 @@ def add_import_parser(sub: Any) -> None:
                      help="the folder the model's image names are relative to")
     _common(col)
     p.set_defaults(handler=run_import)
+
+
+def _pair_views(args: argparse.Namespace) -> str:
+    """``--views`` of ``--pair-of ID``: the view and its ``--neighbours`` best ones."""
+    from robostereo.robot.importers.mvsnet import read_pairs
+
+    if args.views is not None:
+        raise InputError("give --views or --pair-of, not both")
+    if not 1 <= args.neighbours <= 100:
+        raise InputError(f"--neighbours must be 1 .. 100, got {args.neighbours}")
+    if not str(args.pair_of).isdigit():
+        raise InputError(f"--pair-of must be a view number, got {args.pair_of!r}")
+    pairs = read_pairs(args.folder / "pair.txt")
+    ref = int(args.pair_of)
+    if ref not in pairs:
+        raise InputError(f"{args.folder / 'pair.txt'}: no view {ref}")
+    return ",".join(str(v) for v in [ref, *pairs[ref][: args.neighbours]])
 
 
 def run_import(args: argparse.Namespace) -> int:
@@ -87,7 +109,10 @@ def run_import(args: argparse.Namespace) -> int:
                                unit_to_mm=unit)
     else:
         imported = read_colmap(args.model, args.images, unit_to_mm=unit)
-    select = parse_view_selection(args.views, [v.key for v in imported.views])
+    views = args.views
+    if getattr(args, "pair_of", None) is not None:
+        views = _pair_views(args)
+    select = parse_view_selection(views, [v.key for v in imported.views])
     depth = None
     if args.depth_range is not None:
         near, far = args.depth_range
