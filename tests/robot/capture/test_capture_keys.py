@@ -190,3 +190,12 @@ def test_a_rotation_further_off_than_rounding_is_refused(tmp_path):
     rewrite(d, data)
     with pytest.raises(InputError, match=r"views\[0\].*orthonormal"):
         read_views_capture(d)
+
+
+def test_a_camera_file_the_folder_names_is_one_of_its_inputs(tmp_path):
+    from robostereo.robot.views.views_folder import views_folder_files
+
+    d, data = views_yaml(tmp_path, Camera.from_intrinsics(K, (W, H)), ring_poses())
+    data["camera"] = "intrinsics.yml"
+    rewrite(d, data)
+    assert d / "intrinsics.yml" in views_folder_files(d)

@@ -201,8 +201,9 @@ def is_views_folder(directory: str | os.PathLike[str]) -> bool:
 
 
 def views_folder_files(directory: str | os.PathLike[str]) -> list[Path]:
-    """The files a capture folder's reader opens: ``capture.yaml`` and every view's image
-    (two-view folders: ``left.png`` and ``right.png``); for refusing them as outputs.
+    """The files a capture folder's reader opens: ``capture.yaml``, the camera file it
+    names (if any) and every view's image (two-view folders: ``left.png`` and
+    ``right.png``); for refusing them as outputs.
 
     A file list that cannot be read (a bad ``capture.yaml``) gives only ``capture.yaml``;
     :func:`read_views_capture` reports what is wrong with it.
@@ -217,6 +218,8 @@ def views_folder_files(directory: str | os.PathLike[str]) -> list[Path]:
         return out
     if not isinstance(data, Mapping):
         return out
+    if isinstance(data.get("camera"), str):  # a camera file the folder names
+        out.append(d / data["camera"])
     if "views" not in data:
         return [*out, d / "left.png", d / "right.png"]
     views = data["views"]
