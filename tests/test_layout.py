@@ -39,7 +39,7 @@ APPLICATION = ("robostereo.experiments", "robostereo.plots", "robostereo.batch",
 ROBOT_LAYERS: tuple[tuple[str, ...], ...] = (
     ("robostereo.robot.arms", "robostereo.robot.capture", "robostereo.robot.handeye"),
     ("robostereo.robot.views",),
-    ("robostereo.robot.planning",),
+    ("robostereo.robot.planning", "robostereo.robot.importers"),
     ("robostereo.robot.simulated",),
 )
 #: modules (and sub-packages) that robot/ may hold directly, at most

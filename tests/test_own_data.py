@@ -167,6 +167,29 @@ def test_views_walkthrough_locates_more_points_than_the_pair_most_on_edges_held_
     assert _held_out_share(sure.world)[0] >= share
 
 
+def test_import_walkthrough_gives_the_shipped_views_folders_points_with_a_smaller_bound(
+        tmp_path, capsys):
+    source = DATA.parents[2] / "shared" / "data" / "robot" / "dtu_scan24"
+    if not (source / "cameras_sphere.npz").is_file():
+        pytest.skip("DTU scan 24 (../shared/data/robot/dtu_scan24) not found")
+    out = _run(["import", "idr", source / "cameras_sphere.npz", "--images", source / "image",
+                "--views", "0,1,2", "--scale", "0.5", "--depth-range", "500", "850",
+                "--out", tmp_path / "dtu24"], capsys)
+    assert "3 views of idr" in out and "800 x 600 px" in out, out
+    _run(["locate", tmp_path / "dtu24", "-o", tmp_path / "imported.csv"], capsys)
+    _run(["locate", DTU / "views", "-o", tmp_path / "shipped.csv"], capsys)
+    a, b = _csv(tmp_path / "imported.csv"), _csv(tmp_path / "shipped.csv")
+    assert abs(len(a["X_w"]) - len(b["X_w"])) <= 0.01 * len(b["X_w"])  # the guide: 5115
+    wa = np.column_stack([a["X_w"], a["Y_w"], a["Z_w"]])
+    wb = np.column_stack([b["X_w"], b["Y_w"], b["Z_w"]])
+    from scipy.spatial import cKDTree
+
+    d, _ = cKDTree(wb).query(wa)
+    assert np.mean(d < 0.01) >= 0.98  # the guide: every point within 2 um
+    # no invented focal length in mm: the guide's 0.66 mm against 1.09 mm
+    assert np.median(a["bound_mm"]) < 0.8 * np.median(b["bound_mm"])
+
+
 # -- the shipped files ----------------------------------------------------------------------
 
 

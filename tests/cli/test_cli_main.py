@@ -12,8 +12,8 @@ import pytest
 from robostereo.cli import build_parser, main
 
 #: the commands in the order ``robostereo --help`` lists them
-COMMANDS = ["match", "rig", "evaluate", "batch", "demo", "capture", "locate", "handeye",
-            "simulate-handeye", "plan"]
+COMMANDS = ["match", "rig", "evaluate", "batch", "demo", "capture", "import", "locate",
+            "handeye", "simulate-handeye", "plan"]
 
 
 def _subcommands() -> dict[str, argparse.ArgumentParser]:
@@ -25,6 +25,7 @@ def _subcommands() -> dict[str, argparse.ArgumentParser]:
 #: the module that holds each command
 MODULES = {"match": "match", "rig": "rig_command", "evaluate": "evaluate",
            "batch": "batch_command", "demo": "demo", "capture": "capture_command",
+           "import": "import_command",
            "locate": "locate", "handeye": "handeye_commands",
            "simulate-handeye": "handeye_commands", "plan": "plan"}
 

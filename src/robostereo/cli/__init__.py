@@ -13,7 +13,8 @@ Each command lives in its own module, with its parser, its handler and (for ``de
 ``capture``, ``locate`` and ``plan``) its N-view run: :mod:`robostereo.cli.match`,
 :mod:`robostereo.cli.rig_command`, :mod:`robostereo.cli.evaluate`,
 :mod:`robostereo.cli.batch_command`, :mod:`robostereo.cli.demo`,
-:mod:`robostereo.cli.capture_command`, :mod:`robostereo.cli.locate`,
+:mod:`robostereo.cli.capture_command`, :mod:`robostereo.cli.import_command`,
+:mod:`robostereo.cli.locate`,
 :mod:`robostereo.cli.handeye_commands` (``handeye`` and ``simulate-handeye``) and
 :mod:`robostereo.cli.plan`.  What several commands share is private to the package:
 the argument types and checks in ``robostereo.cli._args``, the N-view options
@@ -39,6 +40,7 @@ from robostereo.cli import (
     demo,
     evaluate,
     handeye_commands,
+    import_command,
     locate,
     match,
     plan,
@@ -56,6 +58,7 @@ COMMANDS: tuple[Callable[[Any], None], ...] = (
     batch_command.add_batch_parser,
     demo.add_demo_parser,
     capture_command.add_capture_parser,
+    import_command.add_import_parser,
     locate.add_locate_parser,
     handeye_commands.add_handeye_parser,
     handeye_commands.add_simulate_handeye_parser,

@@ -16,9 +16,15 @@ With yaw ``phi`` the camera axes, written in the world frame, are::
 Pixel ``(row i, column j)`` has its centre at image coordinates ``x = j, y = i``;
 the principal point defaults to the image centre ``((W - 1) / 2, (H - 1) / 2)``.
 
-A :class:`Camera` is written as a plain mapping by :func:`camera_to_dict` and read
-back, checked, by :func:`camera_from_dict` (the YAML files are read and written by
-:mod:`robostereo.io.cameras`).
+A camera is given in one of two forms: *physical* (a focal length and a pixel pitch in
+mm, the thesis's) or *in pixels* (``fx, fy, cx, cy`` or ``K``, as calibration tools
+give it; :meth:`Camera.from_intrinsics`).  A camera in pixels holds a nominal 1 mm lens
+over pixels of ``1/fx`` by ``1/fy`` mm, so every ratio the code forms (``fx``, the
+eq. 9 focal term ``ds / s``) is that of its pixels, and no invented unit enters a bound.
+
+A :class:`Camera` is written as a plain mapping, in the form it was given, by
+:func:`camera_to_dict` and read back, checked, by :func:`camera_from_dict` (the YAML
+files are read and written by :mod:`robostereo.io.cameras`).
 """
 
 from __future__ import annotations
@@ -73,6 +79,10 @@ class Camera:
         Lens distortion in OpenCV's order ``(k1, k2, p1, p2[, k3])`` (Brown-Conrady,
         on normalised coordinates); empty (default) for none.  The thesis's camera has
         none; a real lens calibrated with :func:`cv2.calibrateCamera` does.
+    in_pixels : bool
+        Given in pixels (:meth:`from_intrinsics`): `focal_length_mm` is then a nominal
+        1 mm and `pixel_pitch_mm` ``(1/fx, 1/fy)``, and the camera is written back as
+        ``fx, fy, cx, cy``.
 
     Examples
     --------
@@ -91,6 +101,55 @@ class Camera:
     principal_point: tuple[float, float] = field(default=(math.nan, math.nan))
     grey_levels: int = 128
     distortion: tuple[float, ...] = ()
+    in_pixels: bool = False
+
+    @classmethod
+    def from_intrinsics(cls, K: ArrayLike, image_size: tuple[int, int], *,
+                        distortion: tuple[float, ...] = (), grey_levels: int = 128) -> Camera:
+        """A camera given in pixels: its intrinsic matrix and image size.
+
+        Parameters
+        ----------
+        K : array_like, shape (3, 3)
+            ``[[fx, 0, cx], [0, fy, cy], [0, 0, 1]]``, pixels, with pixel centres at
+            whole coordinates (OpenCV's and this module's convention); no skew.
+        image_size : tuple of int
+            ``(width, height)``, pixels.
+        distortion, grey_levels
+            As for the class.
+
+        Examples
+        --------
+        >>> cam = Camera.from_intrinsics([[800, 0, 400], [0, 810, 300], [0, 0, 1]], (800, 600))
+        >>> cam.fx, cam.fy, cam.principal_point, cam.in_pixels
+        (800.0, 810.0, (400.0, 300.0), True)
+        """
+        try:
+            k = np.asarray(K, dtype=float)
+        except (TypeError, ValueError):
+            raise InputError(f"K must be a 3 x 3 matrix of numbers, got {shown(K)}") from None
+        if k.shape != (3, 3) or not np.all(np.isfinite(k)):
+            raise InputError(f"K must be a finite 3 x 3 matrix, got {shown(K)}")
+        if not np.allclose(k[2], [0.0, 0.0, 1.0]) or k[1, 0] != 0.0:
+            raise InputError(f"K must be [[fx, 0, cx], [0, fy, cy], [0, 0, 1]], got "
+                             f"{shown(k.tolist())}")
+        if abs(k[0, 1]) > 1e-6 * abs(k[0, 0]):
+            raise InputError(f"K has a skew {k[0, 1]:g} (K[0][1]): the camera model has none")
+        fx, fy = float(k[0, 0]), float(k[1, 1])
+        if not (fx > 0 and fy > 0):
+            raise InputError(f"K: fx and fy must be > 0, got {fx:g}, {fy:g}")
+        return cls(focal_length_mm=1.0, pixel_pitch_mm=(1.0 / fx, 1.0 / fy),
+                   image_size=image_size, principal_point=(float(k[0, 2]), float(k[1, 2])),
+                   grey_levels=grey_levels, distortion=tuple(distortion), in_pixels=True)
+
+    def in_pixel_form(self) -> Camera:
+        """The same camera given in pixels (the pixel form of a physical camera).
+
+        >>> Camera().in_pixel_form().fx == Camera().fx
+        True
+        """
+        return Camera.from_intrinsics(self.K, self.image_size, distortion=self.distortion,
+                                      grey_levels=self.grey_levels)
 
     def __post_init__(self) -> None:
         require_positive("focal_length_mm", self.focal_length_mm)
@@ -117,6 +176,7 @@ class Camera:
             raise InputError(f"grey_levels must be an integer in 2 .. 65536, got "
                              f"{shown(self.grey_levels)}")
         object.__setattr__(self, "grey_levels", int(self.grey_levels))
+        object.__setattr__(self, "in_pixels", bool(self.in_pixels))
         if len(self.principal_point) != 2:
             raise InputError(f"principal_point must be (cx, cy), got {self.principal_point}")
         cx, cy = self.principal_point
@@ -341,18 +401,31 @@ _CAMERA_KEYS = (
     "focal_length_mm", "pixel_pitch_mm", "image_size", "principal_point", "grey_levels",
     "distortion",
 )
+_PIXEL_KEYS = ("fx", "fy", "cx", "cy", "K", "image_size", "grey_levels", "distortion")
 
 
 def camera_to_dict(camera: Camera) -> dict[str, Any]:
-    """A :class:`Camera` as a plain mapping of the keys of the camera YAML file.
+    """A :class:`Camera` as a plain mapping of the keys of the camera YAML file, in the
+    form it was given: physical, or ``fx, fy, cx, cy`` for a camera in pixels.
 
     Examples
     --------
+    >>> camera_to_dict(Camera().in_pixel_form())  # doctest: +ELLIPSIS
+    {'fx': 1453.48..., 'fy': 1824.81..., 'cx': 254.0, 'cy': 240.0, 'image_size': [509, 481], ...}
     >>> camera_to_dict(Camera())  # doctest: +NORMALIZE_WHITESPACE
     {'focal_length_mm': 25.0, 'pixel_pitch_mm': [0.0172, 0.0137], 'image_size': [509, 481],
      'principal_point': [254.0, 240.0], 'grey_levels': 128}
     """
-    out: dict[str, Any] = {
+    out: dict[str, Any]
+    if camera.in_pixels:
+        cx, cy = camera.principal_point
+        out = {"fx": float(camera.fx), "fy": float(camera.fy), "cx": float(cx),
+               "cy": float(cy), "image_size": [int(n) for n in camera.image_size],
+               "grey_levels": int(camera.grey_levels)}
+        if camera.distortion:
+            out["distortion"] = [float(v) for v in camera.distortion]
+        return out
+    out = {
         "focal_length_mm": float(camera.focal_length_mm),
         "pixel_pitch_mm": [float(p) for p in camera.pixel_pitch_mm],
         "image_size": [int(n) for n in camera.image_size],
@@ -370,10 +443,12 @@ def camera_from_dict(data: Mapping[str, Any], *, source: str = "camera") -> Came
     Parameters
     ----------
     data : mapping
-        Keys ``focal_length_mm`` (> 0), ``pixel_pitch_mm`` ``[x, y]`` (mm, > 0),
-        ``image_size`` ``[width, height]`` (integers), optional ``principal_point``
-        ``[cx, cy]`` (pixels; default the image centre) and optional ``grey_levels``
-        (integer >= 2; default 128).
+        Physical form: keys ``focal_length_mm`` (> 0), ``pixel_pitch_mm`` ``[x, y]``
+        (mm, > 0), ``image_size`` ``[width, height]`` (integers), optional
+        ``principal_point`` ``[cx, cy]`` (pixels; default the image centre).  Pixel form:
+        ``fx, fy, cx, cy`` (pixels) or ``K`` (3 x 3), and ``image_size``.  Both take an
+        optional ``grey_levels`` (integer >= 2; default 128) and ``distortion``
+        ``[k1, k2, p1, p2(, k3)]``.
     source : str
         Name used in error messages (the file name when loading a file).
 
@@ -393,11 +468,17 @@ def camera_from_dict(data: Mapping[str, Any], *, source: str = "camera") -> Came
     ...                         "image_size": [640, 480]})
     >>> cam.principal_point, cam.grey_levels
     ((319.5, 239.5), 128)
+    >>> cam = camera_from_dict({"fx": 1600, "fy": 1600, "cx": 319.5, "cy": 239.5,
+    ...                         "image_size": [640, 480]})
+    >>> cam.fx, cam.in_pixels
+    (1600.0, True)
     >>> camera_from_dict({"focal_length_mm": -16}, source="cam.yaml")
     Traceback (most recent call last):
     ...
     robostereo.errors.InputError: cam.yaml: key 'focal_length_mm' must be a finite number > 0, ...
     """
+    if isinstance(data, Mapping) and ("fx" in data or "K" in data):
+        return _pixel_camera_from_dict(data, source)
     check_keys(data, _CAMERA_KEYS, source, "camera")
     f = get_number(data, "focal_length_mm", source, positive=True)
     pitch = get_pair(data, "pixel_pitch_mm", source, positive=True, what="[x, y]")
@@ -405,14 +486,7 @@ def camera_from_dict(data: Mapping[str, Any], *, source: str = "camera") -> Came
     pp: tuple[float, float] = (math.nan, math.nan)
     if "principal_point" in data and data["principal_point"] is not None:
         pp = get_pair(data, "principal_point", source, what="[cx, cy]")
-    grey = data.get("grey_levels", 128)
-    if not isinstance(grey, int) or isinstance(grey, bool) or not 2 <= grey <= 2**16:
-        raise InputError(f"{source}: key 'grey_levels' must be an integer in 2 .. 65536, "
-                         f"got {shown(grey)}")
-    dist = data.get("distortion") or ()
-    if not isinstance(dist, list | tuple) or not all(is_number(v) for v in dist):
-        raise InputError(f"{source}: key 'distortion' must be [k1, k2, p1, p2(, k3)], "
-                         f"got {shown(dist)}")
+    grey, dist = _grey_and_distortion(data, source)
     try:
         return Camera(
             focal_length_mm=f,
@@ -422,5 +496,38 @@ def camera_from_dict(data: Mapping[str, Any], *, source: str = "camera") -> Came
             grey_levels=grey,
             distortion=tuple(dist),
         )
+    except InputError as exc:
+        raise InputError(f"{source}: {exc}") from None
+
+
+def _grey_and_distortion(data: Mapping[str, Any], source: str) -> tuple[int, tuple[Any, ...]]:
+    grey = data.get("grey_levels", 128)
+    if not isinstance(grey, int) or isinstance(grey, bool) or not 2 <= grey <= 2**16:
+        raise InputError(f"{source}: key 'grey_levels' must be an integer in 2 .. 65536, "
+                         f"got {shown(grey)}")
+    dist = data.get("distortion") or ()
+    if not isinstance(dist, list | tuple) or not all(is_number(v) for v in dist):
+        raise InputError(f"{source}: key 'distortion' must be [k1, k2, p1, p2(, k3)], "
+                         f"got {shown(dist)}")
+    return grey, tuple(dist)
+
+
+def _pixel_camera_from_dict(data: Mapping[str, Any], source: str) -> Camera:
+    """The pixel form of :func:`camera_from_dict`: ``fx, fy, cx, cy`` or ``K``."""
+    check_keys(data, _PIXEL_KEYS, source, "camera in pixels")
+    if "K" in data:
+        both = [k for k in ("fx", "fy", "cx", "cy") if k in data]
+        if both:
+            raise InputError(f"{source}: give K or fx, fy, cx, cy, not both (key '{both[0]}')")
+        K = data["K"]
+    else:
+        fx, fy, cx, cy = (get_number(data, k, source, positive=k in ("fx", "fy"))
+                          for k in ("fx", "fy", "cx", "cy"))
+        K = [[fx, 0.0, cx], [0.0, fy, cy], [0.0, 0.0, 1.0]]
+    size = get_pair(data, "image_size", source, positive=True, integer=True, what="[w, h]")
+    grey, dist = _grey_and_distortion(data, source)
+    try:
+        return Camera.from_intrinsics(K, (int(size[0]), int(size[1])), distortion=dist,
+                                      grey_levels=grey)
     except InputError as exc:
         raise InputError(f"{source}: {exc}") from None

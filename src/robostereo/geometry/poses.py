@@ -42,7 +42,12 @@ from scipy.spatial.transform import Rotation
 
 from robostereo.errors import InputError, require_finite, shown, warn_input
 from robostereo.geometry.mapping_checks import check_keys, get_number
-from robostereo.geometry.plausibility import MAX_PHI_DEG, MAX_TRANSLATION_MM, check_translation
+from robostereo.geometry.plausibility import (
+    MAX_PHI_DEG,
+    MAX_TRANSLATION_MM,
+    check_translation,
+    printed_rotation,
+)
 
 __all__ = [
     "ORTHONORMAL_TOLERANCE",
@@ -534,7 +539,7 @@ def pose_from_dict(data: Mapping[str, Any], *, source: str = "pose") -> SE3:
             return scara_pose_from_dict(data, source=source)
         if "matrix" in keys:
             _check_only(data, {"matrix", "unit"}, source)
-            T = SE3.from_matrix(data["matrix"])
+            T = SE3.from_matrix(printed_rotation(data["matrix"], source, ORTHONORMAL_TOLERANCE))
             return SE3(T.rotation, T.translation * _unit_scale(data, source))
         if "position" in keys:
             s = _unit_scale(data, source)

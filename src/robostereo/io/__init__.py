@@ -14,6 +14,8 @@ Modules
 :mod:`~robostereo.io.calibration_files`
     Stereo calibration files: OpenCV ``FileStorage``, ROS ``camera_info``,
     Middlebury ``calib.txt``.
+:mod:`~robostereo.io.camera_file`
+    One camera's OpenCV or ROS ``camera_info`` file, and a capture's ``camera:`` key.
 
 The package may import :mod:`robostereo.geometry`; geometry never imports io.
 """

@@ -40,7 +40,9 @@ from robostereo.geometry.calibration import (
 
 __all__ = [
     "MiddleburyCalib",
+    "calibration_matrix",
     "read_calibration",
+    "read_calibration_mapping",
     "read_middlebury_calib",
     "read_opencv_calibration",
     "read_ros_calibration",
@@ -170,6 +172,19 @@ def _as_array(path: Path, name: str, value: Any) -> NDArray[np.float64]:
         return np.asarray(value, dtype=float)
     except (TypeError, ValueError):
         raise InputError(f"{path}: {name} must be numbers, got {value!r}") from None
+
+
+def read_calibration_mapping(path: PathLike) -> tuple[Path, dict[str, Any]]:
+    """The keys of one calibration file (OpenCV ``FileStorage`` YAML, XML or JSON, or a
+    ROS ``camera_info`` YAML), parsed in Python; the file's checked path with them."""
+    p = _require_file(path)
+    return p, (_load_xml(p) if _is_xml(p) else _load_plain(p))
+
+
+def calibration_matrix(path: Path, name: str, value: Any) -> NDArray[np.float64]:
+    """A matrix of a calibration file as an array: an OpenCV matrix, a ROS
+    ``{rows, cols, data}`` mapping or nested lists."""
+    return _as_array(path, name, value)
 
 
 _OPENCV_KEYS = (

@@ -17,6 +17,9 @@ lower layers: errors, geometry, io, matcher, simulation):
 :mod:`~robostereo.robot.planning`
     Eq. 9 inverted for the baseline (or N views' span), the baseline direction, fusing
     two captures (it imports :mod:`~robostereo.robot.views`).
+:mod:`~robostereo.robot.importers`
+    Other tools' cameras and images (IDR / NeuS, MVSNet, COLMAP) to N-view capture
+    folders (imports views).
 :mod:`~robostereo.robot.simulated`
     The simulated AdeptOne rig, the six-axis experiments, N simulated views and their
     truth (imports every other part; nothing of the robot side imports it).

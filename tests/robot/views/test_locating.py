@@ -195,3 +195,18 @@ def test_confidence_of_a_held_out_two_view_capture_is_calibrated(pulley_pair):
     sim, every, _ = pulley_pair
     right = views_correct(sim, every).astype(float)
     assert _calibration_error(every.confidence, right) < 0.06
+
+
+def test_poses_in_the_other_convention_warn_that_few_points_were_located():
+    import dataclasses
+    import warnings
+
+    from robostereo.errors import PlausibilityWarning
+
+    cap = simulate_views("block", count=3, seed=0).capture
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        locate_views(cap)  # the right poses: no warning
+    bad = dataclasses.replace(cap, poses=tuple(p.inv() for p in cap.poses))
+    with pytest.warns(PlausibilityWarning, match=r"edge points located.*pose_convention"):
+        locate_views(bad)

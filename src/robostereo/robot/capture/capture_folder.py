@@ -15,8 +15,10 @@ Capture folder format (``DIR/``)::
 
     left.png, right.png   the grabbed (unrectified) images, 8-bit PNG, grey levels as
                           grabbed (0..127 for the thesis's 7-bit camera)
-    capture.yaml          camera:          camera mapping (robostereo.geometry.camera YAML keys,
-                                           optional distortion [k1, k2, p1, p2, k3])
+    capture.yaml          camera:          camera mapping (robostereo.geometry.camera YAML keys:
+                                           physical, or fx, fy, cx, cy / K in pixels;
+                                           optional distortion [k1, k2, p1, p2, k3]),
+                                           or the path of an OpenCV or ROS camera file
                           pose_left:       camera pose of each view, world frame, in
                           pose_right:      any form of robostereo.geometry.poses
                                            ({x, y, z (mm), phi_deg} for a SCARA), or
@@ -26,8 +28,11 @@ Capture folder format (``DIR/``)::
                           bit_depth:       7 (optional; default the PNG's)
                           disparity_range: [min, max] px (optional), or
                           depth_range_mm:  [near, far] expected depth of the object
+                          pose_convention: camera_to_world (default) or world_to_camera
+                                           (pose_left/right are extrinsics [R | t])
                           uncertainty:     {baseline_mm, focal_length_mm, disparity_px}
-                                           (optional, eq. 9)
+                                           (optional, eq. 9; focal_px in place of
+                                           focal_length_mm for a camera in pixels)
                           robot, scene:    free-form notes (optional, not read)
 
 The baseline ``D`` and its direction ``alpha`` come from the two poses.
@@ -45,8 +50,8 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.errors import InputError, require_finite, require_positive, shown, warn_input
-from robostereo.geometry.camera import Camera, camera_from_dict, camera_to_dict
+from robostereo.errors import InputError, require_finite, require_positive, shown
+from robostereo.geometry.camera import Camera, camera_to_dict
 from robostereo.geometry.plausibility import check_depth_disparities, check_uncertainties
 from robostereo.geometry.pose_rectification import GeneralEpipolarGeometry
 from robostereo.geometry.poses import SE3, Pose, as_se3
@@ -54,22 +59,27 @@ from robostereo.geometry.poses import pose_from_dict as any_pose_from_dict
 from robostereo.geometry.poses import pose_to_dict as any_pose_to_dict
 from robostereo.geometry.scara_rectification import EpipolarGeometry
 from robostereo.geometry.triangulation import StereoCamera
+from robostereo.robot.capture.capture_keys import (
+    camera_pose_from_dict,
+    check_views_share_scene,
+    default_focal_uncertainty_mm,
+    extras_from_dict,
+    extras_to_dict,
+    pose_convention,
+    warn_identity_hand_eye,
+    warn_metres,
+)
 
 __all__ = [
     "CAPTURE_YAML",
     "DISPARITY_UNCERTAINTY_PX",
-    "METRES_AS_MM_BELOW",
     "Capture",
     "Geometry",
     "Rectification",
     "capture_from_acquisition",
     "capture_to_dict",
     "disparity_range_from_depth",
-    "extras_from_dict",
-    "extras_to_dict",
     "read_capture",
-    "warn_identity_hand_eye",
-    "warn_metres",
     "warn_units",
     "write_capture",
 ]
@@ -79,13 +89,10 @@ _IMAGES = ("left.png", "right.png")
 _KEYS = (
     "camera", "pose_left", "pose_right", "flange_left", "flange_right", "hand_eye",
     "bit_depth", "disparity_range", "depth_range_mm", "uncertainty", "robot", "scene",
+    "pose_convention",
 )
 Rectification = Literal["auto", "theta", "general"]
 Geometry = EpipolarGeometry | GeneralEpipolarGeometry
-#: ``uncertainty`` keys of ``capture.yaml`` and the capture attributes they fill (eq. 9)
-_UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
-                ("focal_length_mm", "focal_length_uncertainty_mm"),
-                ("disparity_px", "disparity_uncertainty_px"))
 
 DISPARITY_UNCERTAINTY_PX = 0.2
 """``d(disp)`` of eq. (9) for sub-pixel edges, pixels.
@@ -123,7 +130,9 @@ class Capture:
         ``(near, far)`` expected depth of the object below the cameras, used when
         `disparity_range` is None.
     baseline_uncertainty_mm, focal_length_uncertainty_mm, disparity_uncertainty_px : float
-        ``dD``, ``ds`` and ``d(disp)`` of eq. (9).
+        ``dD``, ``ds`` and ``d(disp)`` of eq. (9); ``ds`` defaults to 0.01 mm for a
+        physical camera and 0 for one in pixels (whose nominal 1 mm lens makes ``ds``
+        the focal length's relative error, ``d(fx) / fx``).
     notes : mapping
         Free-form ``robot`` and ``scene`` notes (written, never read).
     flange_left, flange_right, hand_eye : SE3 or None
@@ -141,7 +150,7 @@ class Capture:
     disparity_range: tuple[float, float] | None = None
     depth_range_mm: tuple[float, float] | None = None
     baseline_uncertainty_mm: float = 0.01
-    focal_length_uncertainty_mm: float = 0.01
+    focal_length_uncertainty_mm: float = None  # type: ignore[assignment]
     disparity_uncertainty_px: float = DISPARITY_UNCERTAINTY_PX
     notes: Mapping[str, Any] = field(default_factory=dict)
     flange_left: SE3 | None = None
@@ -157,6 +166,9 @@ class Capture:
                    **kwargs)
 
     def __post_init__(self) -> None:
+        if self.focal_length_uncertainty_mm is None:
+            object.__setattr__(self, "focal_length_uncertainty_mm",
+                               default_focal_uncertainty_mm(self.camera))
         for name in ("pose_left", "pose_right"):
             if not isinstance(getattr(self, name), Pose | SE3):
                 raise InputError(f"{name} must be a Pose or an SE3, got "
@@ -363,51 +375,6 @@ def capture_to_dict(capture: Capture) -> dict[str, Any]:
     return out
 
 
-def extras_to_dict(capture: Any) -> dict[str, Any]:
-    """The ``uncertainty`` mapping and the ``robot``/``scene`` notes of a capture file.
-
-    What two-view (:class:`Capture`) and N-view
-    (:class:`~robostereo.robot.views.viewpoints.ViewsCapture`) files share: `capture` has the eq. 9
-    attributes ``baseline_uncertainty_mm``, ``focal_length_uncertainty_mm``,
-    ``disparity_uncertainty_px`` and ``notes``.
-    """
-    from robostereo.io import plain_values
-
-    out: dict[str, Any] = {
-        "uncertainty": {key: float(getattr(capture, attr)) for key, attr in _UNCERTAINTY}}
-    for k in ("robot", "scene"):
-        if k in capture.notes:
-            out[k] = plain_values(capture.notes[k])
-    return out
-
-
-def extras_from_dict(data: Mapping[str, Any], source: str) -> dict[str, Any]:
-    """The eq. 9 uncertainties and the notes of a parsed capture file, as the keyword
-    arguments of :class:`Capture` or :class:`~robostereo.robot.views.viewpoints.ViewsCapture`.
-
-    Raises
-    ------
-    InputError
-        ``uncertainty`` not a mapping of its three keys; the message names `source`.
-        The values are checked by the capture
-        (:func:`~robostereo.geometry.plausibility.check_uncertainties`).
-    """
-    kw: dict[str, Any] = {}
-    unc = data.get("uncertainty") or {}
-    keys = [key for key, _ in _UNCERTAINTY]
-    if not isinstance(unc, Mapping) or any(k not in keys for k in unc):
-        raise InputError(f"{source}: key 'uncertainty' must be a mapping of {', '.join(keys)}")
-    for key, attr in _UNCERTAINTY:
-        if key in unc:
-            v = unc[key]
-            try:  # the capture checks the values (an int too big for a float stays)
-                kw[attr] = float(v) if isinstance(v, int | float) and v is not True else v
-            except OverflowError:
-                kw[attr] = v
-    kw["notes"] = {k: data[k] for k in ("robot", "scene") if k in data}
-    return kw
-
-
 def write_capture(directory: str | os.PathLike[str], capture: Capture) -> Path:
     """Write a capture folder (``left.png``, ``right.png``, ``capture.yaml``).
 
@@ -464,7 +431,10 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
         raise InputError(f"{src}: unknown key '{unknown[0]}' (allowed: {', '.join(_KEYS)})")
     if "camera" not in data:
         raise InputError(f"{src}: missing key 'camera'")
-    camera = camera_from_dict(data["camera"], source=f"{src}: camera")
+    from robostereo.io.camera_file import camera_from_entry
+
+    camera = camera_from_entry(data["camera"], d, src)
+    convention = pose_convention(data, src)
     flange_keys = ("flange_left", "flange_right", "hand_eye")
     extra: dict[str, Any] = {}
     if any(k in data for k in flange_keys):
@@ -483,7 +453,7 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
         for k in ("pose_left", "pose_right"):
             if k not in data:
                 raise InputError(f"{src}: missing key '{k}'")
-        poses = [any_pose_from_dict(data[k], source=f"{src}: {k}")
+        poses = [camera_pose_from_dict(data[k], f"{src}: {k}", convention)
                  for k in ("pose_left", "pose_right")]
     images = []
     bits_file = []
@@ -501,23 +471,17 @@ def read_capture(directory: str | os.PathLike[str]) -> Capture:
                 kw[key] = _pair(key, data[key])
             except InputError as exc:
                 raise InputError(f"{src}: {exc}") from None
-    kw.update(extras_from_dict(data, src))
+    kw.update(extras_from_dict(data, src, camera))
     try:
         capture = Capture(left=images[0], right=images[1], camera=camera, pose_left=poses[0],
                           pose_right=poses[1], bit_depth=bit_depth, **extra, **kw)
     except InputError as exc:
         raise InputError(f"{d}: {exc}") from None
     warn_units(data, capture, src)
+    if capture.depth_range_mm is not None:
+        check_views_share_scene(camera, [as_se3(p) for p in poses], capture.depth_range_mm,
+                                ["left", "right"], src, convention)
     return capture
-
-
-METRES_AS_MM_BELOW = 5.0
-"""Largest translation, mm, that :func:`warn_units` takes for metres written as mm.
-
-A flange or camera pose lies hundreds of millimetres from a robot's base and a camera
-some tens from the flange; in metres the same numbers are under 2 (a 2 m reach), so a
-file whose translations of one key are all under 5 "mm" while the scene lies 100 mm or
-more away (``depth_range_mm``, when given) almost surely holds metres."""
 
 
 def warn_units(data: Mapping[str, Any], capture: Capture, source: str) -> None:
@@ -553,44 +517,3 @@ def warn_units(data: Mapping[str, Any], capture: Capture, source: str) -> None:
             warn_metres(source, " and ".join(keys), [data.get(k) for k in keys], poses, far,
                         hand_eye=keys[0] == "hand_eye")
     warn_identity_hand_eye(source, capture.hand_eye)
-
-
-def warn_metres(source: str, what: str, written: list[Any], poses: list[Any],
-                far: float | None, *, hand_eye: bool = False) -> None:
-    """Warn when poses written with a translation and no ``unit`` all lie within
-    :data:`METRES_AS_MM_BELOW` mm of the origin: metres written as millimetres.
-
-    Parameters
-    ----------
-    source : str
-        The file, for the message.
-    what : str
-        The keys the poses were read from, for the message.
-    written : list
-        The poses as written (mappings); only those in a form with a translation
-        (``position`` or ``matrix``) and without ``unit`` are judged, all or none.
-    poses : list of SE3
-        The poses read from them.
-    far : float or None
-        The scene's far depth, mm, when known (the caller skips scenes under 100 mm).
-    hand_eye : bool
-        A hand-eye transform: an all-zero translation is the identity placeholder
-        (:func:`warn_identity_hand_eye`), not metres.
-    """
-    if not all(isinstance(r, Mapping) and ("position" in r or "matrix" in r)
-               and "unit" not in r for r in written):
-        return
-    t = float(np.abs(np.array([as_se3(p).translation for p in poses])).max())
-    if t < METRES_AS_MM_BELOW and (not hand_eye or t > 0):
-        where = f" with the scene {far:g} mm away" if far is not None else ""
-        warn_input(f"{source}: {what}: every translation is under "
-                   f"{METRES_AS_MM_BELOW:g} mm (largest {t:.4g}){where}: metres written as "
-                   "millimetres? add 'unit: m'")
-
-
-def warn_identity_hand_eye(source: str, hand_eye: SE3 | None) -> None:
-    """Warn when a capture file's ``hand_eye`` is the identity: a placeholder, not a
-    calibration."""
-    if hand_eye is not None and np.allclose(hand_eye.matrix, np.eye(4), atol=1e-9):
-        warn_input(f"{source}: hand_eye is the identity (camera frame = flange frame): a "
-                   "placeholder, not a calibration? (robostereo handeye estimates it)")

@@ -33,6 +33,7 @@ from robostereo.geometry.camera import Camera
 from robostereo.geometry.plausibility import check_depth_disparities, check_uncertainties
 from robostereo.geometry.poses import SE3, Pose, as_se3
 from robostereo.robot.capture.capture_folder import DISPARITY_UNCERTAINTY_PX, Capture
+from robostereo.robot.capture.capture_keys import default_focal_uncertainty_mm
 
 __all__ = [
     "MAX_SPAN_MM",
@@ -173,7 +174,8 @@ class ViewsCapture:
         Significant bits of the grey levels (7 for the thesis's camera).
     baseline_uncertainty_mm, focal_length_uncertainty_mm, disparity_uncertainty_px : float
         ``dD`` (mm), ``ds`` (mm) and ``d(disp)`` (px) of eq. (9), for every pair of
-        views.
+        views; ``ds`` defaults to 0.01 mm for a physical camera and 0 for one in
+        pixels (``d(fx) / fx`` over its nominal 1 mm lens).
     names : tuple of str or None
         File name of each view's image in a capture folder (e.g. ``view_00.png``).
     notes : mapping
@@ -202,7 +204,7 @@ class ViewsCapture:
     depth_range_mm: tuple[float, float]
     bit_depth: int = 7
     baseline_uncertainty_mm: float = 0.01
-    focal_length_uncertainty_mm: float = 0.01
+    focal_length_uncertainty_mm: float = None  # type: ignore[assignment]
     disparity_uncertainty_px: float = DISPARITY_UNCERTAINTY_PX
     names: tuple[str, ...] | None = None
     notes: Mapping[str, Any] = field(default_factory=dict)
@@ -265,6 +267,9 @@ class ViewsCapture:
                    notes=dict(capture.notes), flanges=flanges, hand_eye=capture.hand_eye)
 
     def __post_init__(self) -> None:
+        if self.focal_length_uncertainty_mm is None:
+            object.__setattr__(self, "focal_length_uncertainty_mm",
+                               default_focal_uncertainty_mm(self.camera))
         object.__setattr__(self, "images", tuple(self.images))
         object.__setattr__(self, "poses", tuple(self.poses))
         n = len(self.images)

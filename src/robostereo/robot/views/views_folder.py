@@ -9,11 +9,15 @@ Folder format (``DIR/``)::
 
     view_00.png, ...      the grabbed (unrectified) images, 8-bit PNG, grey levels as
                           grabbed (0..127 for the thesis's 7-bit camera)
-    capture.yaml          camera:          camera mapping (as in a two-view capture)
+    capture.yaml          camera:          camera mapping or camera file (as in a two-view
+                                           capture: physical, or in pixels)
+                          pose_convention: camera_to_world (default) or world_to_camera:
+                                           what every view's pose maps
                           views:           one entry per view, in order:
                             - image: view_00.png   the view's image, in DIR
                               pose: {...}          its camera pose (T_world_camera) in
                                                    any form of robostereo.geometry.poses
+                              pose_convention: ... (optional) this view's own
                             - image: view_01.png   or the flange pose the robot
                               flange: {...}        reported, with a top-level hand_eye
                           hand_eye:        flange-to-camera transform (with flange views:
@@ -21,7 +25,8 @@ Folder format (``DIR/``)::
                           depth_range_mm:  [near, far] expected depth of the object
                           bit_depth:       7 (optional; default the PNGs')
                           uncertainty:     {baseline_mm, focal_length_mm, disparity_px}
-                                           (optional, eq. 9)
+                                           (optional, eq. 9; focal_px for a camera in
+                                           pixels)
                           robot, scene:    free-form notes (optional, not read)
 
 Every view gives either ``pose`` or ``flange``, and all views the same one.  N views
@@ -40,13 +45,15 @@ from typing import Any
 import numpy as np
 
 from robostereo.errors import InputError, shown
-from robostereo.geometry.camera import camera_from_dict, camera_to_dict
+from robostereo.geometry.camera import camera_to_dict
 from robostereo.geometry.poses import SE3, as_se3, pose_from_dict, pose_to_dict
-from robostereo.robot.capture.capture_folder import (
-    CAPTURE_YAML,
+from robostereo.robot.capture.capture_folder import CAPTURE_YAML, read_capture
+from robostereo.robot.capture.capture_keys import (
+    camera_pose_from_dict,
+    check_views_share_scene,
     extras_from_dict,
     extras_to_dict,
-    read_capture,
+    pose_convention,
     warn_identity_hand_eye,
     warn_metres,
 )
@@ -64,9 +71,9 @@ __all__ = [
 #: the top-level keys of an N-view ``capture.yaml``
 VIEWS_KEYS: tuple[str, ...] = (
     "camera", "views", "hand_eye", "depth_range_mm", "bit_depth", "uncertainty", "robot",
-    "scene",
+    "scene", "pose_convention",
 )
-_VIEW_KEYS = ("image", "pose", "flange")
+_VIEW_KEYS = ("image", "pose", "flange", "pose_convention")
 
 
 def _image_names(capture: ViewsCapture) -> tuple[str, ...]:
@@ -194,8 +201,9 @@ def is_views_folder(directory: str | os.PathLike[str]) -> bool:
 
 
 def views_folder_files(directory: str | os.PathLike[str]) -> list[Path]:
-    """The files a capture folder's reader opens: ``capture.yaml`` and every view's image
-    (two-view folders: ``left.png`` and ``right.png``); for refusing them as outputs.
+    """The files a capture folder's reader opens: ``capture.yaml``, the camera file it
+    names (if any) and every view's image (two-view folders: ``left.png`` and
+    ``right.png``); for refusing them as outputs.
 
     A file list that cannot be read (a bad ``capture.yaml``) gives only ``capture.yaml``;
     :func:`read_views_capture` reports what is wrong with it.
@@ -210,6 +218,8 @@ def views_folder_files(directory: str | os.PathLike[str]) -> list[Path]:
         return out
     if not isinstance(data, Mapping):
         return out
+    if isinstance(data.get("camera"), str):  # a camera file the folder names
+        out.append(d / data["camera"])
     if "views" not in data:
         return [*out, d / "left.png", d / "right.png"]
     views = data["views"]
@@ -278,7 +288,10 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
     for key in ("camera", "depth_range_mm"):
         if key not in data:
             raise InputError(f"{src}: missing key '{key}'")
-    camera = camera_from_dict(data["camera"], source=f"{src}: camera")
+    from robostereo.io.camera_file import camera_from_entry
+
+    camera = camera_from_entry(data["camera"], d, src)
+    convention = pose_convention(data, src)
     views = data["views"]
     if not isinstance(views, list):
         raise InputError(f"{src}: key 'views' must be a list of {{image, pose}} or "
@@ -337,7 +350,8 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
             flanges.append(f)
             poses.append(f @ hand_eye)
         else:
-            poses.append(pose_from_dict(view["pose"], source=f"{where}: pose"))
+            poses.append(camera_pose_from_dict(view["pose"], f"{where}: pose",
+                                               pose_convention(view, where, convention)))
     if hand_eye is not None and not flanges:
         raise InputError(f"{src}: key 'hand_eye' is for views given by 'flange'; these "
                          "views give camera poses")
@@ -355,7 +369,7 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
                              f"the camera's image_size is {w} x {h}")
         images.append(img)
         bits.append(b)
-    kw = _settings(data, src, max(bits))
+    kw = _settings(data, src, max(bits), camera)
     try:
         if flanges:
             assert hand_eye is not None
@@ -368,10 +382,16 @@ def read_views_capture(directory: str | os.PathLike[str]) -> ViewsCapture:
     except InputError as exc:
         raise InputError(f"{src}: {exc}") from None
     _warn_units(data, capture, src)
+    if not flanges:
+        check_views_share_scene(camera, [as_se3(p) for p in capture.poses],
+                                capture.depth_range_mm,
+                                [f"views[{k}] ({n})" for k, n in enumerate(names)], src,
+                                convention)
     return capture
 
 
-def _settings(data: Mapping[str, Any], src: str, file_bits: int) -> dict[str, Any]:
+def _settings(data: Mapping[str, Any], src: str, file_bits: int,
+              camera: Any) -> dict[str, Any]:
     """``depth_range_mm``, ``bit_depth``, the eq. 9 uncertainties and the notes of a views
     file."""
     rng = data["depth_range_mm"]
@@ -385,7 +405,7 @@ def _settings(data: Mapping[str, Any], src: str, file_bits: int) -> dict[str, An
     if isinstance(bit_depth, bool) or not isinstance(bit_depth, int):
         raise InputError(f"{src}: key 'bit_depth' must be an integer, got {shown(bit_depth)}")
     kw["bit_depth"] = bit_depth
-    kw.update(extras_from_dict(data, src))
+    kw.update(extras_from_dict(data, src, camera))
     return kw
 
 
