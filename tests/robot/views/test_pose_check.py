@@ -6,6 +6,7 @@ pinhole camera, ray by ray), not by the project's simulator.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 
 import cv2
@@ -167,3 +168,25 @@ def test_locating_warns_when_the_poses_disagree_with_the_images(views):
     with pytest.warns(PlausibilityWarning, match=r"capture \(views \d and \d\): the rows of "
                       "the two views disagree"):
         locate_views(_capture(images, claimed), params=pairs)
+
+
+def test_real_views_turned_about_their_axes_pass_and_a_turned_pose_does_not():
+    """The real DTU views (neighbours turned 27 degrees about their axes) with their right
+    poses give no verdict against them, over the object's range and a wide one; one pose
+    turned a degree about the optical axis still does."""
+    from pathlib import Path
+
+    from robostereo.robot.views.views_folder import read_views_capture
+
+    folder = Path(__file__).resolve().parents[3] / "docs/data/dtu_scan24/views"
+    cap = read_views_capture(folder)
+    for depths in ((500.0, 850.0), (421.0, 900.0)):  # the second: the bounding sphere's
+        views = prepare_views(dataclasses.replace(cap, depth_range_mm=depths))
+        checks = [c for ref in range(3) for c in views_epipolar_checks(views, ref, depths)]
+        assert checks and not any(c.disagrees for c in checks), checks
+        assert max(c.distance_px for c in checks) < 1.0  # before the turn: 2.37 px
+    turned = dataclasses.replace(cap, poses=(cap.poses[0], _turned(cap.poses[1], 1.0),
+                                             cap.poses[2]))
+    views = prepare_views(turned)
+    checks = views_epipolar_checks(views, 1, cap.depth_range_mm)
+    assert any(c.disagrees for c in checks), checks

@@ -256,7 +256,9 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
     Notes
     -----
     1. Up to 100 corners of `image` (Shi-Tomasi, at least 8 px apart, 12 px inside the
-       border).
+       border); `other_image` turned to `image`'s orientation by the homography of the
+       points at infinity (``K R_b^T R_a K^-1``), so that views turned about their axes
+       (DTU's neighbours: 27 degrees) compare windows that are not turned.
     2. Each corner's 7 x 7 window is compared along its epipolar line in
        `other_image`, every 3 px over the depth range, and the place of the least sum of squared
        differences taken (so that a texture that repeats or a wide baseline does not
@@ -264,7 +266,8 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
     3. From there, Lucas-Kanade free in both directions (21 x 21 window, one pyramid
        level: a reach of a few pixels off the line), and back; kept where the track
        back ends within 0.5 px of the corner.
-    4. The distance of each tracked place from the corner's epipolar line
+    4. The distance of each tracked place (in the turned image) from the corner's
+       epipolar line
        (``F = fundamental_from_poses(...)``) and its angle (the distance over how far
        the place moved); their medians.
 
@@ -285,14 +288,22 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
     R_b, C_b = (np.asarray(v, float) for v in other_pose)
     fa = np.asarray(image, np.float32)
     fb = np.asarray(other_image, np.float32)
+    K = np.asarray(K, float)
+    if not np.allclose(R_a, R_b, atol=1e-9):
+        # the other view turned to this one's orientation (the homography of the points
+        # at infinity, K R_b^T R_a K^-1): windows compare and track where the views turn
+        # about their axes, and what is left is the parallax along the epipolar lines
+        H = K @ R_b.T @ R_a @ np.linalg.inv(K)
+        h, w = fb.shape
+        fb = cv2.warpPerspective(fb, H, (w, h), flags=cv2.INTER_LINEAR | cv2.WARP_INVERSE_MAP)
+        R_b = R_a
     a, b = _as_bytes(fa), _as_bytes(fb)
     if corners is None:
         corners = corners_to_track(fa)
         if corners is None:
             return None
     p0 = np.asarray(corners, np.float64)
-    start = _along_lines(fa, fb, p0, np.asarray(K, float), R_a, C_a, R_b, C_b,
-                         depth_range_mm)
+    start = _along_lines(fa, fb, p0, K, R_a, C_a, R_b, C_b, depth_range_mm)
     seen = np.isfinite(start).all(axis=1)
     if seen.sum() < MIN_PLACES:
         return None
@@ -307,7 +318,7 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
         np.linalg.norm(back.reshape(-1, 2) - p0, axis=1) <= 0.5)
     if good.sum() < MIN_PLACES:
         return None
-    F = fundamental_from_poses(np.asarray(K, float), R_a, C_a, R_b, C_b)
+    F = fundamental_from_poses(K, R_a, C_a, R_b, C_b)
     pa = np.column_stack([p0[good], np.ones(int(good.sum()))]).astype(np.float64)
     pb = np.column_stack([p1.reshape(-1, 2)[good], np.ones(int(good.sum()))]).astype(
         np.float64)
