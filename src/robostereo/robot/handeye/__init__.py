@@ -68,11 +68,14 @@ from robostereo.robot.handeye.calibrate import (
     solve_views,
 )
 from robostereo.robot.handeye.checks import (
+    INTRINSICS_FLOORS,
+    INTRINSICS_SIGMAS,
     MAX_REPROJECTION_RMS_PX,
     MAX_ROTATION_RMS_DEG,
     OUTLIER_Z,
     TRANSLATION_FACTOR,
     TRANSLATION_FLOOR_MM,
+    check_intrinsics,
     check_plausible,
     corner_noise_px,
     outlier_views,
@@ -99,6 +102,8 @@ from robostereo.robot.handeye.refine import (
 __all__ = [
     "ALL_METHODS",
     "DEFAULT_METHOD",
+    "INTRINSICS_FLOORS",
+    "INTRINSICS_SIGMAS",
     "MAX_REPROJECTION_RMS_PX",
     "MAX_ROTATION_RMS_DEG",
     "METHODS",
@@ -124,6 +129,7 @@ __all__ = [
     "SolveMethod",
     "calibrate_eye_in_hand",
     "calibrate_eye_to_hand",
+    "check_intrinsics",
     "check_plausible",
     "check_rotation_axes",
     "corner_noise_px",

@@ -48,6 +48,7 @@ from robostereo.robot.handeye.boards import (
 from robostereo.robot.handeye.checks import (
     MAX_ROTATION_RMS_DEG,
     OUTLIER_Z,
+    check_intrinsics,
     check_plausible,
     corner_noise_px,
     outlier_views,
@@ -423,6 +424,9 @@ def solve_views(
         img_pts.append(found[1].astype(np.float64).reshape(-1, 1, 2))
     obj32 = [o.astype(np.float32) for o in obj]
     pts32 = [p.astype(np.float32) for p in img_pts]
+    if camera is not None:
+        check_intrinsics(obj32, pts32, (w, h), camera.K, camera.dist_coeffs,
+                         source=f"{source}: the known intrinsics")
     F = [f.inv() for f in flange_poses] if mode == "eye-to-hand" else list(flange_poses)
     st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method)
     _check_mode(F, st, mode, source)
