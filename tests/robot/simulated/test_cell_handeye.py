@@ -78,15 +78,19 @@ def test_handeye_command_writes_the_cell_file_and_refuses_the_other_mode(session
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and not bad.exists()
     assert "the views look eye-to-hand (a fixed camera and the board on the flange)" in err
-    # known intrinsics 2 % off in focal length: said, naming the parameter
+    # known intrinsics 2 % off in focal length: warned about naming the parameter, and
+    # refused (the final residuals against the views' own noise), nothing written
     wrong = tmp_path / "wrong.yaml"
     cam = dict(data["camera"], focal_length_mm=4.08, principal_point=[322.0, 241.5],
                distortion=[-0.1, 0.0, 0.0, 0.0, 0.0], pixel_pitch_mm=[0.005, 0.005])
     wrong.write_text(yaml.safe_dump({"camera": cam}))
     capsys.readouterr()
-    main(["handeye", str(d), "--intrinsics", str(wrong), "-o", str(tmp_path / "w.yaml")])
+    assert main(["handeye", str(d), "--intrinsics", str(wrong), "-o",
+                 str(tmp_path / "w.yaml")]) == 2
     err = capsys.readouterr().err
     assert "robostereo: warning: " in err and "fx 816 px where the views put it at 8" in err
+    assert "check the known intrinsics (--intrinsics)" in err
+    assert not (tmp_path / "w.yaml").exists()
     # an eye-in-hand file read as the cell's camera is refused by name
     hand = tmp_path / "hand.yaml"
     hand.write_text(yaml.safe_dump({"camera": data["camera"], "hand_eye": data["base_camera"]}))

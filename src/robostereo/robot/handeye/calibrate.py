@@ -342,7 +342,9 @@ def calibrate_eye_in_hand(
        all corners, flange poses fixed (Strobl and Hirzinger 2006; Koide and Menegatti
        2019); a reprojection RMS above 1 px is refused.
     6. Final board poses by :func:`cv2.solvePnP` with the final intrinsics, the pair
-       residuals with the final ``X``, the views that stand out named.
+       residuals with the final ``X``, checked again as in 4 (with known intrinsics,
+       against the noise of the views' own :func:`cv2.calibrateCamera` fit, which wrong
+       intrinsics do not inflate), the views that stand out named.
     """
     return solve_views(images, flange_poses, board, mode="eye-in-hand",
                        pixel_pitch_mm=pixel_pitch_mm, grey_levels=grey_levels, method=method,
@@ -444,7 +446,7 @@ def solve_views(
     check_plausible(rotation_rms_deg=st.residuals.rms_rotation_deg,
                     translation_rms_mm=st.residuals.rms_translation_mm,
                     predicted_translation_rms_mm=st.predicted, reprojection_rms_px=None,
-                    source=source, worst=_worst(labels, z))
+                    source=source, worst=_worst(labels, z), known_intrinsics=camera is not None)
     K, dist, X, W = st.K, st.dist, st.X, st.base_board
     if refine:
         ref = refine_eye_in_hand([o.reshape(-1, 3) for o in obj],
@@ -465,6 +467,15 @@ def solve_views(
         rms = float(np.sqrt(np.mean(per_view**2)))
     C = [SE3.from_rotvec(t, r) for r, t in zip(st_final.rvecs, st_final.tvecs, strict=True)]
     res = handeye_residuals(*motion_pairs(F, C), X)
+    # the checks again on the final result; with known intrinsics, against the noise of
+    # the views' own intrinsics (wrong ones inflate the noise and so their own bound)
+    predicted = st.predicted if camera is None else _board_poses(
+        obj32, pts32, (w, h), F, None, fix_k3, method).predicted
+    check_plausible(rotation_rms_deg=res.rms_rotation_deg,
+                    translation_rms_mm=res.rms_translation_mm,
+                    predicted_translation_rms_mm=predicted, reprojection_rms_px=None,
+                    source=source, known_intrinsics=camera is not None,
+                    worst=[labels[i] for i in np.argsort(per_view)[::-1][:2]])
     flagged = outlier_views(per_view, res.translation_mm, res.rotation_deg, len(F))
     fmm = float(K[0, 0]) * pixel_pitch_mm
     cam = camera if camera is not None else Camera(
@@ -476,6 +487,6 @@ def solve_views(
         camera=cam, hand_eye=X, method=method, reprojection_rms_px=rms,
         per_view_rms_px=np.asarray(per_view), board_poses=tuple(C), residuals=res,
         base_board=W, names=tuple(labels), closed_form=st.X if refine else None,
-        corner_noise_px=st.noise, predicted_translation_rms_mm=st.predicted,
+        corner_noise_px=st.noise, predicted_translation_rms_mm=predicted,
         outliers=tuple(labels[i] for i in np.flatnonzero(flagged)), rejected=tuple(rejected),
     )

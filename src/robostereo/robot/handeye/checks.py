@@ -217,14 +217,16 @@ def outlier_views(per_view_rms_px: ArrayLike, pair_translation_mm: ArrayLike,
 
 def check_plausible(*, rotation_rms_deg: float, translation_rms_mm: float,
                     predicted_translation_rms_mm: float, reprojection_rms_px: float | None,
-                    source: str, worst: Sequence[str] = ()) -> None:
+                    source: str, worst: Sequence[str] = (),
+                    known_intrinsics: bool = False) -> None:
     """Raise :class:`InputError` on a hand-eye result the corner noise cannot explain.
 
     Refused: AX = XB rotation RMS above :data:`MAX_ROTATION_RMS_DEG`; translation RMS
     above ``max(TRANSLATION_FACTOR * predicted, TRANSLATION_FLOOR_MM)`` (the predicted
     RMS of :func:`predicted_pair_translation_mm`); a reprojection RMS of the joint
     refinement above :data:`MAX_REPROJECTION_RMS_PX`.  The one-line message names
-    `source`, the figures, the likely causes and the `worst` views.
+    `source`, the figures, the likely causes (with `known_intrinsics`, those first)
+    and the `worst` views.
 
     >>> check_plausible(rotation_rms_deg=0.02, translation_rms_mm=42.0,
     ...                 predicted_translation_rms_mm=0.1, reprojection_rms_px=None,
@@ -247,9 +249,10 @@ def check_plausible(*, rotation_rms_deg: float, translation_rms_mm: float,
     if not why:
         return
     views = f"; worst views: {', '.join(worst)}" if worst else ""
+    first = "the known intrinsics (--intrinsics), " if known_intrinsics else ""
     raise InputError(
-        f"{source}: implausible hand-eye result: {'; '.join(why)}; check the board size "
-        "and square_mm, the flange positions' unit (unit: m for metres), and the pose "
+        f"{source}: implausible hand-eye result: {'; '.join(why)}; check {first}the board "
+        "size and square_mm, the flange positions' unit (unit: m for metres), and the pose "
         f"order and convention (T_base_flange, each with its own image){views}")
 
 
