@@ -1,7 +1,7 @@
 """Hand-eye accuracy before and after the joint refinement, on two kinds of views.
 
 Run:  PYTHONPATH=src:tests python benchmarks/bench_handeye.py [--seeds 0 1 2]
-                                                          [--write-results PATH]
+                                      [--mode eye-in-hand|eye-to-hand] [--write-results PATH]
 
 * ``renders``: the tests' own ray caster (``tests/board_renders.py``, not the project's
   simulator): 640 x 480, f 800 px, k1 = -0.1, an 8 x 5 chessboard with 20 mm squares,
@@ -13,7 +13,12 @@ For each seed: the error of the closed form (Park-Martin on calibrateCamera's po
 of the joint refinement, and of the refinement with the true intrinsics held
 (``--intrinsics``); the AX = XB translation RMS and the RMS the corner noise explains.
 ``--write-results PATH`` also writes the errors as the results page's data file
-(``docs/results/handeye.json``).
+(``docs/results/handeye.json``; eye-in-hand only).
+
+``--mode eye-to-hand``: the same for a fixed camera and the board on the flange, the
+error of ``T_base_camera`` (and of ``T_flange_board``): ``renders`` are
+``board_renders.render_eye_to_hand_views`` (9 x 6 board of 30 mm squares, 14 views
+650-750 mm away), ``simulated`` is ``simulate-handeye --mode eye-to-hand``.
 """
 
 from __future__ import annotations
@@ -27,13 +32,19 @@ import tempfile
 from pathlib import Path
 
 import yaml
-from board_renders import X_TRUE, render_views
+from board_renders import (
+    BASE_CAMERA,
+    FLANGE_BOARD,
+    X_TRUE,
+    render_eye_to_hand_views,
+    render_views,
+)
 from results_file import write_results
 
 from robostereo.cli import main
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3, as_se3, pose_from_dict
-from robostereo.robot.handeye import Chessboard, calibrate_eye_in_hand
+from robostereo.robot.handeye import Chessboard, calibrate_eye_in_hand, calibrate_eye_to_hand
 
 #: the two kinds of views, as the results page describes them
 VIEWS = {
@@ -98,12 +109,57 @@ def simulated(seed: int) -> dict[str, object]:
             "intrinsics_held": _errors(X, as_se3(pose_from_dict(data_known["hand_eye"])))}
 
 
+def cell_renders(seed: int) -> None:
+    r = render_eye_to_hand_views(seed)
+    board = Chessboard(r.inner_corners, r.square_mm)
+    cal = calibrate_eye_to_hand(r.images, r.flange_poses, board, pixel_pitch_mm=0.005)
+    shah = calibrate_eye_to_hand(r.images, r.flange_poses, board, pixel_pitch_mm=0.005,
+                                 method="shah", refine=False)
+    known = calibrate_eye_to_hand(r.images, r.flange_poses, board, camera=RENDER_CAMERA)
+    print(f"renders   seed {seed}: T_base_camera closed form {_err(BASE_CAMERA, cal.closed_form)}"
+          f" (OpenCV shah {_err(BASE_CAMERA, shah.base_camera)}); refined "
+          f"{_err(BASE_CAMERA, cal.base_camera)}; true intrinsics held "
+          f"{_err(BASE_CAMERA, known.base_camera)}; T_flange_board "
+          f"{_err(FLANGE_BOARD, cal.flange_board)}; fx {cal.camera.fx:.2f} (true 800)",
+          flush=True)
+
+
+def cell_simulated(seed: int) -> None:
+    with tempfile.TemporaryDirectory() as tmp, contextlib.redirect_stdout(io.StringIO()):
+        d, out = Path(tmp) / "views", Path(tmp) / "cell.yaml"
+        assert main(["simulate-handeye", "--mode", "eye-to-hand", "--out", str(d), "--seed",
+                     str(seed)]) == 0
+        assert main(["handeye", str(d), "-o", str(out)]) == 0
+        known = Path(tmp) / "known.yaml"
+        assert main(["handeye", str(d), "-o", str(known), "--intrinsics",
+                     str(d / "truth.yaml")]) == 0
+        truth = yaml.safe_load((d / "truth.yaml").read_text())
+        data = yaml.safe_load(out.read_text())
+        data_known = yaml.safe_load(known.read_text())
+    Z = as_se3(pose_from_dict(truth["base_camera"]))
+    Y = as_se3(pose_from_dict(truth["flange_board"]))
+    print(f"simulated seed {seed}: T_base_camera closed form "
+          f"{_err(Z, as_se3(pose_from_dict(data['base_camera_closed_form'])))}; refined "
+          f"{_err(Z, as_se3(pose_from_dict(data['base_camera'])))}; true intrinsics held "
+          f"{_err(Z, as_se3(pose_from_dict(data_known['base_camera'])))}; T_flange_board "
+          f"{_err(Y, as_se3(pose_from_dict(data['flange_board'])))}", flush=True)
+
+
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     p.add_argument("--write-results", type=Path, metavar="PATH",
                    help="also write the errors as JSON (docs/results/handeye.json)")
+    p.add_argument("--mode", choices=("eye-in-hand", "eye-to-hand"), default="eye-in-hand")
     args = p.parse_args()
+    if args.mode == "eye-to-hand":
+        if args.write_results:
+            p.error("--write-results writes the eye-in-hand results page's data only")
+        for s in args.seeds:
+            cell_renders(s)
+        for s in args.seeds:
+            cell_simulated(s)
+        sys.exit(0)
     rows = [renders(s) for s in args.seeds] + [simulated(s) for s in args.seeds]
     if args.write_results:
         # worst refined rotation first, as the results page shows them

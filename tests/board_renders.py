@@ -123,3 +123,55 @@ def render_views(seed: int, *, views: int = 14, inner_corners: tuple[int, int] =
         images.append(render_board(cam_in_board, inner_corners, square_mm, rng=rng))
         flanges.append(base_board @ cam_in_board @ hand_eye.inv())
     return Renders(tuple(images), tuple(flanges), inner_corners, square_mm)
+
+
+# -- eye-to-hand: a fixed camera, the board on the flange -------------------------------
+
+BASE_CAMERA = SE3.from_rotvec([520.0, -610.0, 640.0], [-2.05, 0.35, -0.2])
+"""The true ``T_base_camera`` of the eye-to-hand renders (a camera fixed in the cell,
+looking obliquely down at the robot's working volume)."""
+FLANGE_BOARD = SE3.from_rotvec([-95.0, -70.0, 48.0], [3.05, 0.1, 0.4])
+"""The true ``T_flange_board``: the board's face looks along the tool axis (board z,
+into the board, about -flange z), its first corner off the flange centre."""
+
+
+def render_eye_to_hand_views(seed: int, *, views: int = 14,
+                             inner_corners: tuple[int, int] = (9, 6), square_mm: float = 30.0,
+                             base_camera: SE3 = BASE_CAMERA, flange_board: SE3 = FLANGE_BOARD,
+                             tilt_deg: tuple[float, float] = (15.0, 45.0)) -> Renders:
+    """`views` renders of a board carried by the flange, seen by a fixed camera.
+
+    The board centre moves within +-150 mm across and +-110 mm up and down the image of
+    a point on the optical axis, 650-750 mm from the camera; its face is turned
+    `tilt_deg` from the line of sight at azimuths spread round, and up to 30 degrees
+    about its normal; the flange pose is ``base_camera @ T_camera_board @
+    flange_board^-1``.
+    """
+    rng = np.random.default_rng([seed, 78])
+    cols, rows = inner_corners
+    m = square_mm
+    centre_b = np.array([(cols - 1) * m / 2, (rows - 1) * m / 2, 0.0])
+    outline = np.array([[-2 * m, -2 * m, 0], [(cols + 1) * m, -2 * m, 0],
+                        [-2 * m, (rows + 1) * m, 0], [(cols + 1) * m, (rows + 1) * m, 0]])
+    images, flanges = [], []
+    while len(images) < views:
+        k = len(images)
+        c = np.array([rng.uniform(-150, 150), rng.uniform(-110, 110), rng.uniform(650, 750)])
+        az = 2 * math.pi * k / views + rng.uniform(-0.3, 0.3)
+        tilt = math.radians(rng.uniform(*tilt_deg))
+        # board z (into the board) points away from the camera, tilted off the line of sight
+        z = Rotation.from_rotvec(tilt * np.array([math.cos(az), math.sin(az), 0.0])).apply(
+            c / np.linalg.norm(c))
+        x = np.cross([0.0, 1.0, 0.0], z)
+        x /= np.linalg.norm(x)
+        y = np.cross(z, x)
+        roll = Rotation.from_rotvec([0, 0, math.radians(rng.uniform(-30, 30))]).as_matrix()
+        R = np.column_stack([x, y, z]) @ roll
+        board_in_cam = SE3(R, c - R @ centre_b)
+        uv = _project(board_in_cam.apply(outline), K1)
+        if not ((uv[:, 0] > 4) & (uv[:, 0] < WIDTH - 5) & (uv[:, 1] > 4)
+                & (uv[:, 1] < HEIGHT - 5)).all():
+            continue
+        images.append(render_board(board_in_cam.inv(), inner_corners, square_mm, rng=rng))
+        flanges.append(base_camera @ board_in_cam @ flange_board.inv())
+    return Renders(tuple(images), tuple(flanges), inner_corners, square_mm)

@@ -261,3 +261,50 @@ def test_middlebury_rig_is_used_as_it_is(tmp_path: Path) -> None:
     assert inner.sum() > 1000
     np.testing.assert_allclose(tab["Z"][inner], 2000.0, rtol=2e-3)
     np.testing.assert_allclose(tab["x_original"], tab["x_left"], atol=1e-9)
+
+
+def test_cli_rig_writes_points_in_the_robot_base_frame(tmp_path: Path, rig, rendered,
+                                                       capsys) -> None:
+    import yaml
+
+    from robostereo.geometry.camera import camera_to_dict
+    from robostereo.geometry.poses import pose_to_dict
+    from robostereo.robot.simulated.cell_handeye import BASE_CAMERA, CELL_CAMERA
+
+    scene, left, right = rendered
+    cal = write_opencv_calibration(rig, tmp_path / "rig.yml")
+    cv2.imwrite(str(tmp_path / "l.png"), left)
+    cv2.imwrite(str(tmp_path / "r.png"), right)
+    cell = tmp_path / "cell.yaml"  # the left camera in the simulated cell's base frame
+    cell.write_text(yaml.safe_dump({"mode": "eye-to-hand", "camera": camera_to_dict(CELL_CAMERA),
+                                    "base_camera": pose_to_dict(BASE_CAMERA)}))
+    out = tmp_path / "pts.csv"
+    argv = ["rig", str(tmp_path / "l.png"), str(tmp_path / "r.png"), "--calibration", str(cal),
+            "--min-depth", "700", "--max-depth", "1500", "-o", str(out)]
+    assert main([*argv, "--base-camera", str(cell), "--ply", str(tmp_path / "b.ply")]) == 0
+    assert "(also in the base frame)" in capsys.readouterr().out
+    data = np.genfromtxt(out, delimiter=",", names=True)
+    assert data.dtype.names[-3:] == ("X_base", "Y_base", "Z_base") and data.size > 3000
+    xyz = np.column_stack([data["X"], data["Y"], data["Z"]])
+    base = np.column_stack([data["X_base"], data["Y_base"], data["Z_base"]])
+    # the truth: the scene point behind each matched left pixel, in the base frame
+    pix = np.column_stack([data["x_original"], data["y_original"]])
+    rays = _rays(pix, K1, D1)
+    truth, _ = scene.cast(np.zeros(3), rays)
+    err = np.linalg.norm(base - BASE_CAMERA.apply(truth), axis=1)
+    assert np.allclose(base, BASE_CAMERA.apply(xyz), atol=0.02)  # the CSV: 6 digits
+    assert np.median(err) < np.median(data["z_bound"]) and np.mean(err < 3 * data["z_bound"]) > 0.95
+    # not an eye-to-hand file, or a camera of another size: one line, nothing written
+    hand = tmp_path / "hand.yaml"
+    hand.write_text(yaml.safe_dump({"camera": camera_to_dict(CELL_CAMERA),
+                                    "hand_eye": pose_to_dict(BASE_CAMERA)}))
+    out2 = tmp_path / "none.csv"
+    argv[-1] = str(out2)
+    assert main([*argv, "--base-camera", str(hand)]) == 2
+    assert "an eye-in-hand calibration (hand_eye)" in capsys.readouterr().err
+    small = camera_to_dict(CELL_CAMERA)
+    small["image_size"] = [320, 240]
+    cell.write_text(yaml.safe_dump({"camera": small, "base_camera": pose_to_dict(BASE_CAMERA)}))
+    assert main([*argv, "--base-camera", str(cell)]) == 2
+    assert "image size 320 x 240 is not the rig's 640 x 480" in capsys.readouterr().err
+    assert not out2.exists()

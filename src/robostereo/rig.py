@@ -12,7 +12,10 @@ Every matched point is reported three ways (:meth:`RigResult.table`):
 * in rectified pixels: ``row, x_left, x_right, disparity``;
 * as a 3-D point ``X, Y, Z`` in the **original** left camera's frame (millimetres,
   origin at its optical centre, x right, y down, z along its optical axis);
-* at its position in the original (distorted) left image, ``x_original, y_original``.
+* at its position in the original (distorted) left image, ``x_original, y_original``;
+* given the left camera's pose in a robot's base frame (an eye-to-hand calibration,
+  :func:`~robostereo.robot.handeye.eye_to_hand.calibrate_eye_to_hand`), also in that
+  frame: ``X_base, Y_base, Z_base``.
 """
 
 from __future__ import annotations
@@ -35,6 +38,7 @@ from robostereo.geometry.calibrated_rectification import (
     rectify_stereo,
 )
 from robostereo.geometry.calibration import StereoCalibration
+from robostereo.geometry.poses import SE3
 from robostereo.io.calibration_files import read_calibration
 from robostereo.io.images import load_image
 from robostereo.matcher.parameters import MatchParameters
@@ -162,16 +166,21 @@ class RigResult:
         xyz[:, 0] += 0.5 * self.rectification.baseline_mm
         return xyz @ np.asarray(self.rectification.R1), bound
 
-    def table(self) -> dict[str, NDArray[Any]]:
+    def table(self, base_camera: SE3 | None = None) -> dict[str, NDArray[Any]]:
         """Columns per match: ``row, x_left, x_right, disparity, confidence`` (rectified
         pixels), ``x_original, y_original`` (original left image), ``X, Y, Z`` (original
-        left camera frame, mm) and ``z_bound`` (mm)."""
+        left camera frame, mm) and ``z_bound`` (mm); with `base_camera` (the left
+        camera's ``T_base_camera``, an eye-to-hand calibration's) also ``X_base, Y_base,
+        Z_base``: the points in the robot's base frame, mm."""
         cols = {k: v for k, v in self.match.table().items()
                 if k in ("row", "x_left", "x_right", "disparity", "confidence")}
         orig = self.points_original
         xyz, bound = self.points_3d()
         cols.update(x_original=orig[:, 0], y_original=orig[:, 1],
                     X=xyz[:, 0], Y=xyz[:, 1], Z=xyz[:, 2], z_bound=bound)
+        if base_camera is not None:
+            b = base_camera.apply(xyz)
+            cols.update(X_base=b[:, 0], Y_base=b[:, 1], Z_base=b[:, 2])
         return cols
 
 

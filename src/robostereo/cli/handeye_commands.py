@@ -37,22 +37,29 @@ __all__ = [
 
 
 def add_handeye_parser(sub: Any) -> None:
-    from robostereo.robot.handeye import DEFAULT_METHOD, METHODS
+    from robostereo.robot.handeye import ALL_METHODS, DEFAULT_METHOD, VIEW_MODES
 
     p = sub.add_parser(
-        "handeye", help="eye-in-hand calibration from views of a chessboard",
+        "handeye", help="hand-eye calibration (eye-in-hand or eye-to-hand) from board views",
         description="From a views folder (views.yaml: the board, and per view an image "
                     "and the flange pose the robot reported) estimate the camera's "
                     "intrinsics and distortion (OpenCV calibrateCamera) and the "
-                    "flange-to-camera transform (AX = XB), refine both jointly on the "
-                    "board corners, print the per-view and per-pair residuals, refuse an "
-                    "implausible result (exit 2), and write camera.yaml.",
+                    "flange-to-camera transform (AX = XB; eye-to-hand: the camera in the "
+                    "base frame and the board on the flange, AX = ZB), refine them jointly "
+                    "on the board corners, print the per-view and per-pair residuals, "
+                    "refuse an implausible result (exit 2), and write the camera file.",
     )
     p.add_argument("views", type=Path, metavar="VIEWS_DIR", help="hand-eye views folder")
     p.add_argument("-o", "--output", type=Path, required=True,
-                   help="camera file to write (camera and hand_eye)")
-    p.add_argument("--method", choices=METHODS, default=DEFAULT_METHOD,
-                   help=f"AX = XB closed form that starts the refinement ({DEFAULT_METHOD})")
+                   help="camera file to write (camera and hand_eye; eye-to-hand: camera, "
+                        "base_camera and flange_board)")
+    p.add_argument("--mode", choices=VIEW_MODES,
+                   help="eye-in-hand (the camera on the flange) or eye-to-hand (a fixed "
+                        "camera, the board on the flange); default: views.yaml's mode, "
+                        "else eye-in-hand")
+    p.add_argument("--method", choices=ALL_METHODS, default=DEFAULT_METHOD,
+                   help=f"closed form that starts the refinement ({DEFAULT_METHOD}; shah and "
+                        "li are OpenCV's AX = ZB)")
     p.add_argument("--intrinsics", type=Path, metavar="CAMERA_YAML",
                    help="known intrinsics and distortion (a camera YAML or a handeye "
                         "output), held fixed: only the hand-eye transform and the board "
@@ -72,6 +79,7 @@ def run_handeye(args: argparse.Namespace) -> int:
     from robostereo.robot.handeye import (
         VIEWS_YAML,
         calibrate_eye_in_hand,
+        calibrate_eye_to_hand,
         describe_board,
         read_views,
         save_handeye_yaml,
@@ -89,17 +97,17 @@ def run_handeye(args: argparse.Namespace) -> int:
     # refuse an input as the output (views.yaml, an image, the intrinsics file)
     check_outputs({"-o": args.output},
                   inputs=[args.views / VIEWS_YAML, *v.names, args.intrinsics])
-    cal = calibrate_eye_in_hand(v.images, v.flange_poses, v.board,
-                                pixel_pitch_mm=v.pixel_pitch_mm, grey_levels=v.grey_levels,
-                                method=args.method, names=v.names, camera=camera,
-                                reject_outliers=args.reject_outliers,
-                                source=str(args.views / VIEWS_YAML))
+    mode = args.mode or v.mode
+    solve = calibrate_eye_to_hand if mode == "eye-to-hand" else calibrate_eye_in_hand
+    cal = solve(v.images, v.flange_poses, v.board, pixel_pitch_mm=v.pixel_pitch_mm,
+                grey_levels=v.grey_levels, method=args.method, names=v.names, camera=camera,
+                reject_outliers=args.reject_outliers, source=str(args.views / VIEWS_YAML))
     save_handeye_yaml(args.output, cal)  # written whole, or not at all
-    _print_handeye(args, v, cal, describe_board(v.board))
+    _print_handeye(args, v, cal, describe_board(v.board), mode)
     return 0
 
 
-def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str) -> None:
+def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str, mode: str) -> None:
     cam = cal.camera
     names = [Path(n).name for n in cal.names]
     n = len(names)
@@ -128,13 +136,21 @@ def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str) -> No
           f"{cam.principal_point[1]:.2f}), distortion "
           f"[{', '.join(f'{d:.5f}' for d in cam.distortion)}], "
           f"RMS {cal.reprojection_rms_px:.3f} px (corner noise {cal.corner_noise_px:.3f} px)")
-    t, rv = cal.hand_eye.translation, cal.hand_eye.rotvec
-    moved = cal.closed_form.distance_to(cal.hand_eye) if cal.closed_form else (0.0, 0.0)
-    print(f"hand-eye ({args.method}, jointly refined: moved {moved[0]:.3f} mm, "
-          f"{math.degrees(moved[1]):.4f} deg): translation [{t[0]:.3f}, {t[1]:.3f}, "
-          f"{t[2]:.3f}] mm, rotation vector [{rv[0]:.5f}, {rv[1]:.5f}, {rv[2]:.5f}] rad")
+    eth = mode == "eye-to-hand"
+    T = cal.base_camera if eth else cal.hand_eye
+    t, rv = T.translation, T.rotvec
+    moved = cal.closed_form.distance_to(T) if cal.closed_form else (0.0, 0.0)
+    print(f"{'camera in the base frame' if eth else 'hand-eye'} ({args.method}, jointly "
+          f"refined: moved {moved[0]:.3f} mm, {math.degrees(moved[1]):.4f} deg): translation "
+          f"[{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}] mm, rotation vector [{rv[0]:.5f}, "
+          f"{rv[1]:.5f}, {rv[2]:.5f}] rad")
+    if eth:
+        t, rv = cal.flange_board.translation, cal.flange_board.rotvec
+        print(f"board on the flange: translation [{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}] mm, "
+              f"rotation vector [{rv[0]:.5f}, {rv[1]:.5f}, {rv[2]:.5f}] rad")
     r = cal.residuals
-    print(f"AX = XB residuals over {len(r.rotation_deg)} view pairs: rotation RMS "
+    print(f"{'AX = ZB' if eth else 'AX = XB'} residuals over {len(r.rotation_deg)} view "
+          "pairs: rotation RMS "
           f"{r.rms_rotation_deg:.4f} deg (max {r.rotation_deg.max():.4f}), translation RMS "
           f"{r.rms_translation_mm:.3f} mm (max {r.translation_mm.max():.3f}; corner noise "
           f"explains {cal.predicted_translation_rms_mm:.3f}) -> {args.output}")
@@ -155,23 +171,37 @@ def add_simulate_handeye_parser(sub: Any) -> None:
     p = sub.add_parser(
         "simulate-handeye", help="write a simulated hand-eye views folder (six-axis arm)",
         description="Render a chessboard from tilted views of the simulated six-axis arm's "
-                    "wrist camera and write a hand-eye views folder: views.yaml, the images, "
-                    "and the truth (camera, hand_eye, base_board) in truth.yaml.",
+                    "wrist camera (or, --mode eye-to-hand, a board on its flange from a "
+                    "camera fixed in the cell) and write a hand-eye views folder: "
+                    "views.yaml, the images, and the truth (camera, hand_eye, base_board; "
+                    "or camera, base_camera, flange_board) in truth.yaml.",
     )
     p.add_argument("--out", type=Path, required=True, metavar="DIR",
                    help="views folder to create (must not exist, or be empty)")
-    p.add_argument("--views", type=int, default=15,
-                   help=f"number of views, 3 to {MAX_SIMULATED_VIEWS} (15)")
+    p.add_argument("--views", type=int,
+                   help=f"number of views, 3 to {MAX_SIMULATED_VIEWS} (15; eye-to-hand 14)")
     p.add_argument("--seed", type=int, default=0, help="viewpoint and noise seed (0)")
     p.add_argument("--board", choices=("chessboard", "charuco"), default="chessboard",
                    help="calibration target: a 9 x 6 chessboard or an 8 x 6 ChArUco board")
+    p.add_argument("--mode", choices=("eye-in-hand", "eye-to-hand"), default="eye-in-hand",
+                   help="eye-in-hand (the wrist camera, a board on the table; default) or "
+                        "eye-to-hand (a 640 x 480 camera fixed in the cell, k1 = -0.1, a "
+                        "9 x 6 board with 30 mm squares on the flange 650-750 mm from it; "
+                        "truth: base_camera and flange_board)")
     p.set_defaults(handler=run_simulate_handeye)
 
 
 def run_simulate_handeye(args: argparse.Namespace) -> int:
     from robostereo.robot.handeye import Charuco, write_views
+    from robostereo.robot.simulated.cell_handeye import CELL_BOARD, simulate_eye_to_hand_views
     from robostereo.robot.simulated.sixaxis_handeye import BOARD, simulate_handeye_views
 
+    eth = args.mode == "eye-to-hand"
+    if eth and args.board == "charuco":
+        raise InputError("--mode eye-to-hand simulates a chessboard only (a ChArUco board "
+                         "on the flange is not simulated yet)")
+    if args.views is None:
+        args.views = 14 if eth else 15
     require_at_least("--views", args.views, 3)
     if args.views > MAX_SIMULATED_VIEWS:
         raise InputError(f"--views must be <= {MAX_SIMULATED_VIEWS} (each view is rendered "
@@ -179,9 +209,13 @@ def run_simulate_handeye(args: argparse.Namespace) -> int:
     require_seed(args.seed)
     require_empty_folder(args.out)
     require_writable(args.out.parent if str(args.out.parent) else Path("."), args.out)
-    board = Charuco() if args.board == "charuco" else BOARD
-    views, truth = simulate_handeye_views(views=args.views, seed=args.seed, board=board)
+    if eth:
+        views, truth = simulate_eye_to_hand_views(views=args.views, seed=args.seed,
+                                                  board=CELL_BOARD)
+    else:
+        board = Charuco() if args.board == "charuco" else BOARD
+        views, truth = simulate_handeye_views(views=args.views, seed=args.seed, board=board)
     write_views(args.out, views, extra={"truth.yaml": truth})
-    print(f"{args.out}: {args.views} views of a {args.board}; truth in "
-          f"{args.out / 'truth.yaml'}")
+    print(f"{args.out}: {args.views} {'eye-to-hand ' if eth else ''}views of a {args.board}; "
+          f"truth in {args.out / 'truth.yaml'}")
     return 0

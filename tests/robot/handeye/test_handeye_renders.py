@@ -94,3 +94,42 @@ def test_a_view_with_the_wrong_flange_pose_is_named_and_can_be_rejected(renders,
 def test_symmetric_chessboards_are_refused(corners):
     with pytest.raises(InputError, match=r"columns \+ rows is even.*e\.g\. 9 x 6\) or a ChArUco"):
         Chessboard(corners, 12.0)
+
+
+@pytest.mark.parametrize("wrong, named", [
+    ({"focal_length_mm": 4.08}, r"fx 816 px where the views put it at 79\d\.\d .*\+2\.\d %"),
+    ({"principal_point": (340.0, 240.0)}, r"cx 340 px where the views put it at 3[12]\d"),
+    ({"distortion": (0.0,) * 5}, r"k1 0 where the views put it at -0\.1"),
+])
+def test_known_intrinsics_the_views_contradict_are_warned_about_and_refused(renders, board,
+                                                                           wrong, named):
+    from robostereo.errors import PlausibilityWarning
+
+    fields = dict(focal_length_mm=4.0, pixel_pitch_mm=(0.005, 0.005), image_size=(640, 480),
+                  principal_point=(320.0, 240.0), distortion=(-0.1, 0.0, 0.0, 0.0, 0.0))
+    camera = Camera(**{**fields, **wrong})
+    # unchecked: 9.2 mm off (fx 2 %), 1.42 deg (cx 20 px), 1.0 mm (k1 0), exit 0; the
+    # final pair residuals are 8-12 times what the views' own noise explains
+    with pytest.warns(PlausibilityWarning, match=r"^renders: the known intrinsics disagree "
+                                                 r"with the board views: " + named), \
+            pytest.raises(InputError, match=r"^renders: implausible hand-eye result: AX = XB "
+                                            r"translation RMS .* check the known intrinsics"):
+        calibrate_eye_in_hand(renders.images, renders.flange_poses, board, camera=camera,
+                              source="renders")
+
+
+def test_known_intrinsics_half_a_percent_off_are_warned_about(renders, board):
+    from robostereo.errors import PlausibilityWarning
+
+    camera = Camera(focal_length_mm=4.02, pixel_pitch_mm=(0.005, 0.005), image_size=(640, 480),
+                    principal_point=(320.0, 240.0), distortion=(-0.1, 0.0, 0.0, 0.0, 0.0))
+    with pytest.warns(PlausibilityWarning, match=r"fx 804 px where the views put it at 79\d"):
+        calibrate_eye_in_hand(renders.images, renders.flange_poses, board, camera=camera)
+
+
+def test_known_intrinsics_that_agree_are_not_warned_about(renders, board):
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        calibrate_eye_in_hand(renders.images, renders.flange_poses, board, camera=TRUE_CAMERA)

@@ -1,4 +1,4 @@
-"""Eye-in-hand calibration: boards, their views, the solve, the refinement, the checks, the file.
+"""Hand-eye calibration (eye-in-hand and eye-to-hand): boards, views, solve, checks, file.
 
 Modules
 -------
@@ -8,15 +8,22 @@ Modules
 :mod:`~robostereo.robot.handeye.ax_xb`
     AX = XB: the motions of every pair of views and the closed forms (Tsai-Lenz,
     Park-Martin, Daniilidis) for ``T_flange_camera``; their residuals.
+:mod:`~robostereo.robot.handeye.ax_zb`
+    AX = ZB: OpenCV's robot-world-hand-eye closed forms (Shah, Li) on absolute poses.
 :mod:`~robostereo.robot.handeye.calibrate`
     :func:`calibrate_eye_in_hand`: ``calibrateCamera``, AX = XB and the joint
-    refinement, with the residual and plausibility checks.
+    refinement, with the residual and plausibility checks (:func:`solve_views`, the
+    solve both modes share).
+:mod:`~robostereo.robot.handeye.eye_to_hand`
+    :func:`calibrate_eye_to_hand`: a fixed camera, the board on the flange
+    (``T_base_camera`` and ``T_flange_board``).
 :mod:`~robostereo.robot.handeye.refine`
     The joint reprojection refinement of intrinsics, hand-eye transform and board pose.
 :mod:`~robostereo.robot.handeye.checks`
     Residuals the corner noise can explain, views that stand out, implausible results.
 :mod:`~robostereo.robot.handeye.handeye_yaml`
-    The camera and hand-eye file ``robostereo handeye`` writes (``camera.yaml``).
+    The camera and hand-eye file ``robostereo handeye`` writes (``camera.yaml``, or
+    ``cell.yaml`` for eye-to-hand).
 
 Imports: :mod:`robostereo.errors`, :mod:`robostereo.geometry` and :mod:`robostereo.io`;
 no other part of :mod:`robostereo.robot`.
@@ -32,9 +39,15 @@ from robostereo.robot.handeye.ax_xb import (
     motion_pairs,
     solve_ax_xb,
 )
+from robostereo.robot.handeye.ax_zb import (
+    ROBOT_WORLD_METHODS,
+    RobotWorldMethod,
+    solve_ax_zb,
+)
 from robostereo.robot.handeye.boards import (
     MIN_CHARUCO_CORNERS,
     MIN_VIEWS,
+    VIEW_MODES,
     VIEWS_YAML,
     Board,
     Charuco,
@@ -47,15 +60,22 @@ from robostereo.robot.handeye.boards import (
     write_views,
 )
 from robostereo.robot.handeye.calibrate import (
+    ALL_METHODS,
     EyeInHandCalibration,
+    HandEyeMode,
+    SolveMethod,
     calibrate_eye_in_hand,
+    solve_views,
 )
 from robostereo.robot.handeye.checks import (
+    INTRINSICS_FLOORS,
+    INTRINSICS_SIGMAS,
     MAX_REPROJECTION_RMS_PX,
     MAX_ROTATION_RMS_DEG,
     OUTLIER_Z,
     TRANSLATION_FACTOR,
     TRANSLATION_FLOOR_MM,
+    check_intrinsics,
     check_plausible,
     corner_noise_px,
     outlier_views,
@@ -64,7 +84,12 @@ from robostereo.robot.handeye.checks import (
     robust_z,
     view_scores,
 )
+from robostereo.robot.handeye.eye_to_hand import (
+    EyeToHandCalibration,
+    calibrate_eye_to_hand,
+)
 from robostereo.robot.handeye.handeye_yaml import (
+    load_base_camera_yaml,
     load_handeye_yaml,
     save_handeye_yaml,
 )
@@ -75,25 +100,36 @@ from robostereo.robot.handeye.refine import (
 )
 
 __all__ = [
+    "ALL_METHODS",
     "DEFAULT_METHOD",
+    "INTRINSICS_FLOORS",
+    "INTRINSICS_SIGMAS",
     "MAX_REPROJECTION_RMS_PX",
     "MAX_ROTATION_RMS_DEG",
     "METHODS",
     "MIN_CHARUCO_CORNERS",
     "MIN_VIEWS",
     "OUTLIER_Z",
+    "ROBOT_WORLD_METHODS",
     "TRANSLATION_FACTOR",
     "TRANSLATION_FLOOR_MM",
     "VIEWS_YAML",
+    "VIEW_MODES",
     "Board",
     "Charuco",
     "Chessboard",
     "EyeInHandCalibration",
+    "EyeToHandCalibration",
     "HandEyeMethod",
+    "HandEyeMode",
     "HandEyeResiduals",
     "HandEyeViews",
     "RefinedHandEye",
+    "RobotWorldMethod",
+    "SolveMethod",
     "calibrate_eye_in_hand",
+    "calibrate_eye_to_hand",
+    "check_intrinsics",
     "check_plausible",
     "check_rotation_axes",
     "corner_noise_px",
@@ -101,6 +137,7 @@ __all__ = [
     "detect_board",
     "detect_chessboard",
     "handeye_residuals",
+    "load_base_camera_yaml",
     "load_handeye_yaml",
     "motion_pairs",
     "outlier_views",
@@ -112,6 +149,8 @@ __all__ = [
     "robust_z",
     "save_handeye_yaml",
     "solve_ax_xb",
+    "solve_ax_zb",
+    "solve_views",
     "view_scores",
     "write_views",
 ]

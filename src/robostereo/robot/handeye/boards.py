@@ -27,6 +27,7 @@ __all__ = [
     "MIN_CHARUCO_CORNERS",
     "MIN_VIEWS",
     "VIEWS_YAML",
+    "VIEW_MODES",
     "Board",
     "Charuco",
     "Chessboard",
@@ -230,6 +231,8 @@ def describe_board(board: Board) -> str:
 # ------------------------------------------------------------------ views folders
 
 VIEWS_YAML = "views.yaml"
+VIEW_MODES: tuple[str, ...] = ("eye-in-hand", "eye-to-hand")
+"""The two set-ups a views folder can hold (its ``mode`` key)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -243,6 +246,9 @@ class HandEyeViews:
                                       [cols, rows], square_mm, marker_mm, dictionary}
                      pixel_pitch_mm: horizontal pitch of the sensor, mm (data sheet)
                      grey_levels:    optional, default 256
+                     mode:           optional, eye-in-hand (default: the camera on
+                                     the flange) or eye-to-hand (a fixed camera, the
+                                     board on the flange)
                      views:          - {image: view_00.png, flange: POSE}
                                      ...   POSE in any form of robostereo.geometry.poses
                                      (T_base_flange as the robot reports it; mm, or
@@ -258,6 +264,7 @@ class HandEyeViews:
     board : Chessboard or Charuco
     pixel_pitch_mm : float
     grey_levels : int
+    mode : {'eye-in-hand', 'eye-to-hand'}
     """
 
     images: tuple[NDArray[Any], ...]
@@ -266,6 +273,11 @@ class HandEyeViews:
     board: Board
     pixel_pitch_mm: float = 0.01
     grey_levels: int = 256
+    mode: str = "eye-in-hand"
+
+    def __post_init__(self) -> None:
+        if self.mode not in VIEW_MODES:
+            raise InputError(f"mode must be one of {', '.join(VIEW_MODES)}, got {self.mode!r}")
 
 
 def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | None = None
@@ -291,6 +303,7 @@ def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | 
         "board": board,
         "pixel_pitch_mm": float(views.pixel_pitch_mm),
         "grey_levels": int(views.grey_levels),
+        **({"mode": views.mode} if views.mode != "eye-in-hand" else {}),
         "views": [{"image": n, "flange": pose_to_dict(f)}
                   for n, f in zip(views.names, views.flange_poses, strict=True)],
     }
@@ -337,6 +350,9 @@ def read_views(directory: Any) -> HandEyeViews:
     grey = data.get("grey_levels", 256)
     if not isinstance(grey, int) or isinstance(grey, bool) or grey < 2:
         raise InputError(f"{src}: grey_levels must be an integer >= 2, got {grey!r}")
+    mode = data.get("mode", "eye-in-hand")
+    if mode not in VIEW_MODES:
+        raise InputError(f"{src}: mode must be eye-in-hand or eye-to-hand, got {mode!r}")
     views = data["views"]
     if not isinstance(views, list):
         raise InputError(f"{src}: views must be a list of {{image, flange}}")
@@ -356,4 +372,5 @@ def read_views(directory: Any) -> HandEyeViews:
         raise InputError(f"{src}: hand-eye needs at least {MIN_VIEWS} usable views, got "
                          f"{len(images)}")
     return HandEyeViews(images=tuple(images), flange_poses=tuple(poses), names=tuple(names),
-                        board=board, pixel_pitch_mm=float(pitch), grey_levels=grey)
+                        board=board, pixel_pitch_mm=float(pitch), grey_levels=grey,
+                        mode=str(mode))

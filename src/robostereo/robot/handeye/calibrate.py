@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import cv2
 import numpy as np
@@ -32,20 +32,23 @@ from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
 from robostereo.robot.handeye.ax_xb import (
     DEFAULT_METHOD,
-    HandEyeMethod,
     HandEyeResiduals,
     handeye_residuals,
     motion_pairs,
     solve_ax_xb,
 )
+from robostereo.robot.handeye.ax_zb import ROBOT_WORLD_METHODS, solve_ax_zb
 from robostereo.robot.handeye.boards import (
     MIN_VIEWS,
+    VIEW_MODES,
     Board,
     describe_board,
     detect_board,
 )
 from robostereo.robot.handeye.checks import (
+    MAX_ROTATION_RMS_DEG,
     OUTLIER_Z,
+    check_intrinsics,
     check_plausible,
     corner_noise_px,
     outlier_views,
@@ -55,9 +58,20 @@ from robostereo.robot.handeye.checks import (
 )
 
 __all__ = [
+    "ALL_METHODS",
     "EyeInHandCalibration",
+    "HandEyeMode",
+    "SolveMethod",
     "calibrate_eye_in_hand",
+    "solve_views",
 ]
+
+HandEyeMode = Literal["eye-in-hand", "eye-to-hand"]
+SolveMethod = Literal["tsai", "park", "daniilidis", "shah", "li"]
+ALL_METHODS: tuple[str, ...] = ("park", "tsai", "daniilidis", *ROBOT_WORLD_METHODS)
+"""The closed forms that can start the refinement: the AX = XB ones of
+:mod:`~robostereo.robot.handeye.ax_xb` and OpenCV's AX = ZB ones of
+:mod:`~robostereo.robot.handeye.ax_zb`."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -179,7 +193,7 @@ class _Stage:
 
 
 def _board_poses(obj: list, pts: list, size: tuple[int, int], flanges: Sequence[SE3],
-                 camera: Camera | None, fix_k3: bool, method: HandEyeMethod,
+                 camera: Camera | None, fix_k3: bool, method: SolveMethod,
                  guess: tuple[NDArray, NDArray, list, list] | None = None) -> _Stage:
     if camera is None and guess is None:
         _, K, dist, rv, tv = cv2.calibrateCamera(obj, pts, size, None, None,
@@ -209,7 +223,10 @@ def _board_poses(obj: list, pts: list, size: tuple[int, int], flanges: Sequence[
     noise = corner_noise_px(np.concatenate(res_px))
     C = [SE3.from_rotvec(t, r) for r, t in zip(rvecs, tvecs, strict=True)]
     A, B = motion_pairs(list(flanges), C)
-    X = solve_ax_xb(A, B, method=method)
+    if method in ROBOT_WORLD_METHODS:
+        X, _ = solve_ax_zb(flanges, C, method=method)  # type: ignore[arg-type]
+    else:
+        X = solve_ax_xb(A, B, method=method)  # type: ignore[arg-type]
     covs = pose_covariances(obj, rvecs, tvecs, K, dist, noise)
     pred = predicted_pair_translation_mm(rvecs, tvecs, covs)
     bb = [f @ X @ c for f, c in zip(flanges, C, strict=True)]
@@ -224,6 +241,26 @@ def _worst(labels: Sequence[str], z: NDArray[np.float64]) -> list[str]:
     return [labels[i] for i in np.argsort(z)[::-1][: int((z > OUTLIER_Z).sum()) or 2]]
 
 
+def _check_mode(F: Sequence[SE3], st: _Stage, mode: str, source: str) -> None:
+    """Refuse views of the other mode: their rotations fit it, and not this one."""
+    rot = st.residuals.rms_rotation_deg
+    if rot <= MAX_ROTATION_RMS_DEG:
+        return
+    C = [SE3.from_rotvec(t, r) for r, t in zip(st.rvecs, st.tvecs, strict=True)]
+    A, B = motion_pairs([f.inv() for f in F], C)
+    try:
+        other = handeye_residuals(A, B, solve_ax_xb(A, B)).rms_rotation_deg
+    except InputError:
+        return
+    if other <= MAX_ROTATION_RMS_DEG:
+        o = VIEW_MODES[1 - VIEW_MODES.index(mode)]
+        what = ("a fixed camera and the board on the flange" if o == "eye-to-hand"
+                else "the camera on the flange and the board fixed")
+        raise InputError(f"{source}: the views look {o} ({what}), not {mode}: AX = XB "
+                         f"rotation RMS {rot:.3g} deg as {mode}, {other:.2g} deg as {o}; "
+                         f"give mode {o} (--mode {o}, or mode: {o} in views.yaml)")
+
+
 def calibrate_eye_in_hand(
     images: Sequence[ArrayLike],
     flange_poses: Sequence[SE3],
@@ -231,7 +268,7 @@ def calibrate_eye_in_hand(
     *,
     pixel_pitch_mm: float = 0.01,
     grey_levels: int = 256,
-    method: HandEyeMethod = DEFAULT_METHOD,
+    method: SolveMethod = DEFAULT_METHOD,
     names: Sequence[str] | None = None,
     fix_k3: bool = True,
     camera: Camera | None = None,
@@ -253,9 +290,10 @@ def calibrate_eye_in_hand(
         length in millimetres; the vertical pitch follows from ``fy``.
     grey_levels : int
         Grey levels of the camera (for the :class:`Camera` returned).
-    method : {'park', 'tsai', 'daniilidis'}
-        AX = XB closed form (:func:`~robostereo.robot.handeye.ax_xb.solve_ax_xb`) that
-        starts the refinement.
+    method : {'park', 'tsai', 'daniilidis', 'shah', 'li'}
+        Closed form that starts the refinement: AX = XB
+        (:func:`~robostereo.robot.handeye.ax_xb.solve_ax_xb`) or OpenCV's AX = ZB
+        (:func:`~robostereo.robot.handeye.ax_zb.solve_ax_zb`).
     names : sequence of str, optional
         View names for messages (default ``view 0``, ``view 1``, ...).
     fix_k3 : bool
@@ -304,10 +342,65 @@ def calibrate_eye_in_hand(
        all corners, flange poses fixed (Strobl and Hirzinger 2006; Koide and Menegatti
        2019); a reprojection RMS above 1 px is refused.
     6. Final board poses by :func:`cv2.solvePnP` with the final intrinsics, the pair
-       residuals with the final ``X``, the views that stand out named.
+       residuals with the final ``X``, checked again as in 4 (with known intrinsics,
+       against the noise of the views' own :func:`cv2.calibrateCamera` fit, which wrong
+       intrinsics do not inflate), the views that stand out named.
+    """
+    return solve_views(images, flange_poses, board, mode="eye-in-hand",
+                       pixel_pitch_mm=pixel_pitch_mm, grey_levels=grey_levels, method=method,
+                       names=names, fix_k3=fix_k3, camera=camera, refine=refine,
+                       reject_outliers=reject_outliers, source=source)
+
+
+def solve_views(
+    images: Sequence[ArrayLike],
+    flange_poses: Sequence[SE3],
+    board: Board,
+    *,
+    mode: HandEyeMode = "eye-in-hand",
+    pixel_pitch_mm: float = 0.01,
+    grey_levels: int = 256,
+    method: SolveMethod = DEFAULT_METHOD,
+    names: Sequence[str] | None = None,
+    fix_k3: bool = True,
+    camera: Camera | None = None,
+    refine: bool = True,
+    reject_outliers: bool = False,
+    source: str = "hand-eye views",
+) -> EyeInHandCalibration:
+    """The solve both hand-eye modes share (:func:`calibrate_eye_in_hand`'s steps).
+
+    Eye-to-hand (a fixed camera, the board on the flange: ``C_i = Z^-1 F_i Y``, AX = ZB)
+    is eye-in-hand (``C_i = X^-1 F_i^-1 W``) with the flange poses inverted: then the
+    pairwise motions ``A = F_j F_i^-1`` and ``B = C_j C_i^-1`` satisfy ``A Z = Z B``,
+    the closed forms, checks and joint refinement apply unchanged, and the result's
+    ``hand_eye`` is ``Z = T_base_camera``, its ``base_board`` ``Y = T_flange_board``
+    (:func:`~robostereo.robot.handeye.eye_to_hand.calibrate_eye_to_hand` names them so).
+
+    Parameters
+    ----------
+    images, flange_poses, board
+        As :func:`calibrate_eye_in_hand` (``flange_poses`` as the robot reports them,
+        ``T_base_flange``, in both modes).
+    mode : {'eye-in-hand', 'eye-to-hand'}
+    pixel_pitch_mm, grey_levels, method, names, fix_k3, camera, refine, reject_outliers, source
+        As :func:`calibrate_eye_in_hand`.
+
+    Returns
+    -------
+    EyeInHandCalibration
+        With ``hand_eye`` and ``base_board`` in the sense of `mode` (above).
+
+    Raises
+    ------
+    InputError
+        As :func:`calibrate_eye_in_hand`, and views whose rotations fit the other mode
+        but not `mode` (naming the mode they look like).
     """
     from robostereo.robot.handeye.refine import refine_eye_in_hand
 
+    if mode not in VIEW_MODES:
+        raise InputError(f"mode must be one of {', '.join(VIEW_MODES)}, got {mode!r}")
     n = len(images)
     if len(flange_poses) != n:
         raise InputError(f"images and flange_poses must be as many, got {n} and "
@@ -333,8 +426,12 @@ def calibrate_eye_in_hand(
         img_pts.append(found[1].astype(np.float64).reshape(-1, 1, 2))
     obj32 = [o.astype(np.float32) for o in obj]
     pts32 = [p.astype(np.float32) for p in img_pts]
-    F = list(flange_poses)
+    if camera is not None:
+        check_intrinsics(obj32, pts32, (w, h), camera.K, camera.dist_coeffs,
+                         source=f"{source}: the known intrinsics")
+    F = [f.inv() for f in flange_poses] if mode == "eye-to-hand" else list(flange_poses)
     st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method)
+    _check_mode(F, st, mode, source)
     z = view_scores(st.per_view, st.residuals.translation_mm, st.residuals.rotation_deg, n)
     rejected: list[str] = []
     # one view at a time, the worst first: a wrong view biases X and so the others' scores
@@ -349,7 +446,7 @@ def calibrate_eye_in_hand(
     check_plausible(rotation_rms_deg=st.residuals.rms_rotation_deg,
                     translation_rms_mm=st.residuals.rms_translation_mm,
                     predicted_translation_rms_mm=st.predicted, reprojection_rms_px=None,
-                    source=source, worst=_worst(labels, z))
+                    source=source, worst=_worst(labels, z), known_intrinsics=camera is not None)
     K, dist, X, W = st.K, st.dist, st.X, st.base_board
     if refine:
         ref = refine_eye_in_hand([o.reshape(-1, 3) for o in obj],
@@ -370,6 +467,15 @@ def calibrate_eye_in_hand(
         rms = float(np.sqrt(np.mean(per_view**2)))
     C = [SE3.from_rotvec(t, r) for r, t in zip(st_final.rvecs, st_final.tvecs, strict=True)]
     res = handeye_residuals(*motion_pairs(F, C), X)
+    # the checks again on the final result; with known intrinsics, against the noise of
+    # the views' own intrinsics (wrong ones inflate the noise and so their own bound)
+    predicted = st.predicted if camera is None else _board_poses(
+        obj32, pts32, (w, h), F, None, fix_k3, method).predicted
+    check_plausible(rotation_rms_deg=res.rms_rotation_deg,
+                    translation_rms_mm=res.rms_translation_mm,
+                    predicted_translation_rms_mm=predicted, reprojection_rms_px=None,
+                    source=source, known_intrinsics=camera is not None,
+                    worst=[labels[i] for i in np.argsort(per_view)[::-1][:2]])
     flagged = outlier_views(per_view, res.translation_mm, res.rotation_deg, len(F))
     fmm = float(K[0, 0]) * pixel_pitch_mm
     cam = camera if camera is not None else Camera(
@@ -381,6 +487,6 @@ def calibrate_eye_in_hand(
         camera=cam, hand_eye=X, method=method, reprojection_rms_px=rms,
         per_view_rms_px=np.asarray(per_view), board_poses=tuple(C), residuals=res,
         base_board=W, names=tuple(labels), closed_form=st.X if refine else None,
-        corner_noise_px=st.noise, predicted_translation_rms_mm=st.predicted,
+        corner_noise_px=st.noise, predicted_translation_rms_mm=predicted,
         outliers=tuple(labels[i] for i in np.flatnonzero(flagged)), rejected=tuple(rejected),
     )

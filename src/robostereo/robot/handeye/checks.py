@@ -5,6 +5,9 @@ with the wrong flange poses still give SOME transform; what gives them away is t
 the AX = XB residuals are far above what the corner noise can explain.  This module
 predicts that level (:func:`predicted_pair_translation_mm`), names the views that stand
 out (:func:`outlier_views`) and refuses implausible results (:func:`check_plausible`).
+Known intrinsics that the views contradict (a focal length 2 % off moves the hand-eye
+transform by millimetres, with residuals that still look plausible) are warned about by
+:func:`check_intrinsics`.
 """
 
 from __future__ import annotations
@@ -16,14 +19,17 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from robostereo.errors import InputError
+from robostereo.errors import InputError, warn_input
 
 __all__ = [
+    "INTRINSICS_FLOORS",
+    "INTRINSICS_SIGMAS",
     "MAX_REPROJECTION_RMS_PX",
     "MAX_ROTATION_RMS_DEG",
     "OUTLIER_Z",
     "TRANSLATION_FACTOR",
     "TRANSLATION_FLOOR_MM",
+    "check_intrinsics",
     "check_plausible",
     "corner_noise_px",
     "outlier_views",
@@ -211,14 +217,16 @@ def outlier_views(per_view_rms_px: ArrayLike, pair_translation_mm: ArrayLike,
 
 def check_plausible(*, rotation_rms_deg: float, translation_rms_mm: float,
                     predicted_translation_rms_mm: float, reprojection_rms_px: float | None,
-                    source: str, worst: Sequence[str] = ()) -> None:
+                    source: str, worst: Sequence[str] = (),
+                    known_intrinsics: bool = False) -> None:
     """Raise :class:`InputError` on a hand-eye result the corner noise cannot explain.
 
     Refused: AX = XB rotation RMS above :data:`MAX_ROTATION_RMS_DEG`; translation RMS
     above ``max(TRANSLATION_FACTOR * predicted, TRANSLATION_FLOOR_MM)`` (the predicted
     RMS of :func:`predicted_pair_translation_mm`); a reprojection RMS of the joint
     refinement above :data:`MAX_REPROJECTION_RMS_PX`.  The one-line message names
-    `source`, the figures, the likely causes and the `worst` views.
+    `source`, the figures, the likely causes (with `known_intrinsics`, those first)
+    and the `worst` views.
 
     >>> check_plausible(rotation_rms_deg=0.02, translation_rms_mm=42.0,
     ...                 predicted_translation_rms_mm=0.1, reprojection_rms_px=None,
@@ -241,7 +249,68 @@ def check_plausible(*, rotation_rms_deg: float, translation_rms_mm: float,
     if not why:
         return
     views = f"; worst views: {', '.join(worst)}" if worst else ""
+    first = "the known intrinsics (--intrinsics), " if known_intrinsics else ""
     raise InputError(
-        f"{source}: implausible hand-eye result: {'; '.join(why)}; check the board size "
-        "and square_mm, the flange positions' unit (unit: m for metres), and the pose "
+        f"{source}: implausible hand-eye result: {'; '.join(why)}; check {first}the board "
+        "size and square_mm, the flange positions' unit (unit: m for metres), and the pose "
         f"order and convention (T_base_flange, each with its own image){views}")
+
+
+INTRINSICS_SIGMAS = 6.0
+"""Known intrinsics further than this many standard deviations from the views' own
+estimate (and beyond :data:`INTRINSICS_FLOORS`) are warned about."""
+INTRINSICS_FLOORS = {"fx": 0.003, "fy": 0.003, "cx": 3.0, "cy": 3.0, "k1": 0.01}
+"""Least disagreement warned about: focal lengths relative (0.3 %), principal point in
+pixels, ``k1`` absolute (what the corner detector's bias alone can give)."""
+
+
+def check_intrinsics(object_points: Sequence[NDArray[np.float64]],
+                     image_points: Sequence[NDArray[np.float64]], image_size: tuple[int, int],
+                     K: NDArray[np.float64], dist: ArrayLike, *, source: str) -> list[str]:
+    """Warn when known intrinsics disagree with what the board views say.
+
+    :func:`cv2.calibrateCameraExtended` on the views alone (no robot poses; ``k3``
+    held at 0) estimates ``fx, fy, cx, cy, k1`` and their standard deviations; a
+    known value further than :data:`INTRINSICS_SIGMAS` deviations and
+    :data:`INTRINSICS_FLOORS` from it gets one :func:`~robostereo.errors.warn_input`
+    line naming the parameter, both values and how far apart they are.
+
+    Parameters
+    ----------
+    object_points, image_points : sequence of ndarray, shape (K_i, 1, 3) and (K_i, 1, 2)
+        Board corners (float32) and their pixels per view.
+    image_size : tuple of int
+        ``(width, height)``.
+    K, dist : ndarray
+        The known camera matrix ``(3, 3)`` and distortion ``(k1, k2, p1, p2[, k3])``.
+    source : str
+        The known intrinsics' name for the message (e.g. ``--intrinsics camera.yaml``).
+
+    Returns
+    -------
+    list of str
+        The parameters warned about (empty when they agree).
+    """
+    _, K2, d2, _, _, sd, _, _ = cv2.calibrateCameraExtended(
+        list(object_points), list(image_points), image_size, None, None,
+        flags=cv2.CALIB_FIX_K3)
+    sd = np.asarray(sd, dtype=np.float64).ravel()
+    d = np.asarray(dist, dtype=np.float64).ravel()
+    k1 = float(d[0]) if d.size else 0.0
+    views = {"fx": (K2[0, 0], sd[0]), "fy": (K2[1, 1], sd[1]), "cx": (K2[0, 2], sd[2]),
+             "cy": (K2[1, 2], sd[3]), "k1": (float(np.ravel(d2)[0]), sd[4])}
+    given = {"fx": K[0, 0], "fy": K[1, 1], "cx": K[0, 2], "cy": K[1, 2], "k1": k1}
+    named = []
+    for name, (v, s) in views.items():
+        floor = INTRINSICS_FLOORS[name] * (abs(v) if name in ("fx", "fy") else 1.0)
+        gap = float(given[name]) - float(v)
+        if abs(gap) > max(INTRINSICS_SIGMAS * float(s), floor):
+            unit = "" if name == "k1" else " px"
+            rel = f", {100 * gap / v:+.1f} %" if name in ("fx", "fy") else ""
+            named.append(f"{name} {float(given[name]):.4g}{unit} where the views put it at "
+                         f"{float(v):.4g} +- {float(s):.2g}{unit} ({gap:+.3g}{unit}{rel})")
+    if named:
+        warn_input(f"{source} disagree with the board views: {'; '.join(named)}; the "
+                   "hand-eye result follows the intrinsics given (a focal length 2 % off "
+                   "moves it by millimetres): check them, or leave them out to estimate them")
+    return [n.split()[0] for n in named]

@@ -1,11 +1,14 @@
-"""The camera and hand-eye file of ``robostereo handeye`` (``camera.yaml``).
+"""The camera and hand-eye file of ``robostereo handeye`` (``camera.yaml``, ``cell.yaml``).
 
 :func:`save_handeye_yaml` writes an
 :class:`~robostereo.robot.handeye.calibrate.EyeInHandCalibration` (its
 :meth:`~robostereo.robot.handeye.calibrate.EyeInHandCalibration.to_dict` mapping: the
-camera, ``T_flange_camera``, the residuals per view and per pair of views);
-:func:`load_handeye_yaml` reads back the camera and ``T_flange_camera`` (as
-``robostereo capture --handeye`` does).
+camera, ``T_flange_camera``, the residuals per view and per pair of views) or an
+:class:`~robostereo.robot.handeye.eye_to_hand.EyeToHandCalibration` (``mode:
+eye-to-hand``, the camera, ``base_camera`` = ``T_base_camera``, ``flange_board``, the
+residuals); :func:`load_handeye_yaml` reads back the camera and ``T_flange_camera`` (as
+``robostereo capture --handeye`` does), :func:`load_base_camera_yaml` the camera and
+``T_base_camera`` (as ``robostereo rig --base-camera`` does).
 """
 
 from __future__ import annotations
@@ -16,14 +19,17 @@ from robostereo.errors import InputError
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
 from robostereo.robot.handeye.calibrate import EyeInHandCalibration
+from robostereo.robot.handeye.eye_to_hand import EyeToHandCalibration
 
 __all__ = [
+    "load_base_camera_yaml",
     "load_handeye_yaml",
     "save_handeye_yaml",
 ]
 
 
-def save_handeye_yaml(path: Any, calibration: EyeInHandCalibration) -> None:
+def save_handeye_yaml(path: Any,
+                      calibration: EyeInHandCalibration | EyeToHandCalibration) -> None:
     """Write ``camera.yaml``
     (:meth:`~robostereo.robot.handeye.calibrate.EyeInHandCalibration.to_dict`) atomically."""
     import yaml
@@ -35,8 +41,7 @@ def save_handeye_yaml(path: Any, calibration: EyeInHandCalibration) -> None:
         tmp.write_text(text, encoding="utf-8")
 
 
-def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
-    """Read the camera and ``T_flange_camera`` of a ``robostereo handeye`` file."""
+def _read(path: Any, key: str, what: str, other: str) -> tuple[Camera, SE3]:
     from pathlib import Path
 
     import yaml
@@ -46,13 +51,27 @@ def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
     from robostereo.geometry.poses import as_se3, pose_from_dict
     from robostereo.io.yaml_loading import load_yaml
 
-    p = require_file(path, "hand-eye camera file")
+    p = require_file(path, what)
     try:
         data = load_yaml(Path(p).read_text(encoding="utf-8"), str(p))
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
         raise InputError(f"{p}: not a readable YAML file ({exc.__class__.__name__})") from None
-    if not isinstance(data, dict) or "camera" not in data or "hand_eye" not in data:
-        raise InputError(f"{p}: expected the keys camera and hand_eye (robostereo handeye's "
+    if isinstance(data, dict) and "camera" in data and other in data and key not in data:
+        mode = "eye-to-hand" if other == "base_camera" else "eye-in-hand"
+        raise InputError(f"{p}: an {mode} calibration ({other}), not the {key} this needs")
+    if not isinstance(data, dict) or "camera" not in data or key not in data:
+        raise InputError(f"{p}: expected the keys camera and {key} (robostereo handeye's "
                          "output)")
     camera = camera_from_dict(data["camera"], source=f"{p}: camera")
-    return camera, as_se3(pose_from_dict(data["hand_eye"], source=f"{p}: hand_eye"))
+    return camera, as_se3(pose_from_dict(data[key], source=f"{p}: {key}"))
+
+
+def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
+    """Read the camera and ``T_flange_camera`` of a ``robostereo handeye`` file."""
+    return _read(path, "hand_eye", "hand-eye camera file", "base_camera")
+
+
+def load_base_camera_yaml(path: Any) -> tuple[Camera, SE3]:
+    """Read the camera and ``T_base_camera`` of a ``robostereo handeye --mode
+    eye-to-hand`` file (``cell.yaml``)."""
+    return _read(path, "base_camera", "eye-to-hand camera file", "hand_eye")

@@ -26,6 +26,7 @@ from robostereo.simulation import Checkerboard, ImagePlane, Scene, TablePlane
 
 __all__ = [
     "BOARD",
+    "board_frame",
     "board_scene",
     "simulate_handeye_views",
 ]
@@ -54,7 +55,7 @@ def board_scene(
     return Scene((TablePlane(z=0.0, albedo=0.3), cb), light_direction=(0.2, -0.1, 1.0)), cb
 
 
-def _board_frame(board: Board) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+def board_frame(board: Board) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Board-frame centre (3,) and outline corners (4, 3) that must be in view."""
     q = board.square_mm
     if isinstance(board, Chessboard):
@@ -112,7 +113,7 @@ def simulate_handeye_views(
     a = arm or SixAxisArm()
     rng = np.random.default_rng([int(seed), 9])
     scene, cb = board_scene(board=board)
-    centre_b, outline_b = _board_frame(board)
+    centre_b, outline_b = board_frame(board)
     centre = cb.pose.apply(centre_b)
     outline = cb.pose.apply(outline_b)
     images, poses, names = [], [], []
