@@ -9,6 +9,7 @@ stripes with smooth (Gaussian-blurred, sigma = 0.4 mm ~ 0.3 px) edges, so no ali
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import cv2
@@ -208,6 +209,7 @@ def test_cli_rig(tmp_path: Path, rig, rendered, capsys) -> None:
                str(cal), "--min-depth", "700", "--max-depth", "1500", "-o", str(out),
                "--ply", str(tmp_path / "pts.ply")])
     assert rc == 0
+    assert re.search(rf"\d ms -> {re.escape(str(out))}\n", capsys.readouterr().out)
     head = out.read_text().splitlines()[0].split(",")
     assert head == ["row", "x_left", "x_right", "disparity", "confidence", "x_original",
                     "y_original", "X", "Y", "Z", "z_bound"]
@@ -282,7 +284,7 @@ def test_cli_rig_writes_points_in_the_robot_base_frame(tmp_path: Path, rig, rend
     argv = ["rig", str(tmp_path / "l.png"), str(tmp_path / "r.png"), "--calibration", str(cal),
             "--min-depth", "700", "--max-depth", "1500", "-o", str(out)]
     assert main([*argv, "--base-camera", str(cell), "--ply", str(tmp_path / "b.ply")]) == 0
-    assert "(also in the base frame)" in capsys.readouterr().out
+    assert re.search(r"\d ms \(also in the base frame\) -> ", capsys.readouterr().out)
     data = np.genfromtxt(out, delimiter=",", names=True)
     assert data.dtype.names[-3:] == ("X_base", "Y_base", "Z_base") and data.size > 3000
     xyz = np.column_stack([data["X"], data["Y"], data["Z"]])

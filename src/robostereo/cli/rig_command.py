@@ -98,6 +98,6 @@ def run_rig(args: argparse.Namespace) -> int:
     pct = 100.0 * n / n_left if n_left else 0.0
     lo, hi = res.match.disparity_range
     print(f"{args.left.name}: rectified, disparity {lo:.1f} .. {hi:.1f} px, {n_left} edge "
-          f"points, {n} matched ({pct:.1f}%) in {1000 * res.match.timings['total']:.1f} ms "
+          f"points, {n} matched ({pct:.1f}%) in {1000 * res.match.timings['total']:.1f} ms"
           f"{' (also in the base frame)' if base_camera is not None else ''} -> {args.output}")
     return 0
