@@ -77,3 +77,16 @@ def test_min_frame_sharpness_must_be_a_share_or_none():
         with pytest.raises(InputError, match="min_frame_sharpness"):
             ViewsParameters(min_frame_sharpness=bad)
     assert ViewsParameters(min_frame_sharpness=None).min_frame_sharpness is None
+
+
+def test_a_view_of_another_bit_depth_is_named_and_left_out(printed_line):
+    """Mixed 8- and 16-bit images: a 16-bit capture in which one view kept its 8-bit grey
+    levels reads that view as nearly black."""
+    wide = tuple(np.asarray(im).astype(np.uint16) * 257 for im in printed_line.images)
+    cap = dataclasses.replace(printed_line, images=wide, bit_depth=16)
+    mixed = _with_view(cap, 1, np.asarray(printed_line.images[1]).astype(np.uint16))
+    s = frame_sharpness(mixed)
+    assert s[1] < 0.01 and np.all(np.delete(s, 1) > 0.8)
+    with pytest.warns(PlausibilityWarning, match=r"view 1 \(view_01\.png\) looks blurred"):
+        loc = locate_views(mixed)
+    assert len(loc) > 1000 and not loc.views[:, 1].any()
