@@ -13,7 +13,7 @@ from view_renders import RenderSpec, render_views
 
 from robostereo.errors import InputError, PlausibilityWarning
 from robostereo.robot.simulated.grab_views import simulate_views
-from robostereo.robot.views.frame_checks import failed_frames, frame_sharpness
+from robostereo.robot.views.frame_checks import duplicate_views, failed_frames, frame_sharpness
 from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.views_parameters import ViewsParameters
 
@@ -90,3 +90,27 @@ def test_a_view_of_another_bit_depth_is_named_and_left_out(printed_line):
     with pytest.warns(PlausibilityWarning, match=r"view 1 \(view_01\.png\) looks blurred"):
         loc = locate_views(mixed)
     assert len(loc) > 1000 and not loc.views[:, 1].any()
+
+
+def test_a_view_grabbed_twice_at_one_pose_is_named_and_its_points_written_once(
+        printed_line):
+    cap = printed_line
+    twice = dataclasses.replace(cap, images=(*cap.images, cap.images[1]),
+                                poses=(*cap.poses, cap.poses[1]), names=None)
+    assert duplicate_views(twice) == [(4, 1, 0.0)] and duplicate_views(cap) == []
+    with pytest.warns(PlausibilityWarning, match=r"view 4 stands at the pose of view 1 .*"
+                      "the same view twice; left out"):
+        loc = locate_views(twice, source="cap")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", PlausibilityWarning)
+        once = locate_views(cap)
+    assert len(loc) == len(once) > 1000 and not loc.views[:, 4].any()
+    np.testing.assert_array_equal(loc.world, once.world)
+    # turned by a degree about its axis at the same centre: another view, kept
+    from robostereo.geometry.poses import SE3
+
+    a = np.radians(1.0)
+    turn = SE3(np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]]),
+               np.zeros(3))
+    turned = dataclasses.replace(twice, poses=(*cap.poses, cap.poses[1] @ turn))
+    assert duplicate_views(turned) == []

@@ -30,9 +30,15 @@ from robostereo.matcher.grey_levels import to_grey
 from robostereo.robot.views.viewpoints import ViewsCapture
 
 __all__ = [
+    "DUPLICATE_TURN_DEG",
+    "duplicate_views",
     "failed_frames",
     "frame_sharpness",
 ]
+
+DUPLICATE_TURN_DEG = 0.1
+"""Two views whose optical centres lie within the capture's baseline uncertainty and whose
+orientations differ by at most this (degrees) are one view grabbed twice."""
 
 
 def frame_sharpness(capture: ViewsCapture) -> NDArray[np.float64]:
@@ -97,3 +103,45 @@ def failed_frames(capture: ViewsCapture, min_sharpness: float) -> list[tuple[int
     """
     s = frame_sharpness(capture)
     return [(int(k), float(s[k])) for k in np.nonzero(s < min_sharpness)[0]]
+
+
+def duplicate_views(capture: ViewsCapture) -> list[tuple[int, int, float]]:
+    """Views grabbed at the pose of an earlier view: ``(view, earlier, distance_mm)``.
+
+    Two views at one pose see the scene along the same rays: they measure no depth
+    between them, and every point they both reach is reported twice.  A view counts as
+    a repeat when its optical centre lies within ``capture.baseline_uncertainty_mm`` of
+    an earlier view's and its orientation within :data:`DUPLICATE_TURN_DEG` of it.
+
+    Parameters
+    ----------
+    capture : ViewsCapture
+
+    Returns
+    -------
+    list of (int, int, float)
+        Each repeated view, the first view at its pose, and their centres' distance (mm).
+
+    Examples
+    --------
+    >>> from robostereo.geometry.camera import SEED_CAMERA
+    >>> from robostereo.geometry.poses import se3_from_scara
+    >>> w, h = SEED_CAMERA.image_size
+    >>> images = tuple(np.zeros((h, w), np.uint8) for _ in range(3))
+    >>> poses = tuple(se3_from_scara(x, 0.0, 1000.0) for x in (-20.0, 20.0, -20.0))
+    >>> duplicate_views(ViewsCapture(images, SEED_CAMERA, poses, depth_range_mm=(900, 1100)))
+    [(2, 0, 0.0)]
+    """
+    from robostereo.geometry.poses import as_se3
+
+    c = capture.centres
+    rot = [as_se3(p).rotation for p in capture.poses]
+    out: list[tuple[int, int, float]] = []
+    for k in range(1, len(capture)):
+        d = np.linalg.norm(c[:k] - c[k], axis=1)
+        for j in np.nonzero(d <= capture.baseline_uncertainty_mm)[0]:
+            cos = (np.trace(rot[int(j)].T @ rot[k]) - 1.0) / 2.0
+            if np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))) <= DUPLICATE_TURN_DEG:
+                out.append((k, int(j), float(d[j])))
+                break
+    return out
