@@ -17,18 +17,15 @@ is its result, written by :func:`~robostereo.robot.handeye.handeye_yaml.save_han
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any
 
-import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import ArrayLike
 
-from robostereo.errors import InputError
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
-from robostereo.robot.handeye.ax_xb import DEFAULT_METHOD, HandEyeResiduals
+from robostereo.robot.handeye.ax_xb import DEFAULT_METHOD
 from robostereo.robot.handeye.boards import Board
 from robostereo.robot.handeye.calibrate import EyeInHandCalibration, SolveMethod, solve_views
 
@@ -39,74 +36,32 @@ __all__ = [
 
 
 @dataclass(frozen=True, eq=False)
-class EyeToHandCalibration:
-    """Result of :func:`calibrate_eye_to_hand`.
+class EyeToHandCalibration(EyeInHandCalibration):
+    """Result of :func:`calibrate_eye_to_hand`: the shared solve's result with its frames
+    named for a fixed camera.
 
-    Attributes
-    ----------
-    camera : Camera
-        Intrinsics and distortion (jointly refined, or the known ones).
-    base_camera : SE3
-        ``Z = T_base_camera``, millimetres (jointly refined unless ``refine=False``).
-    flange_board : SE3
-        ``Y = T_flange_board``, millimetres.
-    method : str
-        The closed form that started the refinement.
-    reprojection_rms_px : float
-    per_view_rms_px : ndarray, shape (N,)
-    board_poses : tuple of SE3
-        ``T_camera_board`` of each view.
-    residuals : HandEyeResiduals
-        ``A Z = Z B`` residuals of every pair of views (``A = F_j F_i^-1``,
-        ``B = C_j C_i^-1``).
-    names : tuple of str
-    closed_form : SE3 or None
-        ``Z`` of the closed form (None when not refined).
-    corner_noise_px, predicted_translation_rms_mm : float
-    outliers, rejected : tuple of str
-        As :class:`~robostereo.robot.handeye.calibrate.EyeInHandCalibration`.
+    The attributes are :class:`~robostereo.robot.handeye.calibrate.EyeInHandCalibration`'s
+    (``board_poses`` are ``T_camera_board``; ``residuals`` those of ``A Z = Z B``, ``A =
+    F_j F_i^-1``, ``B = C_j C_i^-1``; ``closed_form`` is ``Z`` of the closed form), where
+    ``hand_eye`` is ``Z = T_base_camera`` and ``base_board`` is ``Y = T_flange_board``;
+    :attr:`base_camera` and :attr:`flange_board` name them so.
     """
 
-    camera: Camera
-    base_camera: SE3
-    flange_board: SE3
-    method: str
-    reprojection_rms_px: float
-    per_view_rms_px: NDArray[np.float64]
-    board_poses: tuple[SE3, ...]
-    residuals: HandEyeResiduals
-    names: tuple[str, ...] = ()
-    closed_form: SE3 | None = None
-    corner_noise_px: float = math.nan
-    predicted_translation_rms_mm: float = math.nan
-    outliers: tuple[str, ...] = ()
-    rejected: tuple[str, ...] = ()
+    @property
+    def base_camera(self) -> SE3:
+        """``Z = T_base_camera``, millimetres (jointly refined unless ``refine=False``)."""
+        return self.hand_eye
 
-    def __post_init__(self) -> None:
-        n = len(self.board_poses)
-        if self.per_view_rms_px.shape != (n,) or self.residuals.rotation_deg.shape != (
-                n * (n - 1) // 2,):
-            raise InputError(f"per_view_rms_px and residuals must cover {n} views")
-        if self.names and len(self.names) != n:
-            raise InputError(f"names must be {n}, got {len(self.names)}")
+    @property
+    def flange_board(self) -> SE3:
+        """``Y = T_flange_board``, millimetres."""
+        return self.base_board
 
     @classmethod
     def from_solve(cls, cal: EyeInHandCalibration) -> EyeToHandCalibration:
-        """Name the frames of :func:`~robostereo.robot.handeye.calibrate.solve_views`'s
-        eye-to-hand result (its ``hand_eye`` is ``Z``, its ``base_board`` ``Y``)."""
-        return cls(camera=cal.camera, base_camera=cal.hand_eye, flange_board=cal.base_board,
-                   method=cal.method, reprojection_rms_px=cal.reprojection_rms_px,
-                   per_view_rms_px=cal.per_view_rms_px, board_poses=cal.board_poses,
-                   residuals=cal.residuals, names=cal.names, closed_form=cal.closed_form,
-                   corner_noise_px=cal.corner_noise_px,
-                   predicted_translation_rms_mm=cal.predicted_translation_rms_mm,
-                   outliers=cal.outliers, rejected=cal.rejected)
-
-    @property
-    def pairs(self) -> list[tuple[int, int]]:
-        """The view pairs ``(i, j)``, ``i < j``, in the order of the residuals."""
-        n = len(self.board_poses)
-        return [(i, j) for i in range(n) for j in range(i + 1, n)]
+        """:func:`~robostereo.robot.handeye.calibrate.solve_views`'s eye-to-hand result,
+        its frames named."""
+        return cls(**{f.name: getattr(cal, f.name) for f in fields(cal)})
 
     def to_dict(self) -> dict[str, Any]:
         """The ``cell.yaml`` mapping ``robostereo handeye --mode eye-to-hand`` writes:
@@ -114,14 +69,7 @@ class EyeToHandCalibration:
         in the eye-in-hand file."""
         from robostereo.geometry.poses import pose_to_dict
 
-        shared = EyeInHandCalibration(
-            camera=self.camera, hand_eye=self.base_camera, method=self.method,
-            reprojection_rms_px=self.reprojection_rms_px, per_view_rms_px=self.per_view_rms_px,
-            board_poses=self.board_poses, residuals=self.residuals,
-            base_board=self.flange_board, names=self.names, closed_form=self.closed_form,
-            corner_noise_px=self.corner_noise_px,
-            predicted_translation_rms_mm=self.predicted_translation_rms_mm,
-            outliers=self.outliers, rejected=self.rejected).to_dict()
+        shared = super().to_dict()
         out: dict[str, Any] = {"mode": "eye-to-hand", "camera": shared.pop("camera"),
                                "base_camera": shared.pop("hand_eye"),
                                "flange_board": pose_to_dict(self.flange_board)}

@@ -22,10 +22,14 @@ Kim (1989), the thesis, 3.1 (edge points: the gradient along the epipolar lines)
 
 from __future__ import annotations
 
+import math
+
 import cv2
 import numpy as np
 from numpy.typing import NDArray
 
+from robostereo.errors import warn_input
+from robostereo.geometry.poses import as_se3
 from robostereo.matcher.grey_levels import to_grey
 from robostereo.robot.views.viewpoints import ViewsCapture
 
@@ -34,11 +38,24 @@ __all__ = [
     "duplicate_views",
     "failed_frames",
     "frame_sharpness",
+    "grey_gradient",
+    "usable_views",
 ]
 
 DUPLICATE_TURN_DEG = 0.1
 """Two views whose optical centres lie within the capture's baseline uncertainty and whose
 orientations differ by at most this (degrees) are one view grabbed twice."""
+
+
+def grey_gradient(capture: ViewsCapture, k: int) -> tuple[NDArray[np.float32],
+                                                           NDArray[np.float32]]:
+    """View `k`'s gradient ``(gx, gy)``, each (H, W), grey levels per pixel on the thesis's
+    scale of the capture's bit depth, after a Gaussian of one pixel."""
+    g = to_grey(np.asarray(capture.images[k], dtype=np.float64), bit_depth=capture.bit_depth)
+    g = cv2.GaussianBlur(np.asarray(g, dtype=np.float32), (0, 0), 1.0)
+    # Sobel's 3 x 3 kernel is 8 times the gradient per pixel
+    return (cv2.Sobel(g, cv2.CV_32F, 1, 0, ksize=3) / 8.0,
+            cv2.Sobel(g, cv2.CV_32F, 0, 1, ksize=3) / 8.0)
 
 
 def frame_sharpness(capture: ViewsCapture) -> NDArray[np.float64]:
@@ -76,12 +93,8 @@ def frame_sharpness(capture: ViewsCapture) -> NDArray[np.float64]:
     [1.0, 1.0, 0.0]
     """
     peaks = np.empty(len(capture))
-    for k, img in enumerate(capture.images):
-        g = to_grey(np.asarray(img, dtype=np.float64), bit_depth=capture.bit_depth)
-        g = cv2.GaussianBlur(np.asarray(g, dtype=np.float32), (0, 0), 1.0)
-        # Sobel's 3 x 3 kernel is 8 times the gradient per pixel
-        gx = cv2.Sobel(g, cv2.CV_32F, 1, 0, ksize=3) / 8.0
-        gy = cv2.Sobel(g, cv2.CV_32F, 0, 1, ksize=3) / 8.0
+    for k in range(len(capture)):
+        gx, gy = grey_gradient(capture, k)
         peaks[k] = float(np.percentile(np.hypot(gx, gy), 99.5))
     mid = float(np.median(peaks))
     return peaks / mid if mid > 0 else np.zeros(len(capture))
@@ -132,16 +145,52 @@ def duplicate_views(capture: ViewsCapture) -> list[tuple[int, int, float]]:
     >>> duplicate_views(ViewsCapture(images, SEED_CAMERA, poses, depth_range_mm=(900, 1100)))
     [(2, 0, 0.0)]
     """
-    from robostereo.geometry.poses import as_se3
-
     c = capture.centres
-    rot = [as_se3(p).rotation for p in capture.poses]
+    poses = [as_se3(p) for p in capture.poses]
+    turn = math.radians(DUPLICATE_TURN_DEG)
     out: list[tuple[int, int, float]] = []
     for k in range(1, len(capture)):
         d = np.linalg.norm(c[:k] - c[k], axis=1)
         for j in np.nonzero(d <= capture.baseline_uncertainty_mm)[0]:
-            cos = (np.trace(rot[int(j)].T @ rot[k]) - 1.0) / 2.0
-            if np.degrees(np.arccos(np.clip(cos, -1.0, 1.0))) <= DUPLICATE_TURN_DEG:
+            if (poses[int(j)].inv() @ poses[k]).angle <= turn:
                 out.append((k, int(j), float(d[j])))
                 break
     return out
+
+
+def usable_views(capture: ViewsCapture, min_sharpness: float | None,
+                 source: str = "capture") -> list[int]:
+    """The views to locate from: each view grabbed twice (:func:`duplicate_views`) and
+    each failed frame (:func:`failed_frames`, when `min_sharpness` is given) named in a
+    warning and left out, while two or more views remain.
+
+    Parameters
+    ----------
+    capture : ViewsCapture
+    min_sharpness : float or None
+        ``ViewsParameters.min_frame_sharpness``.
+    source : str
+        The capture's name in the warnings.
+
+    Returns
+    -------
+    list of int
+        The views kept, in order.
+    """
+    n = len(capture)
+    repeats = duplicate_views(capture)
+    for k, j, d in repeats:
+        warn_input(f"{source}: view {capture.view_name(k)} stands at the pose of view "
+                   f"{capture.view_name(j)} ({d:.3g} mm apart, turned under "
+                   f"{DUPLICATE_TURN_DEG:g} degrees): the same view twice; left out")
+    keep = [k for k in range(n) if k not in {r[0] for r in repeats}]
+    if min_sharpness is None:
+        return keep
+    failed = [(keep[i], s) for i, s in failed_frames(capture.subset(keep), min_sharpness)]
+    rest = [k for k in keep if k not in dict(failed)]
+    for k, s in failed:
+        what = "left out" if len(rest) >= 2 else "kept: fewer than two views would remain"
+        warn_input(f"{source}: view {capture.view_name(k)} looks blurred, dark or blank: its "
+                   f"strongest edges are {s:.2f} of the median view's (under "
+                   f"{min_sharpness:g}); {what}")
+    return rest if len(rest) >= 2 else keep

@@ -47,11 +47,7 @@ from numpy.typing import NDArray
 
 from robostereo.errors import InputError, warn_input
 from robostereo.robot.views.edge_votes import left_out_views, vote_fits, votes_confidence
-from robostereo.robot.views.frame_checks import (
-    DUPLICATE_TURN_DEG,
-    duplicate_views,
-    failed_frames,
-)
+from robostereo.robot.views.frame_checks import usable_views
 from robostereo.robot.views.located_points import (
     LocatedViews,
     confidence_features_from,
@@ -171,30 +167,12 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     p = params if params is not None else ViewsParameters()
     if not isinstance(p, ViewsParameters):
         raise InputError(f"params must be a ViewsParameters, got {type(p).__name__}")
-    # -- a view grabbed twice at one pose would report its points twice: named, left out
-    repeats = duplicate_views(capture)
-    for k, j, d in repeats:
-        warn_input(f"{source}: view {capture._name(k)} stands at the pose of view "
-                   f"{capture._name(j)} ({d:.3g} mm apart, turned under "
-                   f"{DUPLICATE_TURN_DEG:g} degrees): the same view twice; left out")
-    if repeats and len(capture) - len(repeats) >= 2:
-        keep = [k for k in range(len(capture)) if k not in {r[0] for r in repeats}]
-        rest = locate_views(capture.subset(keep), params=p, progress=progress, source=source)
+    # -- a view grabbed twice, a failed frame (blurred, dark, blank): named, left out
+    keep = usable_views(capture, p.min_frame_sharpness, source)
+    if len(keep) < len(capture):
+        rest = locate_views(capture.subset(keep), progress=progress, source=source,
+                            params=replace(p, min_frame_sharpness=None))
         return rest.in_views(keep, len(capture))
-    if p.min_frame_sharpness is not None:
-        # -- a failed frame (blurred, dark, blank) vetoes right points: named, left out
-        failed = failed_frames(capture, p.min_frame_sharpness)
-        n_all = len(capture)
-        keep = [k for k in range(n_all) if k not in dict(failed)]
-        for k, s in failed:
-            what = "left out" if len(keep) >= 2 else "kept: fewer than two views would remain"
-            warn_input(f"{source}: view {capture._name(k)} looks blurred, dark or blank: its "
-                       f"strongest edges are {s:.2f} of the median view's (under "
-                       f"{p.min_frame_sharpness:g}); {what}")
-        if failed and len(keep) >= 2:
-            rest = locate_views(capture.subset(keep), progress=progress, source=source,
-                                params=replace(p, min_frame_sharpness=None))
-            return rest.in_views(keep, n_all)
     if is_pairs(capture, p):
         return locate_pairs(capture, params=p, progress=progress, source=source)
     n = len(capture)

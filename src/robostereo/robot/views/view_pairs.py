@@ -43,7 +43,6 @@ import warnings
 from collections.abc import Callable
 from typing import Any
 
-import cv2
 import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
@@ -51,6 +50,7 @@ from scipy.spatial import cKDTree
 from robostereo.errors import InputError, PlausibilityWarning, warn_input
 from robostereo.geometry.poses import as_se3
 from robostereo.robot.capture.locate_pair import Located, locate
+from robostereo.robot.views.frame_checks import grey_gradient
 from robostereo.robot.views.located_points import LocatedViews
 from robostereo.robot.views.viewpoints import ViewsCapture
 
@@ -70,7 +70,8 @@ def pair_reference(capture: ViewsCapture) -> int:
     those equally near: view 0 of a pair).
 
     Its pairs are the pattern's shortest (easiest to match; on the real DTU views,
-    turned 29 deg between neighbours, the reference at one end of three located 931
+    turned 29 deg between neighbours, with every pair's point reported and before the
+    rectified frames that hold both views, the reference at one end of three located 931
     points, 79.8 % of them on an edge of a held-out view, at the centre 1964 at 89.3 %).
 
     >>> from robostereo.geometry.camera import SEED_CAMERA
@@ -89,16 +90,6 @@ def is_pairs(capture: ViewsCapture, params: Any) -> bool:
     """Whether ``locate_views(capture, params=params)`` locates by pairs (``matcher``
     ``'pairs'``, or ``'auto'`` with two views) rather than by the plane sweep."""
     return bool(params.matcher == "pairs" or (params.matcher == "auto" and len(capture) == 2))
-
-
-def _gradient(image: NDArray[Any]) -> tuple[_F, _F]:
-    """The reference's grey-level gradient ``(gx, gy)``, each (H, W), after a Gaussian of
-    one pixel (the edge's normal direction; its size does not matter here)."""
-    g = np.asarray(image, dtype=np.float64)
-    if g.ndim == 3:
-        g = g.mean(axis=2)
-    g = cv2.GaussianBlur(g, (0, 0), 1.0)
-    return cv2.Sobel(g, cv2.CV_64F, 1, 0, ksize=3), cv2.Sobel(g, cv2.CV_64F, 0, 1, ksize=3)
 
 
 def epipolar_sines(capture: ViewsCapture, ref: int, other: int, world: _F, pixel: _F,
@@ -236,7 +227,7 @@ def _located_pair(capture: ViewsCapture, ref: int, other: int, source: str,
                   params: Any) -> Located | None:
     """Views `ref` and `other` located as a two-view capture; None (with a warning) when
     they share no scene and other pairs remain."""
-    name = f"{source} (views {capture._name(ref)} and {capture._name(other)})"
+    name = f"{source} (views {capture.view_name(ref)} and {capture.view_name(other)})"
     try:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always", PlausibilityWarning)
@@ -306,7 +297,7 @@ def locate_pairs(capture: ViewsCapture, *, params: Any = None,
     pose = as_se3(capture.poses[ref])
     centre, axis = c[ref], pose.rotation[:, 2]
     sine_min = float(np.sin(np.radians(p.min_epipolar_angle_deg)))
-    gradient = _gradient(capture.images[ref]) if n > 2 else None
+    gradient = grey_gradient(capture, ref) if n > 2 else None
     parts: list[dict[str, Any]] = []
     views: list[int] = []
     # -- each pair through the two-view matcher (rectify, match, eq. 6-9)
@@ -323,7 +314,7 @@ def locate_pairs(capture: ViewsCapture, *, params: Any = None,
         if progress is not None:
             progress(done + 1, len(others))
     if not parts:
-        raise InputError(f"{source}: no pair of views with view {capture._name(ref)} "
+        raise InputError(f"{source}: no pair of views with view {capture.view_name(ref)} "
                          "shares a scene; check the poses and the depth range")
     # -- gathered in the reference image, widest pair first; agreeing pairs combined
     g = combine_pairs(centre, axis, parts, agree_px=p.agree_px)

@@ -282,11 +282,11 @@ class ViewsCapture:
         for k, img in enumerate(self.images):
             shape = np.shape(img)
             if len(shape) not in (2, 3) or shape[:2] != (h, w):
-                raise InputError(f"view {self._name(k)}: the image must be {w} x {h} pixels "
+                raise InputError(f"view {self.view_name(k)}: the image must be {w} x {h} pixels "
                                  f"(the camera's image_size), got shape {shape}")
         for k, p in enumerate(self.poses):
             if not isinstance(p, SE3):
-                raise InputError(f"view {self._name(k)}: the pose must be a Pose or an SE3, "
+                raise InputError(f"view {self.view_name(k)}: the pose must be a Pose or an SE3, "
                                  f"got {type(p).__name__}")
         b = self.bit_depth
         if isinstance(b, bool) or not isinstance(b, int | np.integer) or not 1 <= b <= 16:
@@ -294,7 +294,7 @@ class ViewsCapture:
         for k, img in enumerate(self.images):
             a = np.asarray(img)
             if np.issubdtype(a.dtype, np.integer) and a.size and a.max() >= 2**b:
-                raise InputError(f"view {self._name(k)}: grey level {int(a.max())} >= "
+                raise InputError(f"view {self.view_name(k)}: grey level {int(a.max())} >= "
                                  f"2**bit_depth = {2**b}")
         rng = self.depth_range_mm
         ok = isinstance(rng, list | tuple) and len(rng) == 2 and not any(
@@ -332,7 +332,8 @@ class ViewsCapture:
         # the widest pair bounds the inverse-depth grid of the ray search
         check_depth_disparities(self.camera.fx, self.span_mm, (near, far), w)
 
-    def _name(self, k: int) -> str:
+    def view_name(self, k: int) -> str:
+        """View `k` as errors and warnings name it: ``2 (view_02.png)``, or ``2``."""
         if self.names is not None and len(self.names) > k:
             return f"{k} ({self.names[k]})"
         return str(k)

@@ -37,13 +37,13 @@ class ViewsParameters:
         view's windows along each reference ray (:mod:`~robostereo.robot.views.locating`'s
         steps); the attributes from `threshold` to `edge_votes` tune it alone.
         ``'auto'`` (the default): ``'pairs'`` for two views, ``'sweep'`` for more.  On
-        issue 34's renders (``benchmarks/bench_views.py --renders``) two views by the
-        sweep put 0.8-19 % of their points more than 2 mm off where the pair put
-        0-2.1 %; with three to nine views the pairs put 0.03-1.6 % there against the
-        sweep's 0.2-8.9 %, but on the simulator's hub-pulley they matched 78 % of the
-        edge points against 99.96 % and on the real DTU views they report no more
-        points than their widest pair (1447 against the sweep's 5115): the two-view
-        matcher is sparse on real views (issue 35).
+        issue 34's renders (``benchmarks/bench_views.py --renders``, one run over five
+        families) two views by the sweep put 0-19 % of their points more than 2 mm off
+        where the pair put 0-2.6 %; with three to nine views on textured scenes the pairs
+        put 0.04-5.0 % there against the sweep's 0.24-30 %, but on the simulator's
+        hub-pulley they matched 78 % of the edge points against 99.96 % and on the real
+        DTU views they report no more points than their widest pair (1978 against the
+        sweep's 5115): the two-view matcher is sparse on real views (issue 35).
     agree_px : float
         ``'pairs'``: a pair's point joins another pair's within this many pixels in the
         reference image (when their depths agree within their bounds).
