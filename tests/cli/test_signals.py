@@ -181,3 +181,36 @@ def test_main_called_with_arguments_gives_the_signal_handlers_back(monkeypatch, 
     assert cli.main(["plan", "--depth", "1000", "--accuracy", "5"]) == 130
     assert capsys.readouterr().err.splitlines() == ["robostereo: interrupted"]
     assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
+
+
+_FINALIZER_FAILS = """
+import sys
+
+import robostereo.cli as cli
+from robostereo.cli import plan
+
+
+class CutShort:
+    def __del__(self):  # as llvmlite's objects whose build an interrupt cut short
+        raise AttributeError("'ValueRef' object has no attribute '_as_parameter_'")
+
+
+def handler(args):
+    cli.cut_short = CutShort()  # finalized at the interpreter's exit
+    raise KeyboardInterrupt
+
+
+plan.run_plan = handler
+sys.argv = ["robostereo", "plan", "--depth", "1000", "--accuracy", "5"]
+sys.exit(cli.main())
+"""
+
+
+def test_finalizers_that_fail_after_an_interrupt_print_nothing_more():
+    """An interrupt during numba's compiling left objects whose finalizers raised at the
+    program's exit: 'Exception ignored in ...' and a traceback after the one line."""
+    env = {**os.environ, "PYTHONPATH": str(SRC)}
+    p = subprocess.run([sys.executable, "-c", _FINALIZER_FAILS], env=env,
+                       capture_output=True, text=True, timeout=120)
+    assert p.returncode == 130 and p.stderr.splitlines() == ["robostereo: interrupted"], (
+        p.returncode, p.stderr)

@@ -177,10 +177,20 @@ def main(argv: Sequence[str] | None = None) -> int:
         interrupted = True
         return _report_interrupt(cause)
     finally:
-        if not (interrupted and argv is None):  # the program ends quietly: keep ignoring
+        if interrupted and argv is None:
+            # the program ends quietly: signals stay ignored, and work the interrupt cut
+            # short (numba's compiler in mid-build) fails in its finalizers at exit
+            sys.unraisablehook = _quiet_unraisable
+        else:
             for s, handler in previous.items():
                 if handler is not None:
                     signal.signal(s, handler)
+
+
+def _quiet_unraisable(unraisable: Any) -> None:
+    """After an interrupt: errors of finalizers at the program's exit are not shown (an
+    interrupt during numba's compiling left llvmlite objects whose ``__del__`` printed
+    a traceback after the one line, in a clean CI run)."""
 
 
 def _report_interrupt(cause: KeyboardInterrupt) -> int:
