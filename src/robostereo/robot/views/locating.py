@@ -38,6 +38,7 @@ References
 from __future__ import annotations
 
 import math
+import warnings
 from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
@@ -45,7 +46,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from robostereo.errors import InputError, warn_input
+from robostereo.errors import InputError, PlausibilityWarning, warn_input
 from robostereo.robot.views.edge_votes import left_out_views, vote_fits, votes_confidence
 from robostereo.robot.views.frame_checks import usable_views
 from robostereo.robot.views.located_points import (
@@ -58,7 +59,12 @@ from robostereo.robot.views.point_refinement import refine_points
 from robostereo.robot.views.pose_check import views_epipolar_checks, warn_disagreeing
 from robostereo.robot.views.prepared_views import prepare_views, reference_edges
 from robostereo.robot.views.ray_search import search_rays
-from robostereo.robot.views.view_pairs import is_pairs, locate_pairs
+from robostereo.robot.views.view_pairs import (
+    is_pairs,
+    locate_pairs,
+    pair_parts,
+    views_agreement,
+)
 from robostereo.robot.views.viewpoints import ViewsCapture
 from robostereo.robot.views.views_parameters import ViewsParameters
 
@@ -175,6 +181,16 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
         return rest.in_views(keep, len(capture))
     if is_pairs(capture, p):
         return locate_pairs(capture, params=p, progress=progress, source=source)
+    # -- the reference's pairs compared on depth: a view off along its baseline named and
+    #    left out, what the others disagree by carried by the bounds
+    if len(capture) >= 3 and p.lone_view_factor is not None:
+        lone, extra_mm = _pair_check(capture, p, source)
+        if lone is not None:
+            keep = np.array([k for k in range(len(capture)) if k != lone])
+            return locate_views(capture.subset(keep), params=p, progress=progress,
+                                source=source).in_views(keep, len(capture))
+        if extra_mm > capture.baseline_uncertainty_mm:
+            capture = replace(capture, baseline_uncertainty_mm=extra_mm)
     n = len(capture)
     views = prepare_views(capture, p.edge_blur_px, p.opposite_edge_px)
     h, w = views.smoothed.shape[1:]
@@ -234,6 +250,24 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                         residual_px=cat["rms"], window_cost=cat["combined"],
                         distinct=cat["distinct"], views_seen=cat["seen"].astype(np.intp),
                         views_checked=cat["looked"], views_against=cat["against"])
+
+
+def _pair_check(capture: ViewsCapture, p: ViewsParameters, source: str
+                ) -> tuple[int | None, float]:
+    """The pairs' agreement for the sweep: the lone view to leave out (or None) and the
+    pose error along a baseline the remaining disagreement implies, mm (0 if none).
+    The pairs' own warnings (a pair that locates little) are the sweep's business and
+    dropped; with no pair located there is nothing to compare."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", PlausibilityWarning)
+            ref, views, parts = pair_parts(capture, p, source)
+    except InputError:
+        return None, 0.0
+    if len(parts) < 2:
+        return None, 0.0
+    lone, agreement = views_agreement(capture, ref, views, parts, p, source)
+    return lone, float(agreement.pose_error_mm.max())
 
 
 def _scene_range(capture: ViewsCapture, views: Any, ref: int, edges: Any,

@@ -52,6 +52,7 @@ from robostereo.geometry.poses import as_se3
 from robostereo.robot.capture.locate_pair import Located, locate
 from robostereo.robot.views.frame_checks import grey_gradient
 from robostereo.robot.views.located_points import LocatedViews
+from robostereo.robot.views.view_agreement import PairAgreement, pair_agreement
 from robostereo.robot.views.viewpoints import ViewsCapture
 
 __all__ = [
@@ -59,7 +60,9 @@ __all__ = [
     "epipolar_sines",
     "is_pairs",
     "locate_pairs",
+    "pair_parts",
     "pair_reference",
+    "views_agreement",
 ]
 
 _F = NDArray[np.float64]
@@ -247,6 +250,104 @@ def _located_pair(capture: ViewsCapture, ref: int, other: int, source: str,
     return located
 
 
+def pair_parts(capture: ViewsCapture, params: Any, source: str,
+               progress: Callable[[int, int], None] | None = None
+               ) -> tuple[int, list[int], list[dict[str, Any]]]:
+    """Steps 1-3: the reference, each pair located, its points along an edge dropped.
+
+    Returns
+    -------
+    ref : int
+        The reference view.
+    views : list of int
+        The other view of each pair located, widest baseline first (a pair that shares
+        no scene is left out with a warning).
+    parts : list of dict
+        One per pair: ``pixel`` (M, 2) in the reference's grabbed image, ``world``
+        (M, 3) mm, ``bound`` (M,) eq. 9 bound mm, ``probability`` (M,).
+
+    Raises
+    ------
+    InputError
+        No pair located (two views that share no scene, or all pairs left out).
+    """
+    p = params
+    n = len(capture)
+    ref = pair_reference(capture)
+    c = capture.centres
+    others = [k for k in range(n) if k != ref]
+    others.sort(key=lambda k: -float(np.linalg.norm(c[k] - c[ref])))
+    sine_min = float(np.sin(np.radians(p.min_epipolar_angle_deg)))
+    gradient = grey_gradient(capture, ref) if n > 2 else None
+    parts: list[dict[str, Any]] = []
+    views: list[int] = []
+    for done, k in enumerate(others):
+        loc = _located_pair(capture, ref, k, source, p.pair_match)
+        if loc is not None:
+            keep = np.ones(len(loc), bool)
+            if gradient is not None:  # a pair along an edge does not vote on it
+                keep = epipolar_sines(capture, ref, k, loc.world, loc.left_pixel,
+                                      gradient) >= sine_min
+            parts.append({"pixel": loc.left_pixel[keep], "world": loc.world[keep],
+                          "bound": loc.z_bound[keep], "probability": loc.probability[keep]})
+            views.append(k)
+        if progress is not None:
+            progress(done + 1, len(others))
+    if not parts:
+        raise InputError(f"{source}: no pair of views with view {capture.view_name(ref)} "
+                         "shares a scene; check the poses and the depth range")
+    return ref, views, parts
+
+
+def views_agreement(capture: ViewsCapture, ref: int, views: list[int],
+                    parts: list[dict[str, Any]], params: Any, source: str
+                    ) -> tuple[int | None, PairAgreement]:
+    """Whether the pairs agree on depth (:func:`~robostereo.robot.views.view_agreement.
+    pair_agreement`), what they do not warned about naming the views.
+
+    Returns
+    -------
+    lone : int or None
+        The view (capture index) whose pose alone disagrees with the others along its
+        baseline, to be left out; None.
+    agreement : PairAgreement
+    """
+    c = capture.centres
+    pose = as_se3(capture.poses[ref])
+    agreement = pair_agreement(c[ref], pose.rotation[:, 2], parts,
+                               np.linalg.norm(c[views] - c[ref], axis=1),
+                               agree_px=params.agree_px,
+                               baseline_uncertainty_mm=capture.baseline_uncertainty_mm,
+                               lone_view_factor=params.lone_view_factor)
+    name = capture.view_name
+    d = agreement.disagreement
+    if agreement.lone is not None:
+        q = agreement.lone
+        k = views[q]
+        off = float(np.nanmedian(np.abs(np.delete(d[q], q))))
+        warn_input(f"{source}: view {name(k)}'s depths are {100 * off:.2g} % off those of "
+                   f"the other views' pairs with view {name(ref)} (its pose about "
+                   f"{off * float(np.linalg.norm(c[k] - c[ref])):.2g} mm off along the "
+                   "baseline): it is left out")
+        return k, agreement
+    # said when what the bounds gain outgrows them: the pairs' points lay outside them
+    carried = np.array([e * float(np.median((part["world"] - c[ref]) @ pose.rotation[:, 2]))
+                        if len(part["world"]) else 0.0
+                        for e, part in zip(agreement.extra, parts, strict=True)])
+    typical = np.array([float(np.median(part["bound"])) if len(part["bound"]) else np.inf
+                        for part in parts])
+    if np.any(carried > typical):
+        q = int(np.argmax(carried / typical))
+        r = int(np.nanargmax(np.abs(np.where(np.isfinite(d[q]), d[q], np.nan))))
+        warn_input(f"{source}: the pairs of view {name(ref)} with views {name(views[q])} "
+                   f"and {name(views[r])} disagree on depth by {100 * abs(d[q, r]):.2g} % "
+                   "(a pose off along a baseline by up to "
+                   f"{agreement.pose_error_mm.max():.2g} mm, where `uncertainty: "
+                   f"baseline_mm` says {capture.baseline_uncertainty_mm:g}): the bounds "
+                   f"carry it, {carried[q]:.2g} mm more than their median {typical[q]:.2g} mm")
+    return None, agreement
+
+
 def locate_pairs(capture: ViewsCapture, *, params: Any = None,
                  progress: Callable[[int, int], None] | None = None,
                  source: str = "capture") -> LocatedViews:
@@ -290,32 +391,21 @@ def locate_pairs(capture: ViewsCapture, *, params: Any = None,
 
     p = params if params is not None else ViewsParameters()
     n = len(capture)
-    ref = pair_reference(capture)
+    # -- each pair through the two-view matcher (rectify, match, eq. 6-9)
+    ref, views, parts = pair_parts(capture, p, source, progress)
     c = capture.centres
-    others = [k for k in range(n) if k != ref]
-    others.sort(key=lambda k: -float(np.linalg.norm(c[k] - c[ref])))
     pose = as_se3(capture.poses[ref])
     centre, axis = c[ref], pose.rotation[:, 2]
-    sine_min = float(np.sin(np.radians(p.min_epipolar_angle_deg)))
-    gradient = grey_gradient(capture, ref) if n > 2 else None
-    parts: list[dict[str, Any]] = []
-    views: list[int] = []
-    # -- each pair through the two-view matcher (rectify, match, eq. 6-9)
-    for done, k in enumerate(others):
-        loc = _located_pair(capture, ref, k, source, p.pair_match)
-        if loc is not None:
-            keep = np.ones(len(loc), bool)
-            if gradient is not None:  # a pair along an edge does not vote on it
-                keep = epipolar_sines(capture, ref, k, loc.world, loc.left_pixel,
-                                      gradient) >= sine_min
-            parts.append({"pixel": loc.left_pixel[keep], "world": loc.world[keep],
-                          "bound": loc.z_bound[keep], "probability": loc.probability[keep]})
-            views.append(k)
-        if progress is not None:
-            progress(done + 1, len(others))
-    if not parts:
-        raise InputError(f"{source}: no pair of views with view {capture.view_name(ref)} "
-                         "shares a scene; check the poses and the depth range")
+    # -- pairs that disagree on depth: a lone view left out, the rest carried by bounds
+    if len(parts) >= 2 and p.lone_view_factor is not None:
+        lone, agreement = views_agreement(capture, ref, views, parts, p, source)
+        if lone is not None:
+            keep = np.array([k for k in range(n) if k != lone])
+            rest = locate_pairs(capture.subset(keep), params=p, source=source)
+            return rest.in_views(keep, n)
+        for q, part in enumerate(parts):
+            part["bound"] = part["bound"] + agreement.extra[q] * ((part["world"] - centre)
+                                                                  @ axis)
     # -- gathered in the reference image, widest pair first; agreeing pairs combined
     g = combine_pairs(centre, axis, parts, agree_px=p.agree_px)
     support = g["members"].sum(axis=1)

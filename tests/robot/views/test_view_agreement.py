@@ -1,0 +1,168 @@
+"""A view whose pose is off along its baseline: named and left out when the other pairs
+agree, carried by the bounds when no view can be named (robostereo.robot.views.
+view_agreement), on synthetic pairs, issue 34's renders and the simulator's views."""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+import numpy as np
+import pytest
+from view_renders import RenderSpec, render_views
+
+from robostereo.errors import InputError, PlausibilityWarning
+from robostereo.geometry.poses import SE3, as_se3
+from robostereo.robot.simulated.grab_views import simulate_views
+from robostereo.robot.views.locating import locate_views
+from robostereo.robot.views.view_agreement import pair_agreement
+from robostereo.robot.views.views_parameters import ViewsParameters
+
+AXIS = np.array([0.0, 0.0, 1.0])
+
+
+def _parts(scales, *, n=300, seed=0, shift_px=0.0):
+    """Pairs seeing one scene at about 1000 mm, each pair's depths times its scale."""
+    rng = np.random.default_rng(seed)
+    px = rng.uniform(0, 500, (n, 2))
+    z = 1000.0 + rng.normal(0, 20, n)
+    out = []
+    for k, s in enumerate(scales):
+        noisy = z * s * (1 + rng.normal(0, 0.002, n))
+        out.append({"pixel": px + k * shift_px, "world": np.column_stack([px, noisy])})
+    return out
+
+
+def _agreement(parts, baselines=None, **kw):
+    b = np.full(len(parts), 20.0) if baselines is None else np.asarray(baselines, float)
+    args = {"agree_px": 1.0, "baseline_uncertainty_mm": 0.01, "lone_view_factor": 4.0}
+    return pair_agreement(np.zeros(3), AXIS, parts, b, **(args | kw))
+
+
+def test_pairs_that_agree_name_no_view_and_widen_no_bound():
+    a = _agreement(_parts([1.0, 1.0, 1.0, 1.0]))
+    assert a.lone is None
+    assert np.all(a.extra == 0.0)
+    assert np.nanmax(np.abs(a.disagreement)) < 0.001
+    assert np.all(a.shared[~np.eye(4, dtype=bool)] == 300)
+
+
+@pytest.mark.parametrize(("scales", "lone"), [([1.0, 1.0, 0.95], 2), ([1.03, 1.0, 1.0, 1.0], 0),
+                                              ([1.0, 0.98, 1.0, 1.0, 1.0], 1)])
+def test_a_pair_alone_off_by_a_scale_names_its_view(scales, lone):
+    a = _agreement(_parts(scales))
+    assert a.lone == lone
+    assert np.all(a.extra == 0.0)  # the others agree: nothing left to carry
+    off = np.delete(a.disagreement[lone], lone)
+    np.testing.assert_allclose(off, np.log(scales[lone]), atol=0.002)
+
+
+def test_two_pairs_that_disagree_cannot_name_a_view_and_both_carry_it():
+    a = _agreement(_parts([1.0, 1.05]))
+    assert a.lone is None  # either view (or the reference) may be off
+    np.testing.assert_allclose(a.extra, np.log(1.05), atol=0.003)
+    np.testing.assert_allclose(a.pose_error_mm, 20.0 * a.extra)
+
+
+def test_a_disagreement_within_the_stated_baseline_uncertainty_is_not_carried():
+    # 0.2 % on a 20 mm baseline is 0.04 mm of pose error: within a stated 0.1 mm
+    a = _agreement(_parts([1.0, 1.002]), baseline_uncertainty_mm=0.1)
+    assert np.all(a.extra == 0.0)
+    b = _agreement(_parts([1.0, 1.002]), baseline_uncertainty_mm=0.001)
+    assert np.all(b.extra > 0.0005)
+
+
+def test_pairs_that_share_no_pixels_are_not_compared():
+    a = _agreement(_parts([1.0, 1.0, 1.1], shift_px=50.0))
+    assert np.all(a.shared[~np.eye(3, dtype=bool)] < 20)
+    assert np.all(np.isnan(a.disagreement))
+    assert a.lone is None and np.all(a.extra == 0.0)
+
+
+def test_lone_view_factor_must_be_positive_or_none():
+    for bad in (0.0, -1.0, "4"):
+        with pytest.raises(InputError, match="lone_view_factor"):
+            ViewsParameters(lone_view_factor=bad)
+    assert ViewsParameters(lone_view_factor=None).lone_view_factor is None
+
+
+# -- on issue 34's renders: a printed ground and a box at 400 mm, k1 = -0.1, jittered
+
+
+def _shifted(cap, k, mm):
+    """`cap` with view k's recorded pose moved `mm` along the line from the views'
+    centroid to it (its baseline to the reference); the images stay as they are."""
+    c = cap.centres
+    b = c[k] - c.mean(axis=0)
+    pose = as_se3(cap.poses[k])
+    poses = list(cap.poses)
+    poses[k] = SE3(pose.rotation, pose.translation + mm * b / np.linalg.norm(b))
+    return dataclasses.replace(cap, poses=tuple(poses))
+
+
+def _depth_errors(loc, cap, truth):
+    err = np.zeros(len(loc))
+    for r in np.unique(loc.reference):
+        k = loc.reference == r
+        pose = as_se3(cap.poses[r])
+        o, axis = pose.translation, pose.rotation[:, 2]
+        err[k] = np.abs((loc.world[k] - o) @ axis - truth.ray_depth(o, axis, loc.world[k]))
+    return err
+
+
+def _located(cap, **kw):
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", PlausibilityWarning)
+        loc = locate_views(cap, params=ViewsParameters(**kw), source="cap")
+    return loc, [str(w.message) for w in caught if issubclass(w.category, PlausibilityWarning)]
+
+
+@pytest.fixture(scope="module")
+def printed_cross():
+    return render_views(RenderSpec(texture="print", pattern="cross", count=5, seed=1))
+
+
+@pytest.fixture(scope="module")
+def printed_line3():
+    return render_views(RenderSpec(texture="print", pattern="line", count=3, seed=1))
+
+
+@pytest.mark.parametrize("matcher", ["pairs", "sweep"])
+def test_a_view_off_along_its_baseline_is_named_and_the_rest_located_as_without_it(
+        printed_cross, matcher):
+    cap, _ = printed_cross
+    bad = _shifted(cap, 2, 2.0)  # 2 mm along a 40 mm baseline: depths 5 % off
+    loc, said = _located(bad, matcher=matcher)
+    named = [m for m in said if "view 2 (view_02.png)'s depths are" in m]
+    assert len(named) == 1 and named[0].endswith("it is left out"), said
+    assert not loc.views[:, 2].any()
+    without, _ = _located(cap.subset([0, 1, 3, 4]), matcher=matcher)
+    assert len(loc) == len(without) > 1000
+    np.testing.assert_array_equal(loc.world, without.world)
+    np.testing.assert_array_equal(loc.bound_mm, without.bound_mm)
+
+
+@pytest.mark.parametrize("matcher", ["pairs", "sweep"])
+def test_three_views_one_off_along_the_baseline_are_warned_about_and_bounds_carry_it(
+        printed_line3, matcher):
+    cap, truth = printed_line3
+    bad = _shifted(cap, 2, 2.0)
+    loc, said = _located(bad, matcher=matcher)
+    assert any("disagree on depth by" in m and "the bounds carry it" in m for m in said), said
+    err = _depth_errors(loc, bad, truth)
+    assert len(loc) > 100
+    sure = loc.confidence >= 0.9
+    assert not np.any(sure & (err > 3 * loc.bound_mm))
+    # without the comparison the same views give confident points far beyond their bounds
+    blind, _ = _located(bad, matcher=matcher, lone_view_factor=None)
+    err = _depth_errors(blind, bad, truth)
+    assert np.sum((blind.confidence >= 0.9) & (err > 3 * blind.bound_mm)) > 50
+
+
+def test_correct_views_raise_no_disagreement(printed_cross):
+    cap, _ = printed_cross
+    sim = simulate_views("pulley", count=5, pattern="cross", span_mm=40.0).capture
+    for c in (cap, sim):
+        for matcher in ("pairs", "sweep"):
+            _, said = _located(c, matcher=matcher)
+            assert not [m for m in said if "depths are" in m or "disagree on depth" in m], said
