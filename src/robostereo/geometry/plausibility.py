@@ -130,8 +130,13 @@ def check_depth_disparities(fx: float, baseline_mm: float, depth_range_mm: tuple
             "no two views see those depths; give the object's depth range")
 
 
+MAX_ROTATION_UNCERTAINTY_DEG = 10.0
+"""Above it, ``uncertainty: rotation_deg`` is no pose uncertainty but an unknown pose."""
+
+
 def check_uncertainties(focal_length_mm: float, width: int, *, baseline_mm: float,
-                        focal_length_mm_unc: float, disparity_px: float) -> None:
+                        focal_length_mm_unc: float, disparity_px: float,
+                        rotation_deg: float = 0.0) -> None:
     """Refuse eq. 9's uncertainties that are not finite numbers >= 0 or that leave the
     depth bound empty: ``disparity_px`` above the image width, ``focal_length_mm`` not
     below the focal length.  The message names the ``uncertainty`` key.
@@ -146,7 +151,9 @@ def check_uncertainties(focal_length_mm: float, width: int, *, baseline_mm: floa
               ("focal_length_mm", focal_length_mm_unc, focal_length_mm,
                f" and below the focal length ({focal_length_mm:g} mm)"),
               ("disparity_px", disparity_px, float(width),
-               f" and at most the image width ({width} px)"))
+               f" and at most the image width ({width} px)"),
+              ("rotation_deg", rotation_deg, MAX_ROTATION_UNCERTAINTY_DEG,
+               f" and below {MAX_ROTATION_UNCERTAINTY_DEG:g}"))
     for key, v, top, why in limits:
         at_most = key == "disparity_px"  # the image width itself is allowed
         if not (is_finite_number(v) and 0 <= v and (v <= top if at_most else v < top)):

@@ -98,6 +98,9 @@ def _copy(src: Path, dst: Path) -> Path:
     ({"color": 3}, "unknown key 'color'"),
     ({"bit_depth": 6}, "grey level"),
     ({"uncertainty": {"disparity_px": -1}}, "disparity_px"),
+    ({"uncertainty": {"rotation_deg": -0.1}}, "rotation_deg"),
+    ({"uncertainty": {"rotation_deg": 30}}, "rotation_deg' must be a finite number >= 0 and "
+                                            "below 10"),
 ])
 def test_bad_capture_folders(capture_dir, tmp_path, change, message):
     d = _copy(capture_dir, tmp_path / "bad")
@@ -269,3 +272,33 @@ def test_a_hand_eye_turned_about_the_optical_axis_is_warned_about(tmp_path, caps
     assert z_bad.size > 0.8 * z_good.size
     assert abs(np.median(z_bad) - np.median(z_good)) < 3.0
     assert np.percentile(z_bad, 95) < np.percentile(z_good, 95) + 5.0
+
+
+def test_a_rotation_uncertainty_widens_each_bound_by_the_disparity_it_allows(capture_dir,
+                                                                           tmp_path):
+    """``uncertainty: rotation_deg``: each view turned up to that much across the baseline
+    moves the disparity by up to ``2 f tan`` of it, and eq. 9's bound grows by
+    ``Z^2 / (f D)`` times that; files without the key read and write as before."""
+    plain = read_capture(capture_dir)
+    assert plain.rotation_uncertainty_deg == 0.0
+    d = _copy(capture_dir, tmp_path / "turned")
+    data = yaml.safe_load((d / "capture.yaml").read_text())
+    data["uncertainty"]["rotation_deg"] = 0.02
+    (d / "capture.yaml").write_text(yaml.safe_dump(data))
+    turned = read_capture(d)
+    assert turned.rotation_uncertainty_deg == 0.02
+    a, b = locate_capture(capture_dir), locate_capture(d)
+    np.testing.assert_array_equal(a.world, b.world)  # the points are the same
+    cam = plain.stereo_camera()
+    gain = 2 * cam.fx * np.tan(np.radians(0.02))  # px of disparity
+    # the added bound is eq. 9's disparity term for `gain` more pixels
+    np.testing.assert_allclose(b.z_bound - a.z_bound,
+                               gain * cam.baseline_mm * cam.fx / a.disparity**2, rtol=0.02)
+    assert np.median(b.z_bound - a.z_bound) > 0.5  # 0.02 deg at 1 m: mm, not microns
+    # written back with the key; a capture without it writes none
+    write_capture(tmp_path / "again", turned)
+    again = yaml.safe_load((tmp_path / "again" / "capture.yaml").read_text())
+    assert again["uncertainty"]["rotation_deg"] == 0.02
+    write_capture(tmp_path / "plain", plain)
+    assert "rotation_deg" not in yaml.safe_load(
+        (tmp_path / "plain" / "capture.yaml").read_text())["uncertainty"]

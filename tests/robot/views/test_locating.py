@@ -210,3 +210,24 @@ def test_poses_in_the_other_convention_warn_that_few_points_were_located():
     bad = dataclasses.replace(cap, poses=tuple(p.inv() for p in cap.poses))
     with pytest.warns(PlausibilityWarning, match=r"edge points located.*pose_convention"):
         locate_views(bad)
+
+
+def test_a_rotation_uncertainty_widens_the_bounds(block_line):
+    """``uncertainty: rotation_deg`` enters eq. 9's disparity term of every view: the
+    sweep's points stay where they were, the pairs' only regroup within their bounds."""
+    from dataclasses import replace
+
+    cap = block_line[0].capture
+    for matcher in ("sweep", "pairs"):
+        p = ViewsParameters(matcher=matcher)
+        a = locate_views(cap, params=p)
+        b = locate_views(replace(cap, rotation_uncertainty_deg=0.02), params=p)
+        # 0.02 deg turns each view's image by 0.5 px at f = 1453 px: at 1 m over 20-80 mm
+        # baselines, 4-35 mm of depth per pixel of disparity
+        if matcher == "sweep":
+            np.testing.assert_array_equal(a.world, b.world)
+            grow = b.bound_mm - a.bound_mm
+            assert np.all(grow > 1.0) and 3.0 < np.median(grow) < 40.0, np.median(grow)
+        else:
+            assert abs(len(b) - len(a)) < 0.2 * len(a)
+            assert np.median(b.bound_mm) > np.median(a.bound_mm) + 3.0

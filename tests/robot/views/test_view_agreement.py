@@ -64,12 +64,20 @@ def test_two_pairs_that_disagree_cannot_name_a_view_and_both_carry_it():
     np.testing.assert_allclose(a.pose_error_mm, 20.0 * a.extra)
 
 
-def test_a_disagreement_within_the_stated_baseline_uncertainty_is_not_carried():
-    # 0.2 % on a 20 mm baseline is 0.04 mm of pose error: within a stated 0.1 mm
-    a = _agreement(_parts([1.0, 1.002]), baseline_uncertainty_mm=0.1)
+def _with_bounds(parts, share):
+    return [p | {"bound": share * p["world"][:, 2]} for p in parts]
+
+
+def test_a_disagreement_within_the_pairs_bounds_is_not_carried():
+    # 0.2 % apart, each pair's bound 0.15 % of the depth: the bounds hold it
+    a = _agreement(_with_bounds(_parts([1.0, 1.002]), 0.0015))
     assert np.all(a.extra == 0.0)
-    b = _agreement(_parts([1.0, 1.002]), baseline_uncertainty_mm=0.001)
-    assert np.all(b.extra > 0.0005)
+    np.testing.assert_allclose(a.allowed[0, 1], 0.003, rtol=0.01)
+    # bounds of 0.05 % each: 0.1 % of it is carried, less the medians' noise
+    b = _agreement(_with_bounds(_parts([1.0, 1.002]), 0.0005))
+    d, se, allowed = b.disagreement[0, 1], b.standard_error[0, 1], b.allowed[0, 1]
+    np.testing.assert_allclose(b.extra, abs(d) - 3 * se - allowed)
+    assert 0.0004 < b.extra.min() < 0.0012
 
 
 def test_pairs_that_share_no_pixels_are_not_compared():

@@ -30,7 +30,8 @@ Capture folder format (``DIR/``)::
                           depth_range_mm:  [near, far] expected depth of the object
                           pose_convention: camera_to_world (default) or world_to_camera
                                            (pose_left/right are extrinsics [R | t])
-                          uncertainty:     {baseline_mm, focal_length_mm, disparity_px}
+                          uncertainty:     {baseline_mm, focal_length_mm, disparity_px,
+                                            rotation_deg}
                                            (optional, eq. 9; focal_px in place of
                                            focal_length_mm for a camera in pixels)
                           robot, scene:    free-form notes (optional, not read)
@@ -66,6 +67,7 @@ from robostereo.robot.capture.capture_keys import (
     extras_from_dict,
     extras_to_dict,
     pose_convention,
+    rotation_disparity_px,
     warn_identity_hand_eye,
     warn_metres,
 )
@@ -133,6 +135,11 @@ class Capture:
         ``dD``, ``ds`` and ``d(disp)`` of eq. (9); ``ds`` defaults to 0.01 mm for a
         physical camera and 0 for one in pixels (whose nominal 1 mm lens makes ``ds``
         the focal length's relative error, ``d(fx) / fx``).
+    rotation_uncertainty_deg : float
+        How far each view's orientation may be off (the arm's repeatability, a hand-eye
+        error as far as the flange turns between the views), degrees; the bounds' ``d(disp)``
+        gains :func:`~robostereo.robot.capture.capture_keys.rotation_disparity_px`
+        (default 0).
     notes : mapping
         Free-form ``robot`` and ``scene`` notes (written, never read).
     flange_left, flange_right, hand_eye : SE3 or None
@@ -152,6 +159,7 @@ class Capture:
     baseline_uncertainty_mm: float = 0.01
     focal_length_uncertainty_mm: float = None  # type: ignore[assignment]
     disparity_uncertainty_px: float = DISPARITY_UNCERTAINTY_PX
+    rotation_uncertainty_deg: float = 0.0
     notes: Mapping[str, Any] = field(default_factory=dict)
     flange_left: SE3 | None = None
     flange_right: SE3 | None = None
@@ -208,7 +216,8 @@ class Capture:
         check_uncertainties(self.camera.focal_length_mm, w,
                             baseline_mm=self.baseline_uncertainty_mm,
                             focal_length_mm_unc=self.focal_length_uncertainty_mm,
-                            disparity_px=self.disparity_uncertainty_px)
+                            disparity_px=self.disparity_uncertainty_px,
+                            rotation_deg=self.rotation_uncertainty_deg)
         # math.hypot scales: no overflow for translations near the float range
         d = math.hypot(*(as_se3(self.pose_left).translation
                          - as_se3(self.pose_right).translation))
@@ -286,7 +295,8 @@ class Capture:
             focal_uncertainty_px=self.focal_length_uncertainty_mm / cam.pixel_pitch_mm[0]
             * fx / cam.fx,
             baseline_uncertainty_mm=self.baseline_uncertainty_mm,
-            disparity_uncertainty_px=self.disparity_uncertainty_px,
+            disparity_uncertainty_px=self.disparity_uncertainty_px
+            + rotation_disparity_px(fx, self.rotation_uncertainty_deg),
         )
 
 

@@ -20,6 +20,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
@@ -40,6 +41,7 @@ __all__ = [
     "extras_from_dict",
     "extras_to_dict",
     "pose_convention",
+    "rotation_disparity_px",
     "shared_scene_fractions",
     "warn_identity_hand_eye",
     "warn_metres",
@@ -54,13 +56,27 @@ DEFAULT_FOCAL_UNCERTAINTY_MM = 0.01
 #: ``uncertainty`` keys of a capture file and the capture attributes they fill (eq. 9)
 _UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
                 ("focal_length_mm", "focal_length_uncertainty_mm"),
-                ("disparity_px", "disparity_uncertainty_px"))
+                ("disparity_px", "disparity_uncertainty_px"),
+                ("rotation_deg", "rotation_uncertainty_deg"))
 _PIXEL_UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
                       ("focal_px", "focal_length_uncertainty_mm"),
-                      ("disparity_px", "disparity_uncertainty_px"))
+                      ("disparity_px", "disparity_uncertainty_px"),
+                      ("rotation_deg", "rotation_uncertainty_deg"))
 
 _SCENE_GRID = 9  # pixels per image side sampled by the shared-scene check
 _SCENE_DEPTHS = 5  # depths sampled over the depth range
+
+
+def rotation_disparity_px(focal_px: float, rotation_deg: float) -> float:
+    """The disparity two views' orientations can be off by, pixels: each view turned up to
+    `rotation_deg` (``uncertainty: rotation_deg``) about an axis across its baseline moves
+    its image by ``f tan(rotation)`` along the epipolar lines, the pair's disparity by up
+    to twice that (eq. 9's ``d(disp)`` gains it, as a worst case like its other terms).
+
+    >>> round(rotation_disparity_px(800.0, 0.05), 3)
+    1.396
+    """
+    return 2.0 * focal_px * math.tan(math.radians(rotation_deg))
 
 
 def default_focal_uncertainty_mm(camera: Camera) -> float:
@@ -255,6 +271,8 @@ def extras_to_dict(capture: Any) -> dict[str, Any]:
     pixels = capture.camera.in_pixels
     keys = _PIXEL_UNCERTAINTY if pixels else _UNCERTAINTY
     unc = {key: float(getattr(capture, attr)) for key, attr in keys}
+    if not unc["rotation_deg"]:  # written only when given: files as before
+        del unc["rotation_deg"]
     if pixels:  # a nominal 1 mm lens over pixels of 1/fx mm: ds = d(fx) / fx
         unc["focal_px"] = float(capture.focal_length_uncertainty_mm * capture.camera.fx)
     out: dict[str, Any] = {"uncertainty": unc}

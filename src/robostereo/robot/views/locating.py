@@ -47,6 +47,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError, PlausibilityWarning, warn_input
+from robostereo.robot.capture.capture_keys import rotation_disparity_px
 from robostereo.robot.views.edge_votes import left_out_views, vote_fits, votes_confidence
 from robostereo.robot.views.frame_checks import usable_views
 from robostereo.robot.views.located_points import (
@@ -240,7 +241,9 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     cat = {k: np.concatenate([q[k] for q in parts]) for k in parts[0]}
     bound = views_bound(cat["depth"], cat["rho_std"], focal_px=float(views.K[0, 0]),
                         pixel_pitch_mm=cam.pixel_pitch_mm[0],
-                        disparity_uncertainty_px=capture.disparity_uncertainty_px,
+                        disparity_uncertainty_px=capture.disparity_uncertainty_px
+                        + rotation_disparity_px(float(views.K[0, 0]),
+                                                capture.rotation_uncertainty_deg),
                         baseline_uncertainty_mm=capture.baseline_uncertainty_mm,
                         focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm)
     count = cat["views"].sum(axis=1)

@@ -13,12 +13,13 @@ test that follows [1]_:
 2. with three or more pairs, a pair whose disagreement with every other is several times
    (``lone_view_factor``) the largest among the others, and beyond what the stated
    ``uncertainty: baseline_mm`` allows, names its other view: that view alone explains
-   the disagreement (leave-one-out);
+   the disagreement (leave-one-out; the bounds, worst cases, would hide much of it);
 3. what disagreement remains among the pairs kept is carried by their bounds: a pair that
-   disagrees with another by ``|D|`` beyond its standard error may be off by that much, so
-   its bound gains ``(|D| - D_stated) Z``, ``D_stated = baseline_mm / D_q`` being what
-   eq. 9's baseline term already holds; the pose error this implies along the pair's
-   baseline, ``|D| D_q``, is reported.
+   disagrees with another by ``|D|`` (beyond three standard errors) more than the two
+   pairs' bounds allow (the median of ``(bound_q + bound_r) / Z`` over the shared pixels,
+   eq. 9 with its baseline and disparity terms) may be off by that excess, so its bound
+   gains ``excess * Z``; the pose error this implies along the pair's baseline,
+   ``excess * D_q``, is reported.
 
 Three views make two pairs, and then which view is off cannot be told: moving either
 other view (or the reference) along its baseline, with the scene scaled, explains the
@@ -59,15 +60,18 @@ class PairAgreement:
         where they share fewer than :data:`MIN_SHARED`); ``D[r, q] = -D[q, r]``.
     standard_error : ndarray, shape (P, P)
         Of each ``D[q, r]`` (``1.25 * 1.4826 MAD / sqrt(n)``).
+    allowed : ndarray, shape (P, P)
+        What the two pairs' bounds allow between them: the median of
+        ``(bound_q + bound_r) / Z`` over the shared pixels.
     shared : ndarray, shape (P, P), int
         Pixels both pairs located.
     lone : int or None
         The pair (index into the pairs) whose other view alone disagrees with the rest,
         or None.
     extra : ndarray, shape (P,)
-        Relative depth each pair's bound gains (``extra * Z`` mm): its disagreement with
-        the other pairs kept beyond its standard error and the stated baseline
-        uncertainty; 0 for a pair that agrees (and for the lone one).
+        Relative depth each pair's bound gains (``extra * Z`` mm): its largest
+        disagreement with the other pairs kept beyond three standard errors and what
+        their bounds allow; 0 for a pair that agrees (and for the lone one).
     pose_error_mm : ndarray, shape (P,)
         ``extra * D_q``: how far along its baseline the pair's other view would be off if
         the disagreement were its alone, mm.
@@ -75,6 +79,7 @@ class PairAgreement:
 
     disagreement: _F
     standard_error: _F
+    allowed: _F
     shared: NDArray[np.intp]
     lone: int | None
     extra: _F
@@ -82,11 +87,13 @@ class PairAgreement:
 
 
 def _disagreements(centre: _F, axis: _F, parts: list[dict[str, Any]],
-                   agree_px: float) -> tuple[_F, _F, NDArray[np.intp]]:
-    """Step 1: each two pairs' median log depth ratio, its standard error and count."""
+                   agree_px: float) -> tuple[_F, _F, _F, NDArray[np.intp]]:
+    """Step 1: each two pairs' median log depth ratio, its standard error, what their
+    bounds allow (relative) and how many pixels they share."""
     n = len(parts)
     d = np.full((n, n), np.nan)
     se = np.full((n, n), np.nan)
+    allowed = np.zeros((n, n))
     shared = np.zeros((n, n), np.intp)
     depth = [(p["world"] - centre) @ axis for p in parts]
     for q in range(n):  # a loop over pairs (a handful), not over points
@@ -99,6 +106,8 @@ def _disagreements(centre: _F, axis: _F, parts: list[dict[str, Any]],
             zq, zr = depth[q][hit], depth[r][idx[hit]]
             ok = (zq > 0) & (zr > 0)
             ratio = np.log(zq[ok] / zr[ok])
+            bq = parts[q].get("bound", np.zeros(len(depth[q])))[hit][ok]
+            br = parts[r].get("bound", np.zeros(len(depth[r])))[idx[hit]][ok]
             shared[q, r] = shared[r, q] = len(ratio)
             if len(ratio) < MIN_SHARED:
                 continue
@@ -106,7 +115,8 @@ def _disagreements(centre: _F, axis: _F, parts: list[dict[str, Any]],
             err = 1.25 * 1.4826 * float(np.median(np.abs(ratio - med))) / np.sqrt(len(ratio))
             d[q, r], d[r, q] = med, -med
             se[q, r] = se[r, q] = err
-    return d, se, shared
+            allowed[q, r] = allowed[r, q] = float(np.median((bq + br) / zq[ok]))
+    return d, se, allowed, shared
 
 
 def pair_agreement(centre: _F, axis: _F, parts: list[dict[str, Any]], baselines_mm: _F, *,
@@ -119,7 +129,8 @@ def pair_agreement(centre: _F, axis: _F, parts: list[dict[str, Any]], baselines_
     centre, axis : ndarray, shape (3,)
         The reference's optical centre (world mm) and optical axis (unit).
     parts : list of dict
-        One per pair: ``pixel`` (M, 2) in the reference's image, ``world`` (M, 3) mm.
+        One per pair: ``pixel`` (M, 2) in the reference's image, ``world`` (M, 3) mm,
+        ``bound`` (M,) mm (eq. 9; taken as 0 when absent).
     baselines_mm : ndarray, shape (P,)
         Each pair's baseline length.
     agree_px : float
@@ -152,7 +163,7 @@ def pair_agreement(centre: _F, axis: _F, parts: list[dict[str, Any]], baselines_
     0.0
     """
     n = len(parts)
-    d, se, shared = _disagreements(centre, axis, parts, agree_px)
+    d, se, by_bounds, shared = _disagreements(centre, axis, parts, agree_px)
     b = np.asarray(baselines_mm, dtype=float)
     stated = baseline_uncertainty_mm / b  # eq. 9's relative baseline term, per pair
     # what the stated uncertainty and the medians' noise allow between pairs q and r
@@ -182,11 +193,12 @@ def pair_agreement(centre: _F, axis: _F, parts: list[dict[str, Any]], baselines_
     kept = np.ones(n, bool)
     if lone is not None:
         kept[lone] = False
-    excess = np.abs(d) - 3.0 * se - stated[:, None]
+    excess = np.abs(d) - 3.0 * se - by_bounds
     excess[~kept, :] = np.nan
     excess[:, ~kept] = np.nan
     with np.errstate(invalid="ignore"):
         worst = np.nanmax(np.where(np.isfinite(excess), excess, -np.inf), axis=1)
     extra = np.where(kept, np.clip(worst, 0.0, None), 0.0)
-    return PairAgreement(disagreement=d, standard_error=se, shared=shared, lone=lone,
+    return PairAgreement(disagreement=d, standard_error=se, allowed=by_bounds,
+                         shared=shared, lone=lone,
                          extra=extra, pose_error_mm=extra * b)

@@ -330,7 +330,7 @@ def views_agreement(capture: ViewsCapture, ref: int, views: list[int],
                    f"{off * float(np.linalg.norm(c[k] - c[ref])):.2g} mm off along the "
                    "baseline): it is left out")
         return k, agreement
-    # said when what the bounds gain outgrows them: the pairs' points lay outside them
+    # said when what the bounds gain outgrows them: the pairs' points lay far outside
     carried = np.array([e * float(np.median((part["world"] - c[ref]) @ pose.rotation[:, 2]))
                         if len(part["world"]) else 0.0
                         for e, part in zip(agreement.extra, parts, strict=True)])

@@ -176,6 +176,9 @@ class ViewsCapture:
         ``dD`` (mm), ``ds`` (mm) and ``d(disp)`` (px) of eq. (9), for every pair of
         views; ``ds`` defaults to 0.01 mm for a physical camera and 0 for one in
         pixels (``d(fx) / fx`` over its nominal 1 mm lens).
+    rotation_uncertainty_deg : float
+        How far each view's orientation may be off, degrees (as
+        :class:`~robostereo.robot.capture.capture_folder.Capture`'s; default 0).
     names : tuple of str or None
         File name of each view's image in a capture folder (e.g. ``view_00.png``).
     notes : mapping
@@ -206,6 +209,7 @@ class ViewsCapture:
     baseline_uncertainty_mm: float = 0.01
     focal_length_uncertainty_mm: float = None  # type: ignore[assignment]
     disparity_uncertainty_px: float = DISPARITY_UNCERTAINTY_PX
+    rotation_uncertainty_deg: float = 0.0
     names: tuple[str, ...] | None = None
     notes: Mapping[str, Any] = field(default_factory=dict)
     flanges: tuple[SE3, ...] | None = None
@@ -264,6 +268,7 @@ class ViewsCapture:
                    baseline_uncertainty_mm=capture.baseline_uncertainty_mm,
                    focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm,
                    disparity_uncertainty_px=capture.disparity_uncertainty_px,
+                   rotation_uncertainty_deg=capture.rotation_uncertainty_deg,
                    notes=dict(capture.notes), flanges=flanges, hand_eye=capture.hand_eye)
 
     def __post_init__(self) -> None:
@@ -310,7 +315,8 @@ class ViewsCapture:
         check_uncertainties(self.camera.focal_length_mm, w,
                             baseline_mm=self.baseline_uncertainty_mm,
                             focal_length_mm_unc=self.focal_length_uncertainty_mm,
-                            disparity_px=self.disparity_uncertainty_px)
+                            disparity_px=self.disparity_uncertainty_px,
+                            rotation_deg=self.rotation_uncertainty_deg)
         if self.names is not None:
             object.__setattr__(self, "names", tuple(str(s) for s in self.names))
             if len(self.names) != n or len(set(self.names)) != n:
@@ -391,4 +397,5 @@ class ViewsCapture:
             baseline_uncertainty_mm=self.baseline_uncertainty_mm,
             focal_length_uncertainty_mm=self.focal_length_uncertainty_mm,
             disparity_uncertainty_px=self.disparity_uncertainty_px,
+            rotation_uncertainty_deg=self.rotation_uncertainty_deg,
             notes=dict(self.notes), **kwargs)

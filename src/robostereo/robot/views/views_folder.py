@@ -24,7 +24,8 @@ Folder format (``DIR/``)::
                                            camera = flange @ hand_eye)
                           depth_range_mm:  [near, far] expected depth of the object
                           bit_depth:       7 (optional; default the PNGs')
-                          uncertainty:     {baseline_mm, focal_length_mm, disparity_px}
+                          uncertainty:     {baseline_mm, focal_length_mm, disparity_px,
+                                            rotation_deg}
                                            (optional, eq. 9; focal_px for a camera in
                                            pixels)
                           robot, scene:    free-form notes (optional, not read)
