@@ -367,11 +367,12 @@ def _read(reader: Any, path: Path, out: Path, image_topic: str, info_topic: str,
     if at is None and every is None and len(chosen) > MANY_IMAGES:
         warn_input(f"{image_topic}: {len(chosen)} images taken, each a view: --every "
                    "SECONDS or --at STAMPS takes fewer")
+    poses = _tree(reader, topics).chain_poses(
+        base_frame, camera_frame, sorted_stamps[chosen], tolerance_s=tolerance_s)
+    frames.discard("")
     if frames and frame_name(camera_frame) not in frames:
         warn_input(f"{image_topic}: the images are in frame '{sorted(frames)[0]}', not "
                    f"--camera-frame '{frame_name(camera_frame)}' (is it the optical frame?)")
-    poses = _tree(reader, topics).chain_poses(
-        base_frame, camera_frame, sorted_stamps[chosen], tolerance_s=tolerance_s)
     wanted = {int(order[i]): k for k, i in enumerate(chosen)}  # message number -> view
     files: dict[int, Path] = {}
     for n, (conn, _, raw) in enumerate(reader.messages(connections=topics.image)):
@@ -382,8 +383,7 @@ def _read(reader: Any, path: Path, out: Path, image_topic: str, info_topic: str,
             raise InputError(f"{info_topic}: camera_info is {size[0]} x {size[1]} px but "
                              f"the images on {image_topic} are {img.shape[1]} x "
                              f"{img.shape[0]}")
-        number = int(np.flatnonzero(order == n)[0])
-        name = out / f"frame_{number:05d}"
+        name = out / f"frame_{chosen[wanted[n]]:05d}"
         if encoded is None:
             f = name.with_suffix(".png")
             if not cv2.imwrite(str(f), img):

@@ -202,15 +202,13 @@ class TransformTree:
         up_b, up_f = self._up(base), self._up(frame)
         common = next((f for f in up_f if f in up_b), None)
         if common is None:
+            for f in (up_b[-1], up_f[-1]):  # a frame of two parents has no edge: a root
+                if f in self.conflicts:
+                    raise InputError(f"the tf chain from '{base}' to '{frame}' goes through "
+                                     f"'{f}', published under {self.conflicts[f]}")
             raise InputError(f"no tf chain from '{base}' to '{frame}': they are in "
                              f"separate trees (roots '{up_b[-1]}' and '{up_f[-1]}')")
-        down_b = up_b[: up_b.index(common)][::-1]
-        down_f = up_f[: up_f.index(common)][::-1]
-        for f in (*down_b, *down_f, up_b[-1], up_f[-1]):
-            if f in self.conflicts:
-                raise InputError(f"the tf chain from '{base}' to '{frame}' goes through "
-                                 f"'{f}', published under {self.conflicts[f]}")
-        return down_b, down_f
+        return up_b[: up_b.index(common)][::-1], up_f[: up_f.index(common)][::-1]
 
     def _down(self, frames: list[str], stamps_ns: NDArray[np.int64], tolerance_s: float
               ) -> tuple[NDArray[np.float64], Rotation]:
