@@ -135,12 +135,14 @@ def _tf(ts, version: int, rows: list[tuple[int, str, str, SE3, bool]]):
 
 def write_bag(path: Path, scene: BagScene, *, version: int = 1, encoding: str = "mono8",
               storage: str = "sqlite3", info_size: tuple[int, int] | None = None,
-              leave_out: tuple[str, ...] = (), image_delay_s: float = 0.0) -> Path:
+              leave_out: tuple[str, ...] = (), image_delay_s: float = 0.0,
+              image_frame: str | None = None) -> Path:
     """Write `scene` as a bag: ``/camera/image`` (`encoding`: ``mono8``, ``mono16``,
     ``rgb8``, ``png``, ``jpeg``), ``/camera/camera_info`` (of `info_size`, default the
     images'), ``/tf`` (one message per sample) and ``/tf_static``; topics named in
     `leave_out` are not written; the images stamped `image_delay_s` after their poses'
-    stamps.  ROS 1: the file `path`; ROS 2: the folder `path`."""
+    stamps, in `image_frame` (default the camera's frame in tf).  ROS 1: the file
+    `path`; ROS 2: the folder `path`."""
     from rosbags.rosbag1 import Writer as Writer1
     from rosbags.rosbag2 import StoragePlugin
     from rosbags.rosbag2 import Writer as Writer2
@@ -152,7 +154,7 @@ def write_bag(path: Path, scene: BagScene, *, version: int = 1, encoding: str = 
     messages = []  # (record time, topic, type, message)
     for img, stamp in zip(scene.images, scene.stamps_ns, strict=True):
         stamp += round(image_delay_s * 1e9)
-        typ, msg = _image(ts, version, img, stamp, scene.frame_id, encoding)
+        typ, msg = _image(ts, version, img, stamp, image_frame or scene.frame_id, encoding)
         messages.append((stamp + 1000, "/camera/image", typ, msg))
         messages.append((stamp + 2000, "/camera/camera_info", "sensor_msgs/msg/CameraInfo",
                          _camera_info(ts, version, scene, stamp, size)))

@@ -115,6 +115,18 @@ def test_a_missing_frame_chain_or_topic_is_refused_in_one_line(rendered, tmp_pat
     assert words in str(exc.value) and "\n" not in str(exc.value)
 
 
+def test_images_in_another_frame_than_the_camera_frame_warn(rendered, tmp_path):
+    _, _, scene = rendered
+    bag = write_bag(tmp_path / "b.bag", scene, image_frame="/camera_link")
+    with pytest.warns(PlausibilityWarning, match="the images are in frame 'camera_link', "
+                                                 "not --camera-frame 'camera_optical'"):
+        assert len(_read(bag, tmp_path).views) == 3
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        same = write_bag(tmp_path / "same.bag", scene, image_frame="/camera_optical")
+        _read(same, tmp_path, base_frame="/base")  # ROS 1's leading /: the same frames
+
+
 def test_a_bag_without_tf_static_has_no_chain_to_the_camera(rendered, tmp_path):
     _, _, scene = rendered
     bag = write_bag(tmp_path / "b.bag", scene, leave_out=("/tf_static",))
