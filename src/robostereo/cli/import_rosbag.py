@@ -45,7 +45,8 @@ def add_rosbag_parser(kinds: Any) -> None:
                     "camera_info and the camera's pose in the base frame from /tf and "
                     "/tf_static at each image's stamp (metres to mm) from a ROS bag.")
     p.add_argument("bag", type=Path, metavar="BAG",
-                   help="a ROS 1 .bag file or a ROS 2 bag folder (metadata.yaml)")
+                   help="a ROS 1 .bag file or a ROS 2 bag folder (metadata.yaml; or its "
+                        ".db3 / .mcap file)")
     p.add_argument("--image-topic", required=True, metavar="TOPIC",
                    help="sensor_msgs/Image or sensor_msgs/CompressedImage")
     p.add_argument("--camera-info-topic", required=True, metavar="TOPIC",

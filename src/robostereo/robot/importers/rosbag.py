@@ -285,7 +285,8 @@ def read_rosbag(bag: str | os.PathLike[str], *, image_topic: str, camera_info_to
     Parameters
     ----------
     bag : path
-        A ROS 1 ``.bag`` file or a ROS 2 bag folder.
+        A ROS 1 ``.bag`` file or a ROS 2 bag folder (or a ``.db3`` / ``.mcap`` file in
+        it).
     image_topic : str
         ``sensor_msgs/Image`` or ``sensor_msgs/CompressedImage``.
     camera_info_topic : str
@@ -333,6 +334,8 @@ def read_rosbag(bag: str | os.PathLike[str], *, image_topic: str, camera_info_to
     except ImportError:
         raise InputError(INSTALL_HINT) from None
     path, out = Path(bag), Path(images)
+    if path.is_file() and path.suffix != ".bag" and (path.parent / "metadata.yaml").is_file():
+        path = path.parent  # a ROS 2 bag's .db3 or .mcap file: its folder
     if not (path.is_file() or (path.is_dir() and (path / "metadata.yaml").is_file())):
         raise InputError(f"{path}: not a ROS bag (a .bag file, or a ROS 2 bag folder with "
                          "metadata.yaml)")
