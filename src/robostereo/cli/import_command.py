@@ -47,8 +47,8 @@ def _common(p: argparse.ArgumentParser) -> None:
 def add_import_parser(sub: Any) -> None:
     p = sub.add_parser(
         "import", help="another tool's cameras and images as an N-view capture folder",
-        description="Read cameras and images of IDR/NeuS (DTU), MVSNet or COLMAP and "
-                    "write an N-view capture folder that locate reads.")
+        description="Read cameras and images of IDR/NeuS (DTU), MVSNet, COLMAP or a ROS "
+                    "bag and write an N-view capture folder that locate reads.")
     kinds = p.add_subparsers(dest="kind", required=True, metavar="FORMAT")
     idr = kinds.add_parser("idr", help="IDR / NeuS cameras.npz (world_mat_K, scale_mat_K)")
     idr.add_argument("cameras", type=Path, metavar="CAMERAS_NPZ")
