@@ -2,6 +2,7 @@
 
 ``import idr CAMERAS_NPZ --images DIR --out CAP``, ``import mvsnet DIR --out CAP`` and
 ``import colmap MODEL_DIR --images DIR --out CAP`` read their cameras
+(``import rosbag``: :mod:`robostereo.cli.import_rosbag`)
 (:mod:`robostereo.robot.importers`), choose views (``--views``), scale images and
 intrinsics together (``--scale``) and write the folder
 (:func:`~robostereo.robot.views.views_folder.write_views_capture`), with the depth
@@ -17,6 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from robostereo.cli._args import finite, require_empty_folder
+from robostereo.cli.import_rosbag import add_rosbag_parser
 from robostereo.errors import InputError
 
 __all__ = ["add_import_parser", "run_import"]
@@ -45,8 +47,8 @@ def _common(p: argparse.ArgumentParser) -> None:
 def add_import_parser(sub: Any) -> None:
     p = sub.add_parser(
         "import", help="another tool's cameras and images as an N-view capture folder",
-        description="Read cameras and images of IDR/NeuS (DTU), MVSNet or COLMAP and "
-                    "write an N-view capture folder that locate reads.")
+        description="Read cameras and images of IDR/NeuS (DTU), MVSNet, COLMAP or a ROS "
+                    "bag and write an N-view capture folder that locate reads.")
     kinds = p.add_subparsers(dest="kind", required=True, metavar="FORMAT")
     idr = kinds.add_parser("idr", help="IDR / NeuS cameras.npz (world_mat_K, scale_mat_K)")
     idr.add_argument("cameras", type=Path, metavar="CAMERAS_NPZ")
@@ -70,6 +72,7 @@ def add_import_parser(sub: Any) -> None:
     col.add_argument("--images", type=Path, required=True, metavar="DIR",
                      help="the folder the model's image names are relative to")
     _common(col)
+    add_rosbag_parser(kinds)  # its own handler: robostereo.cli.import_rosbag
     p.set_defaults(handler=run_import)
 
 

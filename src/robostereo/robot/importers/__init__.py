@@ -12,6 +12,9 @@ Modules
 :mod:`~robostereo.robot.importers.colmap`
     COLMAP models: ``cameras``, ``images``, ``points3D`` (text; binary through
     :mod:`~robostereo.robot.importers.colmap_binary`).
+:mod:`~robostereo.robot.importers.rosbag`
+    ROS 1 and ROS 2 bags: images, ``camera_info``, the camera's pose from ``/tf`` and
+    ``/tf_static`` (:mod:`~robostereo.robot.importers.tf_frames`); needs ``rosbags``.
 
 Each reader gives the views in millimetres and ``T_world_camera`` poses; the capture is
 written by :func:`~robostereo.robot.views.views_folder.write_views_capture`.
@@ -26,6 +29,7 @@ from robostereo.robot.importers.imported_views import (
     views_capture_from_imported,
 )
 from robostereo.robot.importers.mvsnet import read_mvsnet
+from robostereo.robot.importers.rosbag import read_rosbag
 
 __all__ = [
     "Imported",
@@ -34,5 +38,6 @@ __all__ = [
     "read_colmap",
     "read_idr",
     "read_mvsnet",
+    "read_rosbag",
     "views_capture_from_imported",
 ]
