@@ -65,8 +65,9 @@ def add_evaluate_parser(sub: Any) -> None:
                         "project's (default, kept for continuity) or the silhouette rule, "
                         "fair to occluding contours; the outline figures give both")
     p.add_argument("--threshold", type=finite("--threshold"), default=None,
-                   help="capture folders: the edge threshold, as robostereo locate's "
-                        "(default 8.0); also the threshold of the scored edge pixels")
+                   help="the edge threshold, grey levels per pixel on the 0..127 scale "
+                        "(default 8.0); of a capture folder also that of the scored edge "
+                        "pixels")
     p.add_argument("--matcher", choices=("auto", "pairs", "sweep"), default=None,
                    help="N-view capture folders: as robostereo locate's --matcher")
     add_matcher_args(p)
@@ -89,6 +90,8 @@ def run_evaluate(args: argparse.Namespace) -> int:
     if args.plot is not None and not args.plot.is_dir():
         raise InputError(f"--plot {args.plot}: output folder does not exist")
     params = matcher_params(args, MatchParameters())
+    if args.threshold is not None:
+        params = replace(params, threshold=args.threshold)
     dirs = [s for s in args.scenes if s.is_dir()]
     for s in args.scenes:
         if not s.is_dir():
@@ -137,7 +140,9 @@ def evaluate_capture_folder(directory: Path, args: argparse.Namespace,
     """A capture folder located as ``robostereo locate`` does and scored against its
     depth maps; the evaluation and the reference view's image.
 
-    Two views: the left view is the reference, located by the two-view matcher.  N
+    `match` is the matcher's parameters (the defaults, ``--threshold`` and the matcher
+    options: ``robostereo locate``'s when none is given).  Two views: the left view is
+    the reference, located by the two-view matcher.  N
     views: the reference is the view nearest the centroid of the optical centres (the
     first reference of the sweep, the pairs' reference), its points those found from
     it; the other view (edges both see, SGBM's right view) is the view nearest it.
@@ -160,9 +165,8 @@ def evaluate_capture_folder(directory: Path, args: argparse.Namespace,
     from robostereo.robot.views.views_parameters import ViewsParameters
 
     src = str(directory / "capture.yaml")
-    threshold = 8.0 if args.threshold is None else args.threshold
-    pair_params = LocateParameters(match=replace(match, threshold=threshold))
-    files = capture_depth_files(directory)
+    threshold = float(match.threshold)  # --threshold's, else the default 8
+    pair_params = LocateParameters(match=match)
     nview = is_views_folder(directory)
     if nview:
         views = read_views_capture(directory)
@@ -179,6 +183,7 @@ def evaluate_capture_folder(directory: Path, args: argparse.Namespace,
         pair = read_capture(directory)
         ref, other, names = 0, 1, ("left.png", "right.png")
     camera = pair.camera
+    files = capture_depth_files(directory)
     depth = files.read(ref, camera.image_size)  # a bad map is refused before locating
     if depth is None:
         key = "its depth" if nview else "depth_left"
@@ -187,9 +192,9 @@ def evaluate_capture_folder(directory: Path, args: argparse.Namespace,
     other_depth = files.read(other, camera.image_size)
     t0 = time.perf_counter()
     if nview:
-        params = ViewsParameters(matcher=args.matcher or "auto")
-        if args.threshold is not None:
-            params = replace(params, threshold=threshold, pair_match=pair_params)
+        params = ViewsParameters(matcher=args.matcher or "auto", pair_match=pair_params)
+        if args.threshold is not None:  # the sweep's too, as robostereo locate's
+            params = replace(params, threshold=threshold)
         located = locate_views(views, params=params, source=src)
         points = CapturePoints.from_located(located, ref)
         geometry = pair.geometry()
