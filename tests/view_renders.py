@@ -339,3 +339,46 @@ def render_views(spec: RenderSpec = RenderSpec()) -> tuple[ViewsCapture, ViewsTr
 def rotation_deg(a: SE3, b: SE3) -> float:
     """The angle of the rotation between two poses, degrees."""
     return float(np.degrees(Rotation.from_matrix(a.rotation.T @ b.rotation).magnitude()))
+
+
+def write_with_depth(directory, capture: ViewsCapture, truth: ViewsTruth, *,
+                     two_view: bool = False, suffix: str = ".pfm", keys: bool = False,
+                     depth_scale: float | None = None):
+    """Write `capture` as a capture folder with its true depth maps.
+
+    Two views as a two-view folder (``left.png``, ``right.png``) when `two_view`, else an
+    N-view folder.  Each view's rendered depth (along its true optical axis, mm; ``inf``
+    where no surface is hit, written as unknown) goes to ``depth/<image stem><suffix>``,
+    named by the ``depth_left``/``depth_right`` or per-view ``depth`` keys when `keys`
+    (else found by the fallback); `depth_scale` is written as the top-level key.
+    """
+    from pathlib import Path
+
+    import yaml
+
+    from robostereo.evaluation import write_depth_map
+    from robostereo.robot.capture import write_capture
+    from robostereo.robot.views.views_folder import write_views_capture
+
+    d = Path(directory)
+    if two_view:
+        write_capture(d, capture.pair(0, 1))
+        stems = ["left", "right"]
+    else:
+        write_views_capture(d, capture)
+        stems = [Path(n).stem for n in capture.names]
+    (d / "depth").mkdir()
+    scale = 1.0 if depth_scale is None else depth_scale
+    for stem, r in zip(stems, truth.renderings, strict=False):
+        write_depth_map(d / "depth" / f"{stem}{suffix}", r.depth, scale=scale)
+    if keys or depth_scale is not None:
+        data = yaml.safe_load((d / "capture.yaml").read_text())
+        if keys and two_view:
+            data.update({f"depth_{s}": f"depth/{s}{suffix}" for s in stems})
+        elif keys:
+            for v, stem in zip(data["views"], stems, strict=True):
+                v["depth"] = f"depth/{stem}{suffix}"
+        if depth_scale is not None:
+            data["depth_scale"] = depth_scale
+        (d / "capture.yaml").write_text(yaml.safe_dump(data, sort_keys=False))
+    return d

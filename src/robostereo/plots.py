@@ -16,6 +16,7 @@ __all__ = [
     "plot_curves",
     "plot_matches",
     "plot_points_3d",
+    "save_capture_plots",
     "save_curves",
     "save_figure",
     "save_overlay",
@@ -138,3 +139,50 @@ def save_curves(ev: Any, path: str | os.PathLike[str]) -> None:
     fig = Figure(figsize=(6.0, 4.5))
     plot_curves(fig.add_subplot(1, 1, 1), ev)
     save_figure(fig, path)
+
+
+def save_capture_plots(ev: Any, image: ArrayLike, directory: str | os.PathLike[str]
+                       ) -> list[str]:
+    """Write a capture evaluation's plots: ``NAME_depth_errors.png`` (each method's 3-D
+    errors against the depth map, a histogram) and ``NAME_coverage.png`` (the reference
+    image with the edge pixels both views see, covered by robostereo or not).
+
+    ``ev`` is a :class:`robostereo.evaluation.capture_scoring.CaptureEvaluation`, `image`
+    its reference view's grabbed image.  Returns the files written.
+    """
+    from pathlib import Path
+
+    from matplotlib.figure import Figure
+
+    d = Path(directory)
+    fig = Figure(figsize=(6.0, 4.0))
+    ax = fig.add_subplot(1, 1, 1)
+    errs = {k: v[np.isfinite(v)] for k, v in ev.errors.items()}
+    top = max([float(np.percentile(v, 99)) for v in errs.values() if v.size] + [1.0])
+    bins = np.linspace(0.0, top, 60)
+    for k, v in errs.items():
+        ax.hist(np.clip(v, 0, top), bins=bins, histtype="step", lw=1.5,
+                label=f"{'SGBM' if k == 'sgbm' else k} ({v.size} points)")
+    ax.set_xlabel("3-D error against the depth map, mm (clipped at the 99th percentile)")
+    ax.set_ylabel("points")
+    ax.set_title(f"{ev.name}: reference {ev.reference}", fontsize=10)
+    ax.legend(fontsize=8)
+    errors_png = d / f"{ev.name}_depth_errors.png"
+    save_figure(fig, errors_png)
+    img = np.asarray(image)
+    h, w = img.shape[:2]
+    fig = Figure(figsize=(max(4.0, w / 80), max(3.0, h / 80)))
+    ax = fig.add_subplot(1, 1, 1)
+    ax.imshow(img, cmap="gray")
+    e, cov = ev.edge_pixels, ev.covered.get("robostereo", np.zeros(0, bool))
+    if len(e):
+        ax.plot(e[~cov, 0], e[~cov, 1], ",", color="red")
+        ax.plot(e[cov, 0], e[cov, 1], ",", color="lime")
+    n = len(e)
+    share = f"{100 * cov.mean():.1f} %" if n else "-"
+    ax.set_title(f"{ev.name}: edge pixels both views see, covered (green) {share}",
+                 fontsize=10)
+    ax.set_axis_off()
+    coverage_png = d / f"{ev.name}_coverage.png"
+    save_figure(fig, coverage_png)
+    return [str(errors_png), str(coverage_png)]

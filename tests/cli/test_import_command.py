@@ -67,3 +67,48 @@ def test_import_mvsnet_pair_of_keeps_a_view_and_its_best_neighbours(tmp_path):
     assert main(["import", "mvsnet", str(d), "--intrinsics-scale", "4", "--pair-of", "2",
                  "--neighbours", "1", "--out", str(out)]) == 0
     assert read_views_capture(out).names == ("00000002.png", "00000001.png")
+
+
+def _quarter_depths(folder, names) -> list[np.ndarray]:
+    """DTU-style depth maps a quarter the images' size (80 x 60), each its own ramp."""
+    from robostereo.evaluation import write_depth_map
+
+    folder.mkdir()
+    maps = []
+    for k, name in enumerate(names):
+        d = 600.0 + 10 * k + np.add.outer(np.arange(60.0), np.arange(80.0) / 100)
+        d[0, 0] = 0.0  # unknown
+        write_depth_map(folder / name, d)
+        maps.append(d)
+    return maps
+
+
+def test_import_mvsnet_puts_quarter_size_depth_maps_on_the_image_grid(tmp_path, capsys):
+    from robostereo.evaluation import capture_depth_files
+
+    d = write_mvsnet(tmp_path)
+    maps = _quarter_depths(d / "Depths", [f"depth_map_{k:04d}.pfm" for k in range(3)])
+    out = tmp_path / "cap"
+    assert main(["import", "mvsnet", str(d), "--intrinsics-scale", "4", "--views", "2,0",
+                 "--depths", str(d / "Depths"), "--out", str(out)]) == 0
+    assert "2 depth maps" in capsys.readouterr().out
+    files = capture_depth_files(out)  # found where evaluate looks, by the image's stem
+    assert [p.name for p in files.paths] == ["00000002.pfm", "00000000.pfm"]
+    got = files.read(0, (320, 240))
+    assert got.shape == (240, 320)
+    # image pixel (x, y) takes the map's pixel (x // 4, y // 4): centres to centres
+    assert got[9, 13] == np.float32(maps[2][2, 3]) and got[239, 319] == np.float32(
+        maps[2][59, 79])
+    assert np.isnan(got[:4, :4]).all() and np.isfinite(got[4:, 4:]).all()
+
+
+def test_import_mvsnet_refuses_a_missing_depth_map_and_writes_nothing(tmp_path, capsys):
+    d = write_mvsnet(tmp_path)
+    _quarter_depths(d / "out_depths", ["00000000.pfm"])
+    out = tmp_path / "cap"
+    assert main(["import", "mvsnet", str(d), "--intrinsics-scale", "4", "--views", "0,1",
+                 "--depths", str(d / "out_depths"), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "out_depths: no depth map for view 00000001 " \
+        "(depth_map_0001.pfm or 00000001.pfm)" in err[0]
+    assert not out.exists()

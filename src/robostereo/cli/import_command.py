@@ -65,6 +65,10 @@ def add_import_parser(sub: Any) -> None:
                           "--views)")
     mvs.add_argument("--neighbours", type=int, default=2,
                      help="how many of pair.txt's neighbours --pair-of keeps (default 2)")
+    mvs.add_argument("--depths", type=Path, metavar="DIR",
+                     help="ground-truth depth maps (depth_map_0000.pfm or 00000000.pfm), "
+                          "written on the image grid as CAP/depth/<image>.pfm for "
+                          "robostereo evaluate")
     _common(mvs)
     col = kinds.add_parser("colmap", help="COLMAP model, text or binary: cameras, images, "
                                           "points3D")
@@ -128,9 +132,35 @@ def run_import(args: argparse.Namespace) -> int:
                        "scale": float(args.scale), "unit": args.unit}}
     cap = views_capture_from_imported(imported, select=select, scale=args.scale,
                                       depth_range_mm=depth, notes=notes)
+    depths = _mvsnet_depths(args, imported, select, cap)  # read before writing anything
     write_views_capture(args.out, cap)
+    if depths:
+        _write_depths(args.out, cap, depths)
     near, far = cap.depth_range_mm
     w, h = cap.camera.image_size
     print(f"{args.out}: {len(cap)} views of {args.kind} {imported.source}, {w} x {h} px, "
-          f"fx {cap.camera.fx:.2f} px, depths {near:.1f} .. {far:.1f} mm")
+          f"fx {cap.camera.fx:.2f} px, depths {near:.1f} .. {far:.1f} mm"
+          + (f", {len(depths)} depth maps" if depths else ""))
     return 0
+
+
+def _mvsnet_depths(args: argparse.Namespace, imported: Any, select: list[int],
+                   cap: Any) -> dict[str, Any]:
+    """``--depths``: the chosen views' maps on the capture's image grid, by image name."""
+    if getattr(args, "depths", None) is None:
+        return {}
+    from robostereo.robot.importers.mvsnet import read_mvsnet_depths
+
+    keys = [imported.views[i].key for i in select]
+    maps = read_mvsnet_depths(args.depths, keys, cap.camera.image_size,
+                              unit_to_mm=_UNITS[args.unit])
+    return {name: maps[k] for name, k in zip(cap.names, keys, strict=True)}
+
+
+def _write_depths(out: Path, cap: Any, depths: dict[str, Any]) -> None:
+    """Each view's map as ``out/depth/<image stem>.pfm`` (where evaluate looks)."""
+    from robostereo.evaluation.depth_maps import DEPTH_FOLDER, write_depth_map
+
+    (out / DEPTH_FOLDER).mkdir()
+    for name, depth in depths.items():
+        write_depth_map(out / DEPTH_FOLDER / f"{Path(name).stem}.pfm", depth)

@@ -12,12 +12,40 @@ Modules
 :mod:`~robostereo.evaluation.scorer`
     :func:`evaluate_scene`: a scene scored, robostereo and OpenCV's StereoSGBM at the
     same pixels; its report.
+:mod:`~robostereo.evaluation.depth_maps`
+    Ground-truth depth maps of capture folders: where they are, PFM, NPY and PNG.
+:mod:`~robostereo.evaluation.capture_scoring`
+    :func:`evaluate_capture_depth`: a capture's located points and StereoSGBM's scored
+    against a depth map (3-D errors, coverage of the edge pixels both views see).
 
 Imports: :mod:`robostereo.errors`, :mod:`robostereo.geometry`, :mod:`robostereo.io`,
 :mod:`robostereo.datasets` and :mod:`robostereo.matcher`; modules in the order above
 import only the ones before them.
 """
 
+from robostereo.evaluation.capture_scoring import (
+    COVER_PX,
+    CaptureEvaluation,
+    CapturePoints,
+    DepthFigures,
+    SgbmPair,
+    depth_errors,
+    depth_figures,
+    evaluate_capture_depth,
+    format_capture_evaluation,
+    occlusion_tolerance_mm,
+    sgbm_points,
+    shared_edge_pixels,
+)
+from robostereo.evaluation.depth_maps import (
+    DEFAULT_DEPTH_SCALE,
+    DEPTH_FOLDER,
+    DEPTH_SUFFIXES,
+    DepthFiles,
+    capture_depth_files,
+    read_depth_map,
+    write_depth_map,
+)
 from robostereo.evaluation.outlines import (
     OUTLINE_LEVELS,
     MethodPoints,
@@ -81,14 +109,22 @@ from robostereo.evaluation.visibility import (
 
 __all__ = [
     "BREAKDOWN",
+    "COVER_PX",
     "CURVE_LEVELS",
+    "DEFAULT_DEPTH_SCALE",
+    "DEPTH_FOLDER",
+    "DEPTH_SUFFIXES",
     "HIDDEN",
     "OUTLINE_LEVELS",
     "RULES",
     "SGBM_SWEEP",
     "UNKNOWN",
     "VISIBLE",
+    "CaptureEvaluation",
+    "CapturePoints",
     "CoverageCurve",
+    "DepthFigures",
+    "DepthFiles",
     "MatchScore",
     "MethodFigures",
     "MethodPoints",
@@ -97,18 +133,24 @@ __all__ = [
     "OutlineFigures",
     "RowBoundaries",
     "SceneEvaluation",
+    "SgbmPair",
     "SplitFigures",
     "Visibility",
     "VisibilityFigures",
     "boundary_offsets",
+    "capture_depth_files",
     "check_points",
     "coverage_curve",
     "cross_check_occlusion",
+    "depth_errors",
+    "depth_figures",
     "depth_step_mask",
     "edge_visibility",
     "errors_3d",
+    "evaluate_capture_depth",
     "evaluate_scene",
     "expected_calibration_error",
+    "format_capture_evaluation",
     "format_evaluation",
     "format_outline_figures",
     "format_visibility_figures",
@@ -117,7 +159,9 @@ __all__ = [
     "missing_breakdown",
     "near_steps",
     "nearest_ground_truth",
+    "occlusion_tolerance_mm",
     "outline_figures",
+    "read_depth_map",
     "row_boundaries",
     "rule_errors",
     "sample_dense",
@@ -126,10 +170,13 @@ __all__ = [
     "sgbm_curve",
     "sgbm_disparity",
     "sgbm_input",
+    "sgbm_points",
     "sgbm_sweep",
+    "shared_edge_pixels",
     "silhouette_errors",
     "silhouette_offsets",
     "surface_distances",
     "visibility_figures",
+    "write_depth_map",
     "zbuffer_occlusion",
 ]

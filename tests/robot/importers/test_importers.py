@@ -180,3 +180,13 @@ def test_scaled_intrinsics_keep_the_image_edges():
     Ks = scaled_intrinsics(K, 0.5, 0.5)
     # the image's left edge, x = -0.5, stays at -0.5
     assert (-0.5 - K[0, 2]) / K[0, 0] == pytest.approx((-0.5 - Ks[0, 2]) / Ks[0, 0])
+
+
+def test_depth_maps_of_another_aspect_ratio_are_refused() -> None:
+    from robostereo.robot.importers.mvsnet import depth_on_image_grid
+
+    full = depth_on_image_grid(np.arange(12.0).reshape(3, 4), (8, 6))
+    assert full.shape == (6, 8) and full[5, 7] == 11.0 and full[1, 1] == 0.0
+    with pytest.raises(InputError, match="the depth map is 4 x 5 pixels, not the image's "
+                                         "8 x 6 scaled"):
+        depth_on_image_grid(np.zeros((5, 4)), (8, 6))

@@ -35,6 +35,9 @@ Capture folder format (``DIR/``)::
                                            (optional, eq. 9; focal_px in place of
                                            focal_length_mm for a camera in pixels)
                           robot, scene:    free-form notes (optional, not read)
+                          depth_left:      ground-truth depth maps (optional, read only
+                          depth_right:     by robostereo evaluate: PFM, NPY or 16-bit PNG;
+                          depth_scale:     PNG units per mm, default 1)
 
 The baseline ``D`` and its direction ``alpha`` come from the two poses.
 """
@@ -61,6 +64,7 @@ from robostereo.geometry.poses import pose_to_dict as any_pose_to_dict
 from robostereo.geometry.scara_rectification import EpipolarGeometry
 from robostereo.geometry.triangulation import StereoCamera
 from robostereo.robot.capture.capture_keys import (
+    TWO_VIEW_DEPTH_KEYS,
     camera_pose_from_dict,
     check_views_share_scene,
     default_focal_uncertainty_mm,
@@ -91,7 +95,7 @@ _IMAGES = ("left.png", "right.png")
 _KEYS = (
     "camera", "pose_left", "pose_right", "flange_left", "flange_right", "hand_eye",
     "bit_depth", "disparity_range", "depth_range_mm", "uncertainty", "robot", "scene",
-    "pose_convention",
+    "pose_convention", *TWO_VIEW_DEPTH_KEYS,
 )
 Rectification = Literal["auto", "theta", "general"]
 Geometry = EpipolarGeometry | GeneralEpipolarGeometry

@@ -15,7 +15,10 @@
   for a camera in pixels (default 0: a calibration's focal length is known in pixels
   only, and its error, when known, is given in pixels), so that no invented unit
   changes a bound;
-* the warnings about metres written as millimetres and an identity hand-eye.
+* the warnings about metres written as millimetres and an identity hand-eye;
+* the ground-truth depth map keys (:data:`TWO_VIEW_DEPTH_KEYS`, :data:`VIEW_DEPTH_KEY`),
+  accepted here and read only by ``robostereo evaluate``
+  (:mod:`robostereo.evaluation.depth_maps`).
 """
 
 from __future__ import annotations
@@ -33,8 +36,11 @@ from robostereo.geometry.poses import SE3, Pose, as_se3, pose_from_dict
 
 __all__ = [
     "DEFAULT_FOCAL_UNCERTAINTY_MM",
+    "DEPTH_SCALE_KEY",
     "METRES_AS_MM_BELOW",
     "POSE_CONVENTIONS",
+    "TWO_VIEW_DEPTH_KEYS",
+    "VIEW_DEPTH_KEY",
     "camera_pose_from_dict",
     "check_views_share_scene",
     "default_focal_uncertainty_mm",
@@ -62,6 +68,16 @@ _PIXEL_UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
                       ("focal_px", "focal_length_uncertainty_mm"),
                       ("disparity_px", "disparity_uncertainty_px"),
                       ("rotation_deg", "rotation_uncertainty_deg"))
+
+DEPTH_SCALE_KEY = "depth_scale"
+"""Top-level key of a capture file: the units per mm of its 16-bit PNG depth maps."""
+
+TWO_VIEW_DEPTH_KEYS = ("depth_left", "depth_right", DEPTH_SCALE_KEY)
+"""Top-level keys of a two-view capture file naming its ground-truth depth maps (and
+their PNG scale); the capture readers accept them and read nothing from them."""
+
+VIEW_DEPTH_KEY = "depth"
+"""Key of a view of an N-view capture file naming its ground-truth depth map."""
 
 _SCENE_GRID = 9  # pixels per image side sampled by the shared-scene check
 _SCENE_DEPTHS = 5  # depths sampled over the depth range

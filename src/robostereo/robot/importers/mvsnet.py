@@ -20,6 +20,13 @@ world is in millimetres; ``unit_to_mm`` scales another.  ``intrinsics_scale``
 multiplies ``fx, fy, cx, cy`` as MVSNet does (its DTU training cameras are for images
 a quarter the size: 4).  ``pair.txt`` lists each view's best neighbours
 (:func:`read_pairs`).
+
+Ground-truth depth maps (DTU's ``Depths/scanN_train/depth_map_0000.pfm``, or an
+MVSNet output's ``00000000.pfm``) are read by :func:`read_mvsnet_depths`: each
+view's map, in the world's unit along its optical axis, often at a lower resolution
+than the images (DTU's training maps: a quarter), is put on the capture's image grid
+by nearest-neighbour sampling of pixel centres (:func:`depth_on_image_grid`; no
+interpolation across depth steps), so that the capture keeps one camera.
 """
 
 from __future__ import annotations
@@ -28,12 +35,21 @@ import os
 from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 
 from robostereo.errors import InputError
 from robostereo.geometry.poses import SE3
 from robostereo.robot.importers.imported_views import Imported, ImportedView
 
-__all__ = ["MVSNET_DEPTH_NUM", "read_mvsnet", "read_mvsnet_cam", "read_pairs"]
+__all__ = [
+    "MVSNET_DEPTH_NUM",
+    "depth_on_image_grid",
+    "mvsnet_depth_file",
+    "read_mvsnet",
+    "read_mvsnet_cam",
+    "read_mvsnet_depths",
+    "read_pairs",
+]
 
 MVSNET_DEPTH_NUM = 192
 """Depth planes when a camera file gives ``DEPTH_MIN DEPTH_INTERVAL`` alone (MVSNet's
@@ -163,3 +179,99 @@ def read_mvsnet(folder: str | os.PathLike[str], *, intrinsics_scale: float = 1.0
         if depth is not None:
             depths[key] = depth
     return Imported(tuple(views), None, depths, source=str(d))
+
+
+def mvsnet_depth_file(folder: str | os.PathLike[str], key: str) -> Path:
+    """View `key`'s depth map in `folder`: ``depth_map_NNNN.pfm`` (DTU's, ``NNNN`` the
+    view number) or ``KEY.pfm`` (an MVSNet output's), the first that exists.
+
+    Raises
+    ------
+    InputError
+        Neither exists; the message names both.
+    """
+    d = Path(folder)
+    names = ([f"depth_map_{int(key):04d}.pfm"] if key.isdigit() else []) + [f"{key}.pfm"]
+    for n in names:
+        if (d / n).is_file():
+            return d / n
+    raise InputError(f"{d}: no depth map for view {key} ({' or '.join(names)})")
+
+
+def depth_on_image_grid(depth: NDArray[np.float64], image_size: tuple[int, int],
+                        source: str = "depth map") -> NDArray[np.float64]:
+    """A depth map resampled to an image's pixel grid (nearest pixel centre).
+
+    Parameters
+    ----------
+    depth : ndarray, shape (h, w)
+        Depth over the same field of view as the image, at any resolution.
+    image_size : tuple of int
+        ``(W, H)`` of the image.
+    source : str
+        The file, for messages.
+
+    Returns
+    -------
+    ndarray, shape (H, W)
+        ``depth[floor((y + 0.5) h / H), floor((x + 0.5) w / W)]`` at each image pixel
+        ``(x, y)``: pixel centres mapped to pixel centres, no value made up between two
+        (a depth step stays a step).
+
+    Raises
+    ------
+    InputError
+        A map whose aspect ratio is not the image's (within a pixel): it covers another
+        field of view (a crop) and would be misplaced.
+
+    Examples
+    --------
+    >>> depth_on_image_grid(np.array([[1.0, 2.0], [3.0, 4.0]]), (4, 2)).tolist()
+    [[1.0, 1.0, 2.0, 2.0], [3.0, 3.0, 4.0, 4.0]]
+    """
+    h, w = depth.shape
+    W, H = image_size
+    if abs(w * H / W - h) > 1.0:
+        raise InputError(f"{source}: the depth map is {w} x {h} pixels, not the image's "
+                         f"{W} x {H} scaled (another aspect ratio: a crop?)")
+    rows = np.minimum(((np.arange(H) + 0.5) * h / H).astype(np.intp), h - 1)
+    cols = np.minimum(((np.arange(W) + 0.5) * w / W).astype(np.intp), w - 1)
+    return depth[np.ix_(rows, cols)]
+
+
+def read_mvsnet_depths(folder: str | os.PathLike[str], keys: list[str],
+                       image_size: tuple[int, int], *, unit_to_mm: float = 1.0
+                       ) -> dict[str, NDArray[np.float64]]:
+    """The ground-truth depth maps of views `keys`, in mm on the image grid.
+
+    Parameters
+    ----------
+    folder : path
+        The folder of the maps (:func:`mvsnet_depth_file`).
+    keys : list of str
+        The views' keys (``00000003``).
+    image_size : tuple of int
+        ``(W, H)`` of the capture's images (after any ``--scale``).
+    unit_to_mm : float
+        Millimetres per world unit.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (H, W)
+        Depth in mm, NaN unknown.
+
+    Raises
+    ------
+    InputError
+        A missing folder or map, an unreadable one, one of another aspect ratio.
+    """
+    from robostereo.evaluation.depth_maps import read_depth_map
+
+    d = Path(folder)
+    if not d.is_dir():
+        raise InputError(f"{d}: depth map folder not found")
+    out = {}
+    for key in keys:
+        p = mvsnet_depth_file(d, key)
+        out[key] = depth_on_image_grid(read_depth_map(p), image_size, str(p)) * unit_to_mm
+    return out

@@ -18,6 +18,9 @@ Folder format (``DIR/``)::
                               pose: {...}          its camera pose (T_world_camera) in
                                                    any form of robostereo.geometry.poses
                               pose_convention: ... (optional) this view's own
+                              depth: depth/view_00.pfm  (optional) its ground-truth
+                                                   depth map, read only by
+                                                   robostereo evaluate
                             - image: view_01.png   or the flange pose the robot
                               flange: {...}        reported, with a top-level hand_eye
                           hand_eye:        flange-to-camera transform (with flange views:
@@ -29,6 +32,8 @@ Folder format (``DIR/``)::
                                            (optional, eq. 9; focal_px for a camera in
                                            pixels)
                           robot, scene:    free-form notes (optional, not read)
+                          depth_scale:     units per mm of 16-bit PNG depth maps
+                                           (optional, default 1)
 
 Every view gives either ``pose`` or ``flange``, and all views the same one.  N views
 need a depth range (each pair of views has its own disparity range), so
@@ -50,6 +55,8 @@ from robostereo.geometry.camera import camera_to_dict
 from robostereo.geometry.poses import SE3, as_se3, pose_from_dict, pose_to_dict
 from robostereo.robot.capture.capture_folder import CAPTURE_YAML, read_capture
 from robostereo.robot.capture.capture_keys import (
+    DEPTH_SCALE_KEY,
+    VIEW_DEPTH_KEY,
     camera_pose_from_dict,
     check_views_share_scene,
     extras_from_dict,
@@ -72,9 +79,9 @@ __all__ = [
 #: the top-level keys of an N-view ``capture.yaml``
 VIEWS_KEYS: tuple[str, ...] = (
     "camera", "views", "hand_eye", "depth_range_mm", "bit_depth", "uncertainty", "robot",
-    "scene", "pose_convention",
+    "scene", "pose_convention", DEPTH_SCALE_KEY,
 )
-_VIEW_KEYS = ("image", "pose", "flange", "pose_convention")
+_VIEW_KEYS = ("image", "pose", "flange", "pose_convention", VIEW_DEPTH_KEY)
 
 
 def _image_names(capture: ViewsCapture) -> tuple[str, ...]:
