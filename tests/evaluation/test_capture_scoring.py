@@ -142,6 +142,15 @@ def test_a_missing_depth_map_is_refused_naming_it(
     _one_error(capsys, "capture.yaml: no depth map for the reference view left.png")
 
 
+@pytest.mark.parametrize("flag", [["--scale", "4"], ["--no-curves"], ["--rule", "silhouette"],
+                                  ["--min-disparity", "10", "--max-disparity", "40"]])
+def test_scene_options_with_only_capture_folders_are_refused_naming_them(
+        two_view: Path, capsys, flag) -> None:
+    assert main(["evaluate", str(two_view), *flag]) == 2
+    named = [f for f in flag if f.startswith("--")]
+    _one_error(capsys, f"{', '.join(named)}: for scene folders with ground-truth disparities")
+
+
 def test_point_errors_are_measured_on_the_true_surface(renders) -> None:
     cap, truth, _ = renders
     cam, pose, depth = cap.camera, cap.poses[0], truth.renderings[0].depth

@@ -24,7 +24,7 @@ from robostereo.cli._args import (
 from robostereo.cli._console import stage_reporter
 from robostereo.errors import InputError
 
-__all__ = ["add_evaluate_parser", "evaluate_capture_folder", "run_evaluate"]
+__all__ = ["add_evaluate_parser", "run_evaluate"]
 
 
 def add_evaluate_parser(sub: Any) -> None:
@@ -85,6 +85,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
     )
     from robostereo.matcher.parameters import MatchParameters
     from robostereo.plots import save_capture_plots, save_curves
+    from robostereo.robot.views.depth_evaluation import evaluate_capture_folder
 
     drange = disparity_range_args(args)
     if args.plot is not None and not args.plot.is_dir():
@@ -98,6 +99,16 @@ def run_evaluate(args: argparse.Namespace) -> int:
             print(f"robostereo: note: skipping {s} (not a scene folder)", file=sys.stderr)
     if not dirs:
         raise InputError(f"no scene folders among {', '.join(map(str, args.scenes))}")
+    if all((d / "capture.yaml").is_file() for d in dirs):  # options no capture takes
+        given = [flag for flag, on in (
+            ("--scale", args.scale is not None),
+            ("--min-disparity", args.min_disparity is not None),
+            ("--max-disparity", args.max_disparity is not None),
+            ("--no-curves", args.no_curves), ("--rule", args.rule != "project")) if on]
+        if given:
+            raise InputError(f"{', '.join(given)}: for scene folders with ground-truth "
+                             f"disparities; {dirs[0]} is a capture folder (its depth "
+                             "range and depth maps say what these would)")
     results, failed = [], 0
     status, say = stage_reporter(sys.stderr.isatty())
     with status:
@@ -105,7 +116,9 @@ def run_evaluate(args: argparse.Namespace) -> int:
             say(f"evaluating {d}")
             if (d / "capture.yaml").is_file():
                 try:
-                    cev, image = evaluate_capture_folder(d, args, params)
+                    cev, image = evaluate_capture_folder(
+                        d, match=params, matcher=args.matcher, threshold=args.threshold,
+                        sgbm=not args.no_sgbm)
                 except InputError as e:
                     print(f"robostereo: error: {e}", file=sys.stderr)
                     failed += 1
@@ -133,84 +146,3 @@ def run_evaluate(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps([ev.as_dict() for ev in results], indent=2))
     return 2 if failed else 0
-
-
-def evaluate_capture_folder(directory: Path, args: argparse.Namespace,
-                            match: Any) -> tuple[Any, Any]:
-    """A capture folder located as ``robostereo locate`` does and scored against its
-    depth maps; the evaluation and the reference view's image.
-
-    `match` is the matcher's parameters (the defaults, ``--threshold`` and the matcher
-    options: ``robostereo locate``'s when none is given).  Two views: the left view is
-    the reference, located by the two-view matcher.  N
-    views: the reference is the view nearest the centroid of the optical centres (the
-    first reference of the sweep, the pairs' reference), its points those found from
-    it; the other view (edges both see, SGBM's right view) is the view nearest it.
-    """
-    import time
-
-    import numpy as np
-
-    from robostereo.evaluation import (
-        CapturePoints,
-        SgbmPair,
-        capture_depth_files,
-        evaluate_capture_depth,
-    )
-    from robostereo.robot.capture import LocateParameters, locate, read_capture
-    from robostereo.robot.capture.locate_pair import rectify_pair
-    from robostereo.robot.views.locating import locate_views
-    from robostereo.robot.views.view_pairs import pair_reference
-    from robostereo.robot.views.views_folder import is_views_folder, read_views_capture
-    from robostereo.robot.views.views_parameters import ViewsParameters
-
-    src = str(directory / "capture.yaml")
-    threshold = float(match.threshold)  # --threshold's, else the default 8
-    pair_params = LocateParameters(match=match)
-    nview = is_views_folder(directory)
-    if nview:
-        views = read_views_capture(directory)
-        ref = pair_reference(views)
-        dist = np.linalg.norm(views.centres - views.centres[ref], axis=1)
-        dist[ref] = np.inf
-        other = int(np.argmin(dist))
-        pair = views.pair(ref, other)
-        names = (views.view_name(ref), views.view_name(other))
-    else:
-        if args.matcher is not None:
-            raise InputError(f"{src}: --matcher chooses how an N-view folder (views:) is "
-                             "matched; this folder has two views (left, right)")
-        pair = read_capture(directory)
-        ref, other, names = 0, 1, ("left.png", "right.png")
-    camera = pair.camera
-    files = capture_depth_files(directory)
-    depth = files.read(ref, camera.image_size)  # a bad map is refused before locating
-    if depth is None:
-        key = "its depth" if nview else "depth_left"
-        raise InputError(f"{src}: no depth map for the reference view {names[0]} (give "
-                         f"{key} or depth/{Path(names[0]).stem}.pfm, .npy or .png)")
-    other_depth = files.read(other, camera.image_size)
-    t0 = time.perf_counter()
-    if nview:
-        params = ViewsParameters(matcher=args.matcher or "auto", pair_match=pair_params)
-        if args.threshold is not None:  # the sweep's too, as robostereo locate's
-            params = replace(params, threshold=threshold)
-        located = locate_views(views, params=params, source=src)
-        points = CapturePoints.from_located(located, ref)
-        geometry = pair.geometry()
-        rect = rectify_pair(pair.left, pair.right, geometry)
-    else:
-        two = locate(pair, params=pair_params, source=src)
-        points = CapturePoints.from_located(two)
-        geometry, rect = two.geometry, two.rectified
-    seconds = time.perf_counter() - t0
-    sgbm = None
-    if not args.no_sgbm:
-        sgbm = SgbmPair(rect.left, rect.right, geometry, pair.stereo_camera(geometry),
-                        pair.resolved_disparity_range(geometry), int(pair.bit_depth))
-    ev = evaluate_capture_depth(
-        name=directory.resolve().name, directory=str(directory), camera=camera,
-        poses=(pair.pose_left, pair.pose_right), image=pair.left, depth=depth,
-        other_depth=other_depth, points=points, views=names, seconds=seconds, sgbm=sgbm,
-        threshold=threshold, bit_depth=int(pair.bit_depth))
-    return ev, pair.left

@@ -15,7 +15,7 @@ from robostereo.errors import InputError, PlausibilityWarning
 from robostereo.geometry.poses import SE3, as_se3
 from robostereo.robot.simulated.grab_views import simulate_views
 from robostereo.robot.views.locating import locate_views
-from robostereo.robot.views.view_agreement import pair_agreement
+from robostereo.robot.views.view_agreement import DOUBTFUL_CONFIDENCE, pair_agreement
 from robostereo.robot.views.views_parameters import ViewsParameters
 
 AXIS = np.array([0.0, 0.0, 1.0])
@@ -157,6 +157,7 @@ def test_three_views_one_off_along_the_baseline_are_warned_about_and_bounds_carr
     bad = _shifted(cap, 2, 2.0)
     loc, said = _located(bad, matcher=matcher)
     assert any("disagree on depth by" in m and "the bounds carry it" in m for m in said), said
+    assert loc.confidence.max() <= DOUBTFUL_CONFIDENCE  # no view to blame: none is sure
     err = _depth_errors(loc, bad, truth)
     assert len(loc) > 100
     sure = loc.confidence >= 0.9
@@ -174,3 +175,40 @@ def test_correct_views_raise_no_disagreement(printed_cross):
         for matcher in ("pairs", "sweep"):
             _, said = _located(c, matcher=matcher)
             assert not [m for m in said if "depths are" in m or "disagree on depth" in m], said
+
+
+def _sim_depth_errors(sim, loc):
+    """Depth error of each point against the simulator's rendered depth (the nearest of
+    the 3 x 3 pixels about its reference pixel)."""
+    err = np.full(len(loc), np.inf)
+    h, w = sim.renderings[0].depth.shape
+    for r in np.unique(loc.reference):
+        k = np.nonzero(loc.reference == r)[0]
+        d = sim.renderings[int(r)].depth
+        x = np.clip(np.rint(loc.pixel[k, 0]).astype(int), 1, w - 2)
+        y = np.clip(np.rint(loc.pixel[k, 1]).astype(int), 1, h - 2)
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                err[k] = np.minimum(err[k], np.abs(d[y + dy, x + dx] - loc.depth_mm[k]))
+    return err
+
+
+def test_a_view_turned_under_the_pose_checks_reach_makes_no_point_sure():
+    """The simulator's block from a cross of five, view 4's recorded pose turned 0.5 deg
+    about its optical axis: the pairs along and across the cross disagree more than the
+    sweep's bounds hold, no view can be named (the two arms share no edge), so it is
+    said and no point keeps a confidence over 0.5."""
+    sim = simulate_views("block", count=5, pattern="cross", span_mm=80.0)
+    cap = sim.capture
+    pose = as_se3(cap.poses[4])
+    poses = list(cap.poses)
+    poses[4] = pose @ SE3.from_rotvec([0.0, 0.0, 0.0], [0.0, 0.0, np.radians(0.5)])
+    turned = dataclasses.replace(cap, poses=tuple(poses))
+    loc, said = _located(turned)
+    assert any("disagree on depth by" in m and "confidence over 0.5" in m for m in said), said
+    assert len(loc) > 500 and loc.confidence.max() <= 0.5
+    err = _sim_depth_errors(sim, loc)
+    assert not np.any((loc.confidence >= 0.9) & (err > 3 * loc.bound_mm))
+    blind, _ = _located(turned, lone_view_factor=None)
+    err = _sim_depth_errors(sim, blind)
+    assert np.sum((blind.confidence >= 0.9) & (err > 3 * blind.bound_mm)) > 20

@@ -60,11 +60,13 @@ from robostereo.robot.views.point_refinement import refine_points
 from robostereo.robot.views.pose_check import views_epipolar_checks, warn_disagreeing
 from robostereo.robot.views.prepared_views import prepare_views, reference_edges
 from robostereo.robot.views.ray_search import search_rays
+from robostereo.robot.views.view_agreement import DOUBTFUL_CONFIDENCE, PairAgreement
 from robostereo.robot.views.view_pairs import (
     is_pairs,
     locate_pairs,
     pair_parts,
     views_agreement,
+    warn_disagreement,
 )
 from robostereo.robot.views.viewpoints import ViewsCapture
 from robostereo.robot.views.views_parameters import ViewsParameters
@@ -184,14 +186,13 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
         return locate_pairs(capture, params=p, progress=progress, source=source)
     # -- the reference's pairs compared on depth: a view off along its baseline named and
     #    left out, what the others disagree by carried by the bounds
+    doubtful, agreed = False, None  # the pairs' agreement, held against the bounds below
     if len(capture) >= 3 and p.lone_view_factor is not None:
-        lone, extra_mm = _pair_check(capture, p, source)
+        lone, agreed = _pair_check(capture, p, source)
         if lone is not None:
             keep = np.array([k for k in range(len(capture)) if k != lone])
             return locate_views(capture.subset(keep), params=p, progress=progress,
                                 source=source).in_views(keep, len(capture))
-        if extra_mm > capture.baseline_uncertainty_mm:
-            capture = replace(capture, baseline_uncertainty_mm=extra_mm)
     n = len(capture)
     views = prepare_views(capture, p.edge_blur_px, p.opposite_edge_px)
     h, w = views.smoothed.shape[1:]
@@ -203,8 +204,21 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     order = reference_order(capture)
     depth_range = capture.depth_range_mm
     # -- the poses against the images: corners of the first reference tracked into the
-    #    other views, their distance from the epipolar lines the poses give
-    warn_disagreeing(views_epipolar_checks(views, int(order[0]), depth_range))
+    #    other views, their distance from the epipolar lines the poses give; one view
+    #    of four or more off them is left out, more (or of three) make no point sure
+    checks = views_epipolar_checks(views, int(order[0]), depth_range)
+    off = [c for c in checks if c.disagrees]
+    if len(off) == 1 and n >= 4 and p.lone_view_factor is not None:
+        c = off[0]
+        warn_input(f"{source}: view {capture.view_name(c.other)}: places tracked into it "
+                   f"from view {capture.view_name(c.view)} lie {c.distance_px:.2f} px off "
+                   "the epipolar lines its pose gives, where the other views agree: it is "
+                   "left out")
+        keep = np.array([k for k in range(n) if k != c.other])
+        return locate_views(capture.subset(keep), params=p, progress=progress,
+                            source=source).in_views(keep, n)
+    warn_disagreeing(checks)
+    doubtful = doubtful or bool(off)
     # the first reference's edge points serve the narrowing pass too
     first = reference_edges(views, int(order[0]), p.threshold, border, p.edge_lines)
     if p.range_step_px is not None:
@@ -246,6 +260,20 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                                                 capture.rotation_uncertainty_deg),
                         baseline_uncertainty_mm=capture.baseline_uncertainty_mm,
                         focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm)
+    if agreed is not None:  # what the pairs disagree by beyond these bounds, carried
+        ref, others, agreement = agreed
+        own = float(np.median(bound))
+        carried = max(float(agreement.beyond_noise.max())
+                      - float(np.median(bound / cat["depth"])), 0.0)
+        bound = bound + carried * cat["depth"]
+        carried_mm = carried * float(np.median(cat["depth"]))
+        if carried_mm > own:  # more than doubled: said, and no point is sure
+            warn_disagreement(capture, ref, others, agreement,
+                              int(np.argmax(agreement.beyond_noise)), source,
+                              carried_mm=carried_mm, typical_mm=own)
+            doubtful = True
+    if doubtful:  # the views disagree and none can be blamed: no point is sure
+        cat["conf"] = np.minimum(cat["conf"], DOUBTFUL_CONFIDENCE)
     count = cat["views"].sum(axis=1)
     return LocatedViews(world=cat["world"], bound_mm=bound, confidence=cat["conf"],
                         view_count=count.astype(np.intp), reference=cat["ref"],
@@ -256,21 +284,22 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
 
 
 def _pair_check(capture: ViewsCapture, p: ViewsParameters, source: str
-                ) -> tuple[int | None, float]:
+                ) -> tuple[int | None, tuple[int, list[int], PairAgreement] | None]:
     """The pairs' agreement for the sweep: the lone view to leave out (or None) and the
-    pose error along a baseline the remaining disagreement implies, mm (0 if none).
-    The pairs' own warnings (a pair that locates little) are the sweep's business and
-    dropped; with no pair located there is nothing to compare."""
+    reference, its pairs' views and their agreement (None with no two pairs), which the
+    sweep holds against its own bounds.  The pairs' own warnings (a pair that locates
+    little) are the sweep's business and dropped."""
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlausibilityWarning)
             ref, views, parts = pair_parts(capture, p, source)
     except InputError:
-        return None, 0.0
+        return None, None
     if len(parts) < 2:
-        return None, 0.0
-    lone, agreement = views_agreement(capture, ref, views, parts, p, source)
-    return lone, float(agreement.pose_error_mm.max())
+        return None, None
+    lone, agreement, _ = views_agreement(capture, ref, views, parts, p, source,
+                                         bounds=False)
+    return lone, (ref, views, agreement)
 
 
 def _scene_range(capture: ViewsCapture, views: Any, ref: int, edges: Any,

@@ -23,7 +23,9 @@ test that follows [1]_:
 
 Three views make two pairs, and then which view is off cannot be told: moving either
 other view (or the reference) along its baseline, with the scene scaled, explains the
-same disagreement.  The views are then named together and the bounds carry it.
+same disagreement.  The views are then named together and the bounds carry it; where
+that more than doubles them, no point of those pairs is called sure
+(:data:`DOUBTFUL_CONFIDENCE`).
 
 References
 ----------
@@ -41,9 +43,16 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.spatial import cKDTree
 
-__all__ = ["PairAgreement", "pair_agreement"]
+__all__ = ["DOUBTFUL_CONFIDENCE", "PairAgreement", "pair_agreement"]
 
 _F = NDArray[np.float64]
+
+DOUBTFUL_CONFIDENCE = 0.5
+"""Highest confidence of a point from pairs whose disagreement more than doubles their
+bounds and that no view can be blamed for: as likely wrong as right (a pair far off
+locates few points, near the end of the depth range, so its disagreement is measured
+short: a simulated pulley view 3 mm off along a 20 mm baseline scaled its pair's depths
+by 15 %, the pairs' medians said 6 %)."""
 
 MIN_SHARED = 20
 """Least number of reference pixels two pairs must both locate to be compared."""
@@ -68,6 +77,9 @@ class PairAgreement:
     lone : int or None
         The pair (index into the pairs) whose other view alone disagrees with the rest,
         or None.
+    beyond_noise : ndarray, shape (P,)
+        Each kept pair's largest ``|D|`` less three standard errors (0 for none): what a
+        locate whose bounds are not the pairs' (the sweep's) must hold against its own.
     extra : ndarray, shape (P,)
         Relative depth each pair's bound gains (``extra * Z`` mm): its largest
         disagreement with the other pairs kept beyond three standard errors and what
@@ -82,6 +94,7 @@ class PairAgreement:
     allowed: _F
     shared: NDArray[np.intp]
     lone: int | None
+    beyond_noise: _F
     extra: _F
     pose_error_mm: _F
 
@@ -193,12 +206,13 @@ def pair_agreement(centre: _F, axis: _F, parts: list[dict[str, Any]], baselines_
     kept = np.ones(n, bool)
     if lone is not None:
         kept[lone] = False
-    excess = np.abs(d) - 3.0 * se - by_bounds
-    excess[~kept, :] = np.nan
-    excess[:, ~kept] = np.nan
-    with np.errstate(invalid="ignore"):
-        worst = np.nanmax(np.where(np.isfinite(excess), excess, -np.inf), axis=1)
-    extra = np.where(kept, np.clip(worst, 0.0, None), 0.0)
+    def worst(excess: _F) -> _F:  # each kept pair's largest, 0 for none
+        excess = np.where(kept[:, None] & kept[None, :] & np.isfinite(excess), excess,
+                          -np.inf)
+        return np.where(kept, np.clip(excess.max(axis=1), 0.0, None), 0.0)
+
+    beyond_noise = worst(np.abs(d) - 3.0 * se)
+    extra = worst(np.abs(d) - 3.0 * se - by_bounds)
     return PairAgreement(disagreement=d, standard_error=se, allowed=by_bounds,
-                         shared=shared, lone=lone,
+                         shared=shared, lone=lone, beyond_noise=beyond_noise,
                          extra=extra, pose_error_mm=extra * b)

@@ -52,7 +52,11 @@ from robostereo.geometry.poses import as_se3
 from robostereo.robot.capture.locate_pair import Located, locate
 from robostereo.robot.views.frame_checks import grey_gradient
 from robostereo.robot.views.located_points import LocatedViews
-from robostereo.robot.views.view_agreement import PairAgreement, pair_agreement
+from robostereo.robot.views.view_agreement import (
+    DOUBTFUL_CONFIDENCE,
+    PairAgreement,
+    pair_agreement,
+)
 from robostereo.robot.views.viewpoints import ViewsCapture
 
 __all__ = [
@@ -63,6 +67,7 @@ __all__ = [
     "pair_parts",
     "pair_reference",
     "views_agreement",
+    "warn_disagreement",
 ]
 
 _F = NDArray[np.float64]
@@ -299,11 +304,33 @@ def pair_parts(capture: ViewsCapture, params: Any, source: str,
     return ref, views, parts
 
 
+def warn_disagreement(capture: ViewsCapture, ref: int, views: list[int],
+                      agreement: PairAgreement, q: int, source: str, *, carried_mm: float,
+                      typical_mm: float) -> None:
+    """Warn that pair `q` disagrees with another beyond the bounds and no view can be
+    blamed: the views named, the bounds' gain and the confidence held."""
+    name = capture.view_name
+    d = agreement.disagreement
+    r = int(np.nanargmax(np.abs(np.where(np.isfinite(d[q]), d[q], np.nan))))
+    c = capture.centres
+    pose_mm = abs(d[q, r]) * float(np.linalg.norm(c[views[q]] - c[ref]))
+    warn_input(f"{source}: the pairs of view {name(ref)} with views {name(views[q])} and "
+               f"{name(views[r])} disagree on depth by {100 * abs(d[q, r]):.2g} % (a pose "
+               f"off along a baseline by up to {pose_mm:.2g} mm, where `uncertainty: "
+               f"baseline_mm` says {capture.baseline_uncertainty_mm:g}): the bounds carry "
+               f"it, {carried_mm:.2g} mm more than their median {typical_mm:.2g} mm, and "
+               f"no point of theirs has a confidence over {DOUBTFUL_CONFIDENCE}")
+
+
 def views_agreement(capture: ViewsCapture, ref: int, views: list[int],
-                    parts: list[dict[str, Any]], params: Any, source: str
-                    ) -> tuple[int | None, PairAgreement]:
+                    parts: list[dict[str, Any]], params: Any, source: str, *,
+                    bounds: bool = True
+                    ) -> tuple[int | None, PairAgreement, NDArray[np.bool_]]:
     """Whether the pairs agree on depth (:func:`~robostereo.robot.views.view_agreement.
     pair_agreement`), what they do not warned about naming the views.
+
+    With `bounds` False only a lone view is warned about: the caller holds what remains
+    against bounds of its own (:func:`warn_disagreement`).
 
     Returns
     -------
@@ -311,6 +338,10 @@ def views_agreement(capture: ViewsCapture, ref: int, views: list[int],
         The view (capture index) whose pose alone disagrees with the others along its
         baseline, to be left out; None.
     agreement : PairAgreement
+    doubtful : ndarray, shape (P,), bool
+        The pairs whose bounds the disagreement more than doubles (warned about): no
+        view to blame, so none of their points is sure (their confidence is to be held
+        to :data:`~robostereo.robot.views.view_agreement.DOUBTFUL_CONFIDENCE`).
     """
     c = capture.centres
     pose = as_se3(capture.poses[ref])
@@ -329,23 +360,21 @@ def views_agreement(capture: ViewsCapture, ref: int, views: list[int],
                    f"the other views' pairs with view {name(ref)} (its pose about "
                    f"{off * float(np.linalg.norm(c[k] - c[ref])):.2g} mm off along the "
                    "baseline): it is left out")
-        return k, agreement
+        return k, agreement, np.zeros(len(parts), bool)
+    if not bounds:
+        return None, agreement, np.zeros(len(parts), bool)
     # said when what the bounds gain outgrows them: the pairs' points lay far outside
-    carried = np.array([e * float(np.median((part["world"] - c[ref]) @ pose.rotation[:, 2]))
-                        if len(part["world"]) else 0.0
-                        for e, part in zip(agreement.extra, parts, strict=True)])
+    depth = [float(np.median((part["world"] - c[ref]) @ pose.rotation[:, 2]))
+             if len(part["world"]) else 0.0 for part in parts]
     typical = np.array([float(np.median(part["bound"])) if len(part["bound"]) else np.inf
                         for part in parts])
-    if np.any(carried > typical):
-        q = int(np.argmax(carried / typical))
-        r = int(np.nanargmax(np.abs(np.where(np.isfinite(d[q]), d[q], np.nan))))
-        warn_input(f"{source}: the pairs of view {name(ref)} with views {name(views[q])} "
-                   f"and {name(views[r])} disagree on depth by {100 * abs(d[q, r]):.2g} % "
-                   "(a pose off along a baseline by up to "
-                   f"{agreement.pose_error_mm.max():.2g} mm, where `uncertainty: "
-                   f"baseline_mm` says {capture.baseline_uncertainty_mm:g}): the bounds "
-                   f"carry it, {carried[q]:.2g} mm more than their median {typical[q]:.2g} mm")
-    return None, agreement
+    doubtful = agreement.extra * np.array(depth) > typical
+    if doubtful.any():
+        q = int(np.argmax(agreement.extra * np.array(depth) / typical))
+        warn_disagreement(capture, ref, views, agreement, q, source,
+                          carried_mm=float(agreement.extra[q] * depth[q]),
+                          typical_mm=float(typical[q]))
+    return None, agreement, doubtful
 
 
 def locate_pairs(capture: ViewsCapture, *, params: Any = None,
@@ -398,7 +427,7 @@ def locate_pairs(capture: ViewsCapture, *, params: Any = None,
     centre, axis = c[ref], pose.rotation[:, 2]
     # -- pairs that disagree on depth: a lone view left out, the rest carried by bounds
     if len(parts) >= 2 and p.lone_view_factor is not None:
-        lone, agreement = views_agreement(capture, ref, views, parts, p, source)
+        lone, agreement, doubtful = views_agreement(capture, ref, views, parts, p, source)
         if lone is not None:
             keep = np.array([k for k in range(n) if k != lone])
             rest = locate_pairs(capture.subset(keep), params=p, source=source)
@@ -406,6 +435,8 @@ def locate_pairs(capture: ViewsCapture, *, params: Any = None,
         for q, part in enumerate(parts):
             part["bound"] = part["bound"] + agreement.extra[q] * ((part["world"] - centre)
                                                                   @ axis)
+            if doubtful[q]:
+                part["probability"] = np.minimum(part["probability"], DOUBTFUL_CONFIDENCE)
     # -- gathered in the reference image, widest pair first; agreeing pairs combined
     g = combine_pairs(centre, axis, parts, agree_px=p.agree_px)
     support = g["members"].sum(axis=1)
