@@ -131,12 +131,13 @@ def check_depth_disparities(fx: float, baseline_mm: float, depth_range_mm: tuple
 
 
 MAX_ROTATION_UNCERTAINTY_DEG = 10.0
-"""Above it, ``uncertainty: rotation_deg`` is no pose uncertainty but an unknown pose."""
+"""Above it, ``uncertainty: rotation_deg`` (or ``hand_eye_deg``) is no pose uncertainty
+but an unknown pose."""
 
 
 def check_uncertainties(focal_length_mm: float, width: int, *, baseline_mm: float,
                         focal_length_mm_unc: float, disparity_px: float,
-                        rotation_deg: float = 0.0) -> None:
+                        rotation_deg: float = 0.0, hand_eye_deg: float = 0.0) -> None:
     """Refuse eq. 9's uncertainties that are not finite numbers >= 0 or that leave the
     depth bound empty: ``disparity_px`` above the image width, ``focal_length_mm`` not
     below the focal length.  The message names the ``uncertainty`` key.
@@ -153,6 +154,8 @@ def check_uncertainties(focal_length_mm: float, width: int, *, baseline_mm: floa
               ("disparity_px", disparity_px, float(width),
                f" and at most the image width ({width} px)"),
               ("rotation_deg", rotation_deg, MAX_ROTATION_UNCERTAINTY_DEG,
+               f" and below {MAX_ROTATION_UNCERTAINTY_DEG:g}"),
+              ("hand_eye_deg", hand_eye_deg, MAX_ROTATION_UNCERTAINTY_DEG,
                f" and below {MAX_ROTATION_UNCERTAINTY_DEG:g}"))
     for key, v, top, why in limits:
         at_most = key == "disparity_px"  # the image width itself is allowed

@@ -101,6 +101,7 @@ def _copy(src: Path, dst: Path) -> Path:
     ({"uncertainty": {"rotation_deg": -0.1}}, "rotation_deg"),
     ({"uncertainty": {"rotation_deg": 30}}, "rotation_deg' must be a finite number >= 0 and "
                                             "below 10"),
+    ({"uncertainty": {"hand_eye_deg": float("inf")}}, "hand_eye_deg"),
 ])
 def test_bad_capture_folders(capture_dir, tmp_path, change, message):
     d = _copy(capture_dir, tmp_path / "bad")
@@ -302,3 +303,22 @@ def test_a_rotation_uncertainty_widens_each_bound_by_the_disparity_it_allows(cap
     write_capture(tmp_path / "plain", plain)
     assert "rotation_deg" not in yaml.safe_load(
         (tmp_path / "plain" / "capture.yaml").read_text())["uncertainty"]
+
+
+def test_a_hand_eye_uncertainty_widens_each_bound_by_how_far_it_moves_the_point(
+        capture_dir, tmp_path):
+    """``uncertainty: hand_eye_deg``: the world tilts with the hand-eye, moving a point at
+    depth ``Z`` by ``Z tan`` of it, which no image shows; each bound gains that."""
+    d = _copy(capture_dir, tmp_path / "hand_eye")
+    data = yaml.safe_load((d / "capture.yaml").read_text())
+    data["uncertainty"]["hand_eye_deg"] = 0.4
+    (d / "capture.yaml").write_text(yaml.safe_dump(data))
+    assert read_capture(d).hand_eye_uncertainty_deg == 0.4
+    a, b = locate_capture(capture_dir), locate_capture(d)
+    np.testing.assert_array_equal(a.world, b.world)
+    np.testing.assert_allclose(b.z_bound - a.z_bound,
+                               a.epipolar_xyz[:, 2] * np.tan(np.radians(0.4)), rtol=1e-9)
+    assert np.median(b.z_bound - a.z_bound) > 5.0  # 0.4 deg at about 1 m: 7 mm
+    write_capture(tmp_path / "again", read_capture(d))
+    assert yaml.safe_load((tmp_path / "again" / "capture.yaml").read_text())[
+        "uncertainty"]["hand_eye_deg"] == 0.4

@@ -231,3 +231,22 @@ def test_a_rotation_uncertainty_widens_the_bounds(block_line):
         else:
             assert abs(len(b) - len(a)) < 0.2 * len(a)
             assert np.median(b.bound_mm) > np.median(a.bound_mm) + 3.0
+
+
+def test_a_hand_eye_uncertainty_widens_every_bound_by_z_tan_of_it(block_line):
+    """``uncertainty: hand_eye_deg`` in N views: both matchers' bounds gain ``Z tan``."""
+    from dataclasses import replace
+
+    cap = block_line[0].capture
+    gain = np.tan(np.radians(0.4))
+    p = ViewsParameters(matcher="sweep")
+    a = locate_views(cap, params=p)
+    b = locate_views(replace(cap, hand_eye_uncertainty_deg=0.4), params=p)
+    np.testing.assert_array_equal(a.world, b.world)
+    np.testing.assert_allclose(b.bound_mm - a.bound_mm, a.depth_mm * gain, rtol=1e-6)
+    # the pairs weigh their points by the bounds: they regroup, each bound gains as much
+    p = ViewsParameters(matcher="pairs")
+    a = locate_views(cap, params=p)
+    b = locate_views(replace(cap, hand_eye_uncertainty_deg=0.4), params=p)
+    grow = np.median(b.bound_mm) - np.median(a.bound_mm)
+    assert abs(grow - np.median(a.depth_mm) * gain) < 0.2 * np.median(a.depth_mm) * gain

@@ -31,7 +31,7 @@ Capture folder format (``DIR/``)::
                           pose_convention: camera_to_world (default) or world_to_camera
                                            (pose_left/right are extrinsics [R | t])
                           uncertainty:     {baseline_mm, focal_length_mm, disparity_px,
-                                            rotation_deg}
+                                            rotation_deg, hand_eye_deg}
                                            (optional, eq. 9; focal_px in place of
                                            focal_length_mm for a camera in pixels)
                           robot, scene:    free-form notes (optional, not read)
@@ -144,6 +144,9 @@ class Capture:
         error as far as the flange turns between the views), degrees; the bounds' ``d(disp)``
         gains :func:`~robostereo.robot.capture.capture_keys.rotation_disparity_px`
         (default 0).
+    hand_eye_uncertainty_deg : float
+        How far the hand-eye's rotation may be off, degrees: each bound gains
+        :func:`~robostereo.robot.capture.capture_keys.hand_eye_bound_mm` (default 0).
     notes : mapping
         Free-form ``robot`` and ``scene`` notes (written, never read).
     flange_left, flange_right, hand_eye : SE3 or None
@@ -164,6 +167,7 @@ class Capture:
     focal_length_uncertainty_mm: float = None  # type: ignore[assignment]
     disparity_uncertainty_px: float = DISPARITY_UNCERTAINTY_PX
     rotation_uncertainty_deg: float = 0.0
+    hand_eye_uncertainty_deg: float = 0.0
     notes: Mapping[str, Any] = field(default_factory=dict)
     flange_left: SE3 | None = None
     flange_right: SE3 | None = None
@@ -221,7 +225,8 @@ class Capture:
                             baseline_mm=self.baseline_uncertainty_mm,
                             focal_length_mm_unc=self.focal_length_uncertainty_mm,
                             disparity_px=self.disparity_uncertainty_px,
-                            rotation_deg=self.rotation_uncertainty_deg)
+                            rotation_deg=self.rotation_uncertainty_deg,
+                            hand_eye_deg=self.hand_eye_uncertainty_deg)
         # math.hypot scales: no overflow for translations near the float range
         d = math.hypot(*(as_se3(self.pose_left).translation
                          - as_se3(self.pose_right).translation))

@@ -46,6 +46,7 @@ __all__ = [
     "default_focal_uncertainty_mm",
     "extras_from_dict",
     "extras_to_dict",
+    "hand_eye_bound_mm",
     "pose_convention",
     "rotation_disparity_px",
     "shared_scene_fractions",
@@ -63,11 +64,13 @@ DEFAULT_FOCAL_UNCERTAINTY_MM = 0.01
 _UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
                 ("focal_length_mm", "focal_length_uncertainty_mm"),
                 ("disparity_px", "disparity_uncertainty_px"),
-                ("rotation_deg", "rotation_uncertainty_deg"))
+                ("rotation_deg", "rotation_uncertainty_deg"),
+                ("hand_eye_deg", "hand_eye_uncertainty_deg"))
 _PIXEL_UNCERTAINTY = (("baseline_mm", "baseline_uncertainty_mm"),
                       ("focal_px", "focal_length_uncertainty_mm"),
                       ("disparity_px", "disparity_uncertainty_px"),
-                      ("rotation_deg", "rotation_uncertainty_deg"))
+                      ("rotation_deg", "rotation_uncertainty_deg"),
+                      ("hand_eye_deg", "hand_eye_uncertainty_deg"))
 
 DEPTH_SCALE_KEY = "depth_scale"
 """Top-level key of a capture file: the units per mm of its 16-bit PNG depth maps."""
@@ -93,6 +96,18 @@ def rotation_disparity_px(focal_px: float, rotation_deg: float) -> float:
     1.396
     """
     return 2.0 * focal_px * math.tan(math.radians(rotation_deg))
+
+
+def hand_eye_bound_mm(depth_mm: Any, hand_eye_deg: float) -> Any:
+    """How far a hand-eye rotation off by up to `hand_eye_deg` (``uncertainty:
+    hand_eye_deg``) can move a point at `depth_mm`: every view's camera turns with it
+    about its optical centre, so the point moves ``Z tan(hand_eye)`` (across its ray,
+    where no image can show it: the world frame tilts), which each bound gains.
+
+    >>> round(float(hand_eye_bound_mm(1000.0, 0.1)), 2)
+    1.75
+    """
+    return np.asarray(depth_mm, dtype=float) * math.tan(math.radians(hand_eye_deg))
 
 
 def default_focal_uncertainty_mm(camera: Camera) -> float:
@@ -287,8 +302,9 @@ def extras_to_dict(capture: Any) -> dict[str, Any]:
     pixels = capture.camera.in_pixels
     keys = _PIXEL_UNCERTAINTY if pixels else _UNCERTAINTY
     unc = {key: float(getattr(capture, attr)) for key, attr in keys}
-    if not unc["rotation_deg"]:  # written only when given: files as before
-        del unc["rotation_deg"]
+    for key in ("rotation_deg", "hand_eye_deg"):  # written only when given: as before
+        if not unc[key]:
+            del unc[key]
     if pixels:  # a nominal 1 mm lens over pixels of 1/fx mm: ds = d(fx) / fx
         unc["focal_px"] = float(capture.focal_length_uncertainty_mm * capture.camera.fx)
     out: dict[str, Any] = {"uncertainty": unc}

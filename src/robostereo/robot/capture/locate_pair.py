@@ -45,6 +45,7 @@ from robostereo.robot.capture.capture_folder import (
     Rectification,
     read_capture,
 )
+from robostereo.robot.capture.capture_keys import hand_eye_bound_mm
 
 __all__ = [
     "MIN_EDGE_POINTS_FOR_FRACTION",
@@ -436,6 +437,8 @@ def locate(capture: Capture, *, params: LocateParameters | None = None,
                    "order, quaternion order x, y, z, w, hand-eye direction, unit)?")
     rows, xl, xr = result.rows, result.x_left, result.x_right
     xyz, zb = result.triangulated()
+    if len(rows) and capture.hand_eye_uncertainty_deg:  # the world tilts with the hand-eye
+        zb = zb + hand_eye_bound_mm(xyz[:, 2], capture.hand_eye_uncertainty_deg)
     world = geometry.to_world(xyz) if len(rows) else np.zeros((0, 3))
     pix = geometry.from_rectified(np.column_stack([xl, rows.astype(float)]), "left") \
         if len(rows) else np.zeros((0, 2))

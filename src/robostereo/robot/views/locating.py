@@ -47,7 +47,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError, PlausibilityWarning, warn_input
-from robostereo.robot.capture.capture_keys import rotation_disparity_px
+from robostereo.robot.capture.capture_keys import hand_eye_bound_mm, rotation_disparity_px
 from robostereo.robot.views.edge_votes import left_out_views, vote_fits, votes_confidence
 from robostereo.robot.views.frame_checks import usable_views
 from robostereo.robot.views.located_points import (
@@ -260,6 +260,7 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                                                 capture.rotation_uncertainty_deg),
                         baseline_uncertainty_mm=capture.baseline_uncertainty_mm,
                         focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm)
+    bound = bound + hand_eye_bound_mm(cat["depth"], capture.hand_eye_uncertainty_deg)
     if agreed is not None:  # what the pairs disagree by beyond these bounds, carried
         ref, others, agreement = agreed
         own = float(np.median(bound))

@@ -179,6 +179,8 @@ class ViewsCapture:
     rotation_uncertainty_deg : float
         How far each view's orientation may be off, degrees (as
         :class:`~robostereo.robot.capture.capture_folder.Capture`'s; default 0).
+    hand_eye_uncertainty_deg : float
+        How far the hand-eye's rotation may be off, degrees (as ``Capture``'s).
     names : tuple of str or None
         File name of each view's image in a capture folder (e.g. ``view_00.png``).
     notes : mapping
@@ -210,6 +212,7 @@ class ViewsCapture:
     focal_length_uncertainty_mm: float = None  # type: ignore[assignment]
     disparity_uncertainty_px: float = DISPARITY_UNCERTAINTY_PX
     rotation_uncertainty_deg: float = 0.0
+    hand_eye_uncertainty_deg: float = 0.0
     names: tuple[str, ...] | None = None
     notes: Mapping[str, Any] = field(default_factory=dict)
     flanges: tuple[SE3, ...] | None = None
@@ -269,6 +272,7 @@ class ViewsCapture:
                    focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm,
                    disparity_uncertainty_px=capture.disparity_uncertainty_px,
                    rotation_uncertainty_deg=capture.rotation_uncertainty_deg,
+                   hand_eye_uncertainty_deg=capture.hand_eye_uncertainty_deg,
                    notes=dict(capture.notes), flanges=flanges, hand_eye=capture.hand_eye)
 
     def __post_init__(self) -> None:
@@ -316,7 +320,8 @@ class ViewsCapture:
                             baseline_mm=self.baseline_uncertainty_mm,
                             focal_length_mm_unc=self.focal_length_uncertainty_mm,
                             disparity_px=self.disparity_uncertainty_px,
-                            rotation_deg=self.rotation_uncertainty_deg)
+                            rotation_deg=self.rotation_uncertainty_deg,
+                            hand_eye_deg=self.hand_eye_uncertainty_deg)
         if self.names is not None:
             object.__setattr__(self, "names", tuple(str(s) for s in self.names))
             if len(self.names) != n or len(set(self.names)) != n:
@@ -398,4 +403,5 @@ class ViewsCapture:
             focal_length_uncertainty_mm=self.focal_length_uncertainty_mm,
             disparity_uncertainty_px=self.disparity_uncertainty_px,
             rotation_uncertainty_deg=self.rotation_uncertainty_deg,
+            hand_eye_uncertainty_deg=self.hand_eye_uncertainty_deg,
             notes=dict(self.notes), **kwargs)

@@ -28,7 +28,7 @@ Folder format (``DIR/``)::
                           depth_range_mm:  [near, far] expected depth of the object
                           bit_depth:       7 (optional; default the PNGs')
                           uncertainty:     {baseline_mm, focal_length_mm, disparity_px,
-                                            rotation_deg}
+                                            rotation_deg, hand_eye_deg}
                                            (optional, eq. 9; focal_px for a camera in
                                            pixels)
                           robot, scene:    free-form notes (optional, not read)
