@@ -57,7 +57,11 @@ from robostereo.robot.views.located_points import (
     views_confidence,
 )
 from robostereo.robot.views.point_refinement import refine_points
-from robostereo.robot.views.pose_check import views_epipolar_checks, warn_disagreeing
+from robostereo.robot.views.pose_check import (
+    lone_check,
+    views_epipolar_checks,
+    warn_disagreeing,
+)
 from robostereo.robot.views.prepared_views import prepare_views, reference_edges
 from robostereo.robot.views.ray_search import search_rays
 from robostereo.robot.views.view_agreement import DOUBTFUL_CONFIDENCE, PairAgreement
@@ -208,12 +212,12 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     #    of four or more off them is left out, more (or of three) make no point sure
     checks = views_epipolar_checks(views, int(order[0]), depth_range)
     off = [c for c in checks if c.disagrees]
-    if len(off) == 1 and n >= 4 and p.lone_view_factor is not None:
-        c = off[0]
+    c = lone_check(checks, p.lone_view_factor) if p.lone_view_factor is not None else None
+    if c is not None:
         warn_input(f"{source}: view {capture.view_name(c.other)}: places tracked into it "
-                   f"from view {capture.view_name(c.view)} lie {c.distance_px:.2f} px off "
-                   "the epipolar lines its pose gives, where the other views agree: it is "
-                   "left out")
+                   f"from view {capture.view_name(c.view)} lie {c.distance_px:.2f} px, "
+                   f"{c.angle_deg:.2f} degrees off the epipolar lines its pose gives, where "
+                   "the other views agree: it is left out")
         keep = np.array([k for k in range(n) if k != c.other])
         return locate_views(capture.subset(keep), params=p, progress=progress,
                             source=source).in_views(keep, n)

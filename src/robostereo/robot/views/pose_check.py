@@ -44,6 +44,7 @@ __all__ = [
     "corners_to_track",
     "epipolar_check",
     "fundamental_from_poses",
+    "lone_check",
     "views_epipolar_checks",
     "warn_disagreeing",
 ]
@@ -380,3 +381,33 @@ def warn_disagreeing(checks: list[EpipolarCheck]) -> None:
                    f"at most {EPIPOLAR_TOLERANCE_PX} px or {EPIPOLAR_TOLERANCE_DEG} degrees "
                    "expected): the poses or the hand-eye are off, and the located points "
                    "may be wrong")
+
+
+def lone_check(checks: list[EpipolarCheck], factor: float) -> EpipolarCheck | None:
+    """The one view whose tracked places lie off their epipolar lines where the other
+    views' do not: the only one that :attr:`~EpipolarCheck.disagrees`, or one whose
+    median angle is more than `factor` times every other's and over half
+    :data:`EPIPOLAR_TOLERANCE_DEG` (and its distance over half
+    :data:`EPIPOLAR_TOLERANCE_PX`): leave-one-out, below the absolute tolerance a
+    robot's own pose errors need.  None with fewer than three checks (four views).
+
+    >>> ok = [EpipolarCheck(0, k, 0.03, 0.03, 100) for k in (1, 2, 3)]
+    >>> lone_check(ok + [EpipolarCheck(0, 4, 0.56, 0.44, 93)], 4.0).other
+    4
+    >>> lone_check(ok + [EpipolarCheck(0, 4, 0.2, 0.1, 93)], 4.0) is None
+    True
+    """
+    valid = [c for c in checks if c.n_places >= MIN_PLACES]
+    if len(valid) < 3:
+        return None
+    off = [c for c in valid if c.disagrees]
+    if len(off) == 1:
+        return off[0]
+    if off:
+        return None
+    worst = max(valid, key=lambda c: c.angle_deg)
+    rest = max(c.angle_deg for c in valid if c is not worst)
+    if (worst.angle_deg > factor * rest and worst.angle_deg > EPIPOLAR_TOLERANCE_DEG / 2
+            and worst.distance_px > EPIPOLAR_TOLERANCE_PX / 2):
+        return worst
+    return None
