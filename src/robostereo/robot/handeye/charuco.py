@@ -17,7 +17,7 @@ plain chessboard's ambiguity, :class:`~robostereo.robot.handeye.boards.Chessboar
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import cached_property
 from typing import Any
 
@@ -142,6 +142,10 @@ class Charuco:
             raise InputError(f"squares {c} x {r} needs {c * r // 2} markers but {name} has "
                              f"only {size}; use a larger dictionary (e.g. "
                              f"{name.rsplit('_', 1)[0]}_1000)")
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The fields only (the cached OpenCV board does not pickle)."""
+        return {f.name: getattr(self, f.name) for f in fields(self)}
 
     @cached_property
     def _cv(self) -> Any:
