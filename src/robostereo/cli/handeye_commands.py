@@ -111,16 +111,20 @@ def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str, mode:
     cam = cal.camera
     names = [Path(n).name for n in cal.names]
     n = len(names)
-    print(f"{len(v.images)} views, {board}, {v.board.square_mm:g} mm squares"
+    # ChArUco views with too few corners left out (outliers rejected are named below)
+    used = f" ({len(v.images) - len(cal.left_out)} used)" if cal.left_out else ""
+    print(f"{len(v.images)} views{used}, {board}, {v.board.square_mm:g} mm squares"
           + (f"; rejected as outliers: {', '.join(Path(r).name for r in cal.rejected)}"
              if cal.rejected else ""))
     if cal.corners_per_view is not None:  # ChArUco
         k = cal.corners_per_view
         left = (f"; left out (too few corners): {', '.join(Path(x).name for x in cal.left_out)}"
                 if cal.left_out else "")
-        print(f"ChArUco: {k.min()}-{k.max()} of {len(v.board.object_points)} corners a view "
-              f"(median {int(np.median(k))}); the markers' ids fix the corner order, so any "
-              f"board size and part-views serve{left}")
+        seen = (f"{k.min()} of {len(v.board.object_points)} corners in every view"
+                if k.min() == k.max() else f"{k.min()}-{k.max()} of "
+                f"{len(v.board.object_points)} corners a view (median {int(np.median(k))})")
+        print(f"ChArUco: {seen}; the markers' ids fix the corner order, so any board size "
+              f"and part-views serve{left}")
     pairs = cal.pairs
     tr, rot = cal.residuals.translation_mm, cal.residuals.rotation_deg
     ii = np.array([p[0] for p in pairs] + [p[1] for p in pairs], dtype=int)
