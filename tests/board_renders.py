@@ -7,6 +7,13 @@ the parity of the square it hits.  Flange poses come from camera poses spread ro
 board (tilts, azimuths, turns about the optical axis) through a known hand-eye
 transform, as a six-axis arm's wrist camera would see it.  Used to check the hand-eye
 calibration on data the project's simulator did not make.
+
+ChArUco boards (:func:`render_charuco`, :func:`render_charuco_views`,
+:func:`render_charuco_eye_to_hand_views`) are OpenCV's own drawing of the board
+(``CharucoBoard.generateImage``) sampled the same way, with 9 sub-samples a pixel in
+an n-rooks pattern (every sub-sample on its own row and column, so an edge along the
+pixel grid is placed to 1/9 px, not to the 1/3 px of a 3 x 3 grid), and a quarter of
+each board under a flat grey patch or out of the frame.
 """
 
 from __future__ import annotations
