@@ -19,6 +19,12 @@ of the joint refinement, and of the refinement with the true intrinsics held
 error of ``T_base_camera`` (and of ``T_flange_board``): ``renders`` are
 ``board_renders.render_eye_to_hand_views`` (9 x 6 board of 30 mm squares, 14 views
 650-750 mm away), ``simulated`` is ``simulate-handeye --mode eye-to-hand``.
+
+``--board charuco [--hide patch|frame|none]``: ChArUco renders instead
+(``board_renders.render_charuco_views`` / ``render_charuco_eye_to_hand_views``: OpenCV's
+drawing of the board warped into the ray caster, a quarter of each board under a grey
+patch or out of the frame): each seed's corner error against the truth (OpenCV's
+corners, a further ``cornerSubPix``, robostereo's refinement) and the hand-eye error.
 """
 
 from __future__ import annotations
@@ -145,13 +151,61 @@ def cell_simulated(seed: int) -> None:
           f"{_err(Y, as_se3(pose_from_dict(data['flange_board'])))}", flush=True)
 
 
+def charuco_renders(seed: int, mode: str, hide: str | None) -> None:
+    import cv2
+    import numpy as np
+    from board_renders import (
+        charuco_corners_in_image,
+        render_charuco_eye_to_hand_views,
+        render_charuco_views,
+    )
+
+    from robostereo.robot.handeye import Charuco, detect_charuco
+
+    eth = mode == "eye-to-hand"
+    r = (render_charuco_eye_to_hand_views if eth else render_charuco_views)(seed, hide=hide)
+    board = Charuco(r.squares, r.square_mm, r.marker_mm, r.dictionary)
+    err: dict[str, list[np.ndarray]] = {"opencv": [], "cornerSubPix": [], "refined": []}
+    for img, T in zip(r.images, r.camera_board, strict=True):
+        truth = charuco_corners_in_image(T.inv(), r.squares, r.square_mm)
+        raw, fine = detect_charuco(img, board, refine=False), detect_charuco(img, board)
+        sub = cv2.cornerSubPix(img, raw.pixels.astype(np.float32).reshape(-1, 1, 2), (3, 3),
+                               (-1, -1), (cv2.TERM_CRITERIA_EPS + cv2.TERM_CRITERIA_MAX_ITER,
+                                          100, 1e-4)).reshape(-1, 2)
+        for key, px, ids in (("opencv", raw.pixels, raw.ids), ("cornerSubPix", sub, raw.ids),
+                             ("refined", fine.pixels, fine.ids)):
+            err[key].append(px - truth[ids])
+    rms = {k: float(np.sqrt(np.mean(np.sum(np.concatenate(v) ** 2, axis=1))))
+           for k, v in err.items()}
+    solve = calibrate_eye_to_hand if eth else calibrate_eye_in_hand
+    cal = solve(r.images, r.flange_poses, board, pixel_pitch_mm=0.005)
+    truth_pose = BASE_CAMERA if eth else X_TRUE
+    k = cal.corners_per_view
+    print(f"charuco renders seed {seed} ({mode}, hide {hide}): corners {k.min()}-{k.max()} of "
+          f"{len(board.object_points)} a view, off the truth {rms['opencv']:.3f} px RMS "
+          f"(OpenCV), {rms['cornerSubPix']:.3f} (+ cornerSubPix 7 x 7), {rms['refined']:.3f} "
+          f"(refined); {'T_base_camera' if eth else 'T_flange_camera'} closed form "
+          f"{_err(truth_pose, cal.closed_form)}, refined {_err(truth_pose, cal.hand_eye)}",
+          flush=True)
+
+
 if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     p.add_argument("--write-results", type=Path, metavar="PATH",
                    help="also write the errors as JSON (docs/results/handeye.json)")
     p.add_argument("--mode", choices=("eye-in-hand", "eye-to-hand"), default="eye-in-hand")
+    p.add_argument("--board", choices=("chessboard", "charuco"), default="chessboard")
+    p.add_argument("--hide", choices=("patch", "frame", "none"), default="patch",
+                   help="ChArUco renders: a quarter of each board under a grey patch, out "
+                        "of the frame, or none hidden")
     args = p.parse_args()
+    if args.board == "charuco":
+        if args.write_results:
+            p.error("--write-results writes the chessboard results page's data only")
+        for s in args.seeds:
+            charuco_renders(s, args.mode, None if args.hide == "none" else args.hide)
+        sys.exit(0)
     if args.mode == "eye-to-hand":
         if args.write_results:
             p.error("--write-results writes the eye-in-hand results page's data only")

@@ -111,9 +111,20 @@ def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str, mode:
     cam = cal.camera
     names = [Path(n).name for n in cal.names]
     n = len(names)
-    print(f"{len(v.images)} views, {board}, {v.board.square_mm:g} mm squares"
+    # ChArUco views with too few corners left out (outliers rejected are named below)
+    used = f" ({len(v.images) - len(cal.left_out)} used)" if cal.left_out else ""
+    print(f"{len(v.images)} views{used}, {board}, {v.board.square_mm:g} mm squares"
           + (f"; rejected as outliers: {', '.join(Path(r).name for r in cal.rejected)}"
              if cal.rejected else ""))
+    if cal.corners_per_view is not None:  # ChArUco
+        k = cal.corners_per_view
+        left = (f"; left out (too few corners): {', '.join(Path(x).name for x in cal.left_out)}"
+                if cal.left_out else "")
+        seen = (f"{k.min()} of {len(v.board.object_points)} corners in every view"
+                if k.min() == k.max() else f"{k.min()}-{k.max()} of "
+                f"{len(v.board.object_points)} corners a view (median {int(np.median(k))})")
+        print(f"ChArUco: {seen}; the markers' ids fix the corner order, so any board size "
+              f"and part-views serve{left}")
     pairs = cal.pairs
     tr, rot = cal.residuals.translation_mm, cal.residuals.rotation_deg
     ii = np.array([p[0] for p in pairs] + [p[1] for p in pairs], dtype=int)
@@ -170,9 +181,10 @@ view pairs grow as n^2 (19 900 at 200), while 15-40 views already settle the res
 def add_simulate_handeye_parser(sub: Any) -> None:
     p = sub.add_parser(
         "simulate-handeye", help="write a simulated hand-eye views folder (six-axis arm)",
-        description="Render a chessboard from tilted views of the simulated six-axis arm's "
-                    "wrist camera (or, --mode eye-to-hand, a board on its flange from a "
-                    "camera fixed in the cell) and write a hand-eye views folder: "
+        description="Render a board (chessboard or ChArUco) from tilted views of the "
+                    "simulated six-axis arm's wrist camera (or, --mode eye-to-hand, a board "
+                    "on its flange from a camera fixed in the cell) and write a hand-eye "
+                    "views folder: "
                     "views.yaml, the images, and the truth (camera, hand_eye, base_board; "
                     "or camera, base_camera, flange_board) in truth.yaml.",
     )
@@ -182,7 +194,9 @@ def add_simulate_handeye_parser(sub: Any) -> None:
                    help=f"number of views, 3 to {MAX_SIMULATED_VIEWS} (15; eye-to-hand 14)")
     p.add_argument("--seed", type=int, default=0, help="viewpoint and noise seed (0)")
     p.add_argument("--board", choices=("chessboard", "charuco"), default="chessboard",
-                   help="calibration target: a 9 x 6 chessboard or an 8 x 6 ChArUco board")
+                   help="calibration target: a chessboard of 9 x 6 inner corners, or a "
+                        "ChArUco board (DICT_5X5_100) of 8 x 6 squares (eye-to-hand: 10 x 7 "
+                        "squares of 30 mm, 22 mm markers)")
     p.add_argument("--mode", choices=("eye-in-hand", "eye-to-hand"), default="eye-in-hand",
                    help="eye-in-hand (the wrist camera, a board on the table; default) or "
                         "eye-to-hand (a 640 x 480 camera fixed in the cell, k1 = -0.1, a "
@@ -193,13 +207,14 @@ def add_simulate_handeye_parser(sub: Any) -> None:
 
 def run_simulate_handeye(args: argparse.Namespace) -> int:
     from robostereo.robot.handeye import Charuco, write_views
-    from robostereo.robot.simulated.cell_handeye import CELL_BOARD, simulate_eye_to_hand_views
+    from robostereo.robot.simulated.cell_handeye import (
+        CELL_BOARD,
+        CELL_CHARUCO,
+        simulate_eye_to_hand_views,
+    )
     from robostereo.robot.simulated.sixaxis_handeye import BOARD, simulate_handeye_views
 
     eth = args.mode == "eye-to-hand"
-    if eth and args.board == "charuco":
-        raise InputError("--mode eye-to-hand simulates a chessboard only (a ChArUco board "
-                         "on the flange is not simulated yet)")
     if args.views is None:
         args.views = 14 if eth else 15
     require_at_least("--views", args.views, 3)
@@ -210,8 +225,9 @@ def run_simulate_handeye(args: argparse.Namespace) -> int:
     require_empty_folder(args.out)
     require_writable(args.out.parent if str(args.out.parent) else Path("."), args.out)
     if eth:
-        views, truth = simulate_eye_to_hand_views(views=args.views, seed=args.seed,
-                                                  board=CELL_BOARD)
+        views, truth = simulate_eye_to_hand_views(
+            views=args.views, seed=args.seed,
+            board=CELL_CHARUCO if args.board == "charuco" else CELL_BOARD)
     else:
         board = Charuco() if args.board == "charuco" else BOARD
         views, truth = simulate_handeye_views(views=args.views, seed=args.seed, board=board)

@@ -3,8 +3,11 @@
 Modules
 -------
 :mod:`~robostereo.robot.handeye.boards`
-    Calibration boards (chessboard, ChArUco), their detection, hand-eye views folders
-    (``views.yaml``).
+    Calibration boards (chessboard, ChArUco), their corners in a view, hand-eye views
+    folders (``views.yaml``).
+:mod:`~robostereo.robot.handeye.charuco`
+    ChArUco boards: dictionaries, detection with corner ids (partial views), sub-pixel
+    corners that ignore the markers.
 :mod:`~robostereo.robot.handeye.ax_xb`
     AX = XB: the motions of every pair of views and the closed forms (Tsai-Lenz,
     Park-Martin, Daniilidis) for ``T_flange_camera``; their residuals.
@@ -45,18 +48,17 @@ from robostereo.robot.handeye.ax_zb import (
     solve_ax_zb,
 )
 from robostereo.robot.handeye.boards import (
-    MIN_CHARUCO_CORNERS,
     MIN_VIEWS,
     VIEW_MODES,
     VIEWS_YAML,
     Board,
-    Charuco,
     Chessboard,
     HandEyeViews,
     describe_board,
     detect_board,
     detect_chessboard,
     read_views,
+    view_corners,
     write_views,
 )
 from robostereo.robot.handeye.calibrate import (
@@ -66,6 +68,16 @@ from robostereo.robot.handeye.calibrate import (
     SolveMethod,
     calibrate_eye_in_hand,
     solve_views,
+)
+from robostereo.robot.handeye.charuco import (
+    DICTIONARIES,
+    MIN_CHARUCO_CORNERS,
+    Charuco,
+    CharucoCorners,
+    charuco_view_problem,
+    detect_charuco,
+    dictionary_name,
+    refine_charuco_corners,
 )
 from robostereo.robot.handeye.checks import (
     INTRINSICS_FLOORS,
@@ -102,6 +114,7 @@ from robostereo.robot.handeye.refine import (
 __all__ = [
     "ALL_METHODS",
     "DEFAULT_METHOD",
+    "DICTIONARIES",
     "INTRINSICS_FLOORS",
     "INTRINSICS_SIGMAS",
     "MAX_REPROJECTION_RMS_PX",
@@ -117,6 +130,7 @@ __all__ = [
     "VIEW_MODES",
     "Board",
     "Charuco",
+    "CharucoCorners",
     "Chessboard",
     "EyeInHandCalibration",
     "EyeToHandCalibration",
@@ -129,13 +143,16 @@ __all__ = [
     "SolveMethod",
     "calibrate_eye_in_hand",
     "calibrate_eye_to_hand",
+    "charuco_view_problem",
     "check_intrinsics",
     "check_plausible",
     "check_rotation_axes",
     "corner_noise_px",
     "describe_board",
     "detect_board",
+    "detect_charuco",
     "detect_chessboard",
+    "dictionary_name",
     "handeye_residuals",
     "load_base_camera_yaml",
     "load_handeye_yaml",
@@ -145,12 +162,14 @@ __all__ = [
     "predicted_pair_translation_mm",
     "project_board",
     "read_views",
+    "refine_charuco_corners",
     "refine_eye_in_hand",
     "robust_z",
     "save_handeye_yaml",
     "solve_ax_xb",
     "solve_ax_zb",
     "solve_views",
+    "view_corners",
     "view_scores",
     "write_views",
 ]

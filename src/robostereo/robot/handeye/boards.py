@@ -22,20 +22,25 @@ from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError
 from robostereo.geometry.poses import SE3
+from robostereo.robot.handeye.charuco import (
+    Charuco,
+    charuco_view_problem,
+    detect_charuco,
+    grey_uint8,
+)
 
 __all__ = [
-    "MIN_CHARUCO_CORNERS",
     "MIN_VIEWS",
     "VIEWS_YAML",
     "VIEW_MODES",
     "Board",
-    "Charuco",
     "Chessboard",
     "HandEyeViews",
     "describe_board",
     "detect_board",
     "detect_chessboard",
     "read_views",
+    "view_corners",
     "write_views",
 ]
 
@@ -99,67 +104,27 @@ class Chessboard:
         return np.column_stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)]) * self.square_mm
 
 
-@dataclass(frozen=True)
-class Charuco:
-    """A ChArUco calibration target (a chessboard with ArUco markers in its light squares).
-
-    Parameters
-    ----------
-    squares : tuple of int
-        ``(columns, rows)`` of squares (OpenCV's ``CharucoBoard`` size).
-    square_mm, marker_mm : float
-        Side of a square and of a marker, millimetres.
-    dictionary : str
-        Name of an OpenCV predefined ArUco dictionary, e.g. ``'DICT_5X5_100'``.
-
-    The board frame is OpenCV's: origin at the board's top-left corner, x along the
-    columns, y along the rows, z into the board.  Each detected corner has an id, so a
-    partly seen board still gives corners in a known order.
-    """
-
-    squares: tuple[int, int] = (8, 6)
-    square_mm: float = 12.0
-    marker_mm: float = 9.0
-    dictionary: str = "DICT_5X5_100"
-
-    def __post_init__(self) -> None:
-        c, r = self.squares
-        if int(c) != c or int(r) != r or c < 3 or r < 3:
-            raise InputError(f"squares must be (columns, rows) >= 3, got {self.squares}")
-        object.__setattr__(self, "squares", (int(c), int(r)))
-        for name in ("square_mm", "marker_mm"):
-            v = getattr(self, name)
-            if not (isinstance(v, int | float) and math.isfinite(v) and v > 0):
-                raise InputError(f"{name} must be a finite number > 0, got {v!r}")
-        if not self.marker_mm < self.square_mm:
-            raise InputError(f"marker_mm must be below square_mm, got {self.marker_mm} and "
-                             f"{self.square_mm}")
-        if not str(self.dictionary).startswith("DICT_") or not hasattr(cv2.aruco,
-                                                                       self.dictionary):
-            raise InputError(f"dictionary must name an OpenCV ArUco dictionary such as "
-                             f"DICT_5X5_100, got {self.dictionary!r}")
-
-    def cv_board(self) -> Any:
-        """The :class:`cv2.aruco.CharucoBoard`."""
-        d = cv2.aruco.getPredefinedDictionary(getattr(cv2.aruco, self.dictionary))
-        return cv2.aruco.CharucoBoard(self.squares, float(self.square_mm),
-                                      float(self.marker_mm), d)
-
-    @property
-    def object_points(self) -> NDArray[np.float64]:
-        """Inner corners in the board frame, shape ``((cols - 1) (rows - 1), 3)``, mm."""
-        return np.asarray(self.cv_board().getChessboardCorners(), dtype=np.float64)
-
-    def image(self, px_per_mm: float = 10.0) -> NDArray[np.uint8]:
-        """The board drawn at `px_per_mm` (no margin), for printing or rendering."""
-        c, r = self.squares
-        size = (round(c * self.square_mm * px_per_mm), round(r * self.square_mm * px_per_mm))
-        return self.cv_board().generateImage(size, marginSize=0, borderBits=1)
-
-
 Board = Chessboard | Charuco
-MIN_CHARUCO_CORNERS = 6
-"""Fewest ChArUco corners for a view to count (a pose needs a few, spread out)."""
+
+
+def view_corners(image: ArrayLike, board: Board
+                 ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | str:
+    """Board corners found in a grey image: ``(object points (K, 3), pixels (K, 2))``,
+    or why there are none that give a pose (a short phrase for messages).
+
+    A chessboard must be found whole (:func:`detect_chessboard`, K = columns rows); a
+    ChArUco board gives the corners of the part seen (:func:`~robostereo.robot.handeye.
+    charuco.detect_charuco`), at least :data:`MIN_CHARUCO_CORNERS` and not on one line
+    (:func:`~robostereo.robot.handeye.charuco.charuco_view_problem`).
+    """
+    if isinstance(board, Chessboard):
+        c = detect_chessboard(image, board)
+        return "not found" if c is None else (board.object_points, c)
+    if not isinstance(board, Charuco):
+        raise InputError(f"board must be a Chessboard or a Charuco, got {type(board).__name__}")
+    found = detect_charuco(image, board)
+    problem = charuco_view_problem(found, board)
+    return problem if problem is not None else (found.object_points, found.pixels)
 
 
 def detect_board(
@@ -168,31 +133,10 @@ def detect_board(
     """Board corners found in a grey image: ``(object points (K, 3), pixels (K, 2))``.
 
     None if the board is not found (a chessboard must be whole; a ChArUco board needs
-    :data:`MIN_CHARUCO_CORNERS` corners).
+    :data:`MIN_CHARUCO_CORNERS` corners, not on one line): :func:`view_corners`.
     """
-    if isinstance(board, Chessboard):
-        c = detect_chessboard(image, board)
-        return None if c is None else (board.object_points, c)
-    if not isinstance(board, Charuco):
-        raise InputError(f"board must be a Chessboard or a Charuco, got {type(board).__name__}")
-    img = _as_uint8(image)
-    corners, ids, _mc, _mi = cv2.aruco.CharucoDetector(board.cv_board()).detectBoard(img)
-    if corners is None or ids is None or len(ids) < MIN_CHARUCO_CORNERS:
-        return None
-    return board.object_points[ids.ravel()], corners.reshape(-1, 2).astype(np.float64)
-
-
-def _as_uint8(image: ArrayLike) -> NDArray[np.uint8]:
-    img = np.asarray(image)
-    if img.ndim != 2:
-        raise InputError(f"image must be a grey (H, W) image, got shape {img.shape}")
-    if img.dtype != np.uint8:
-        top = float(img.max()) if img.size else 1.0
-        return np.clip(img.astype(np.float64) * (255.0 / max(top, 1.0)), 0, 255).astype(
-            np.uint8)
-    if img.size and img.max() < 128:  # 7-bit grey levels: stretch for the detector
-        return (img.astype(np.uint16) * 2).astype(np.uint8)
-    return img
+    found = view_corners(image, board)
+    return None if isinstance(found, str) else found
 
 
 def detect_chessboard(image: ArrayLike, board: Chessboard) -> NDArray[np.float64] | None:
@@ -201,7 +145,7 @@ def detect_chessboard(image: ArrayLike, board: Chessboard) -> NDArray[np.float64
     :func:`cv2.findChessboardCornersSB` (the sector-based detector, sub-pixel), in
     the order of :attr:`Chessboard.object_points`.
     """
-    img = _as_uint8(image)
+    img = grey_uint8(image)
     ok, corners = cv2.findChessboardCornersSB(img, board.inner_corners,
                                               flags=cv2.CALIB_CB_ACCURACY)
     if not ok or corners is None:
@@ -221,11 +165,12 @@ def detect_chessboard(image: ArrayLike, board: Chessboard) -> NDArray[np.float64
 
 
 def describe_board(board: Board) -> str:
-    """One line naming a board for messages, e.g. ``chessboard 9 x 6``."""
+    """One line naming a board for messages, e.g. ``chessboard 9 x 6`` or ``ChArUco board
+    8 x 6 squares (DICT_5X5_100)``."""
     if isinstance(board, Chessboard):
         return f"chessboard {board.inner_corners[0]} x {board.inner_corners[1]}"
-    return (f"ChArUco board {board.squares[0]} x {board.squares[1]} (at least "
-            f"{MIN_CHARUCO_CORNERS} corners)")
+    return (f"ChArUco board {board.squares[0]} x {board.squares[1]} squares "
+            f"({board.dictionary}{', legacy pattern' if board.legacy else ''})")
 
 
 # ------------------------------------------------------------------ views folders
@@ -243,7 +188,9 @@ class HandEyeViews:
 
         views.yaml   board:          {type: chessboard, inner_corners: [cols, rows],
                                       square_mm} or {type: charuco, squares:
-                                      [cols, rows], square_mm, marker_mm, dictionary}
+                                      [cols, rows], square_mm, marker_mm, dictionary
+                                      (e.g. DICT_5X5_100 or 5X5_100), legacy
+                                      (optional, default false)}
                      pixel_pitch_mm: horizontal pitch of the sensor, mm (data sheet)
                      grey_levels:    optional, default 256
                      mode:           optional, eye-in-hand (default: the camera on
@@ -298,7 +245,8 @@ def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | 
                  "square_mm": float(b.square_mm)}
     else:
         board = {"type": "charuco", "squares": list(b.squares), "square_mm": float(b.square_mm),
-                 "marker_mm": float(b.marker_mm), "dictionary": b.dictionary}
+                 "marker_mm": float(b.marker_mm), "dictionary": b.dictionary,
+                 **({"legacy": True} if b.legacy else {})}
     data = {
         "board": board,
         "pixel_pitch_mm": float(views.pixel_pitch_mm),
@@ -311,6 +259,34 @@ def write_views(directory: Any, views: HandEyeViews, *, extra: dict[str, Any] | 
     texts.update({fname: yaml.safe_dump(mapping, sort_keys=False)
                   for fname, mapping in (extra or {}).items()})
     write_image_folder(directory, dict(zip(views.names, views.images, strict=True)), texts)
+
+
+_CHARUCO_KEYS = ("type", "squares", "square_mm", "marker_mm", "dictionary", "legacy")
+
+
+def _read_board(b: dict[str, Any], kind: str, src: str) -> Board:
+    """The ``board`` mapping of views.yaml as a :data:`Board` (one-line InputError)."""
+    try:
+        if kind == "chessboard":
+            return Chessboard(tuple(b["inner_corners"]), float(b["square_mm"]))  # type: ignore[arg-type]
+        unknown = sorted(str(k) for k in b if k not in _CHARUCO_KEYS)
+        if unknown:
+            raise InputError(f"unknown key{'s' if len(unknown) > 1 else ''} "
+                             f"{', '.join(unknown)} for a ChArUco board (keys: "
+                             f"{', '.join(_CHARUCO_KEYS)})")
+        missing = [k for k in _CHARUCO_KEYS[1:5] if k not in b]
+        if missing:
+            raise InputError(f"a ChArUco board needs {', '.join(missing)} (squares: [columns, "
+                             "rows], square_mm, marker_mm, dictionary, e.g. DICT_5X5_100)")
+        sq = b["squares"]
+        if not isinstance(sq, list) or len(sq) != 2:
+            raise InputError(f"squares must be [columns, rows], got {sq!r}")
+        return Charuco(tuple(sq), b["square_mm"], b["marker_mm"],  # type: ignore[arg-type]
+                       str(b["dictionary"]), b.get("legacy", False))
+    except InputError as exc:
+        raise InputError(f"{src}: board: {exc}") from None
+    except (KeyError, TypeError, ValueError) as exc:
+        raise InputError(f"{src}: board: missing or bad key ({exc})") from None
 
 
 def read_views(directory: Any) -> HandEyeViews:
@@ -329,18 +305,8 @@ def read_views(directory: Any) -> HandEyeViews:
     if kind not in ("chessboard", "charuco"):
         raise InputError(f"{src}: board must be {{type: chessboard, inner_corners: [c, r], "
                          "square_mm} or {type: charuco, squares: [c, r], square_mm, "
-                         "marker_mm, dictionary}")
-    board: Board
-    try:
-        if kind == "chessboard":
-            board = Chessboard(tuple(b["inner_corners"]), float(b["square_mm"]))  # type: ignore[arg-type]
-        else:
-            board = Charuco(tuple(b["squares"]), float(b["square_mm"]),  # type: ignore[arg-type]
-                            float(b["marker_mm"]), str(b.get("dictionary", "DICT_5X5_100")))
-    except InputError as exc:
-        raise InputError(f"{src}: board: {exc}") from None
-    except (KeyError, TypeError, ValueError) as exc:
-        raise InputError(f"{src}: board: missing or bad key ({exc})") from None
+                         "marker_mm, dictionary[, legacy]}")
+    board = _read_board(b, kind, src)
     pitch = data.get("pixel_pitch_mm", 0.01)
     if isinstance(pitch, list):
         pitch = pitch[0] if pitch else None

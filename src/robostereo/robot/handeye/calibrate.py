@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.spatial.transform import Rotation
 
-from robostereo.errors import InputError
+from robostereo.errors import InputError, warn_input
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
 from robostereo.robot.handeye.ax_xb import (
@@ -42,8 +42,9 @@ from robostereo.robot.handeye.boards import (
     MIN_VIEWS,
     VIEW_MODES,
     Board,
+    Chessboard,
     describe_board,
-    detect_board,
+    view_corners,
 )
 from robostereo.robot.handeye.checks import (
     MAX_ROTATION_RMS_DEG,
@@ -109,6 +110,12 @@ class EyeInHandCalibration:
         Views whose residuals stand out (robust z-score > 3.5).
     rejected : tuple of str
         Views dropped by ``reject_outliers`` before the final solution.
+    corners_per_view : ndarray of int, shape (N,), optional
+        Corners used in each view kept (ChArUco boards, whose views may show part of
+        the board); None for a chessboard (every view shows all its corners).
+    left_out : tuple of str
+        Views left out because too few ChArUco corners were found in them (each
+        warned about).
     """
 
     camera: Camera
@@ -125,9 +132,13 @@ class EyeInHandCalibration:
     predicted_translation_rms_mm: float = math.nan
     outliers: tuple[str, ...] = ()
     rejected: tuple[str, ...] = ()
+    corners_per_view: NDArray[np.int64] | None = None
+    left_out: tuple[str, ...] = ()
 
     def __post_init__(self) -> None:
         n = len(self.board_poses)
+        if self.corners_per_view is not None and np.shape(self.corners_per_view) != (n,):
+            raise InputError(f"corners_per_view must cover {n} views")
         if self.per_view_rms_px.shape != (n,) or self.residuals.rotation_deg.shape != (
                 n * (n - 1) // 2,):
             raise InputError(f"per_view_rms_px and residuals must cover {n} views")
@@ -171,6 +182,10 @@ class EyeInHandCalibration:
                                               self.residuals.translation_mm, strict=True)],
             "rejected_views": [PurePath(n).name for n in self.rejected],
         }
+        if self.corners_per_view is not None:  # ChArUco: views of part of the board
+            for v, k in zip(out["views"], self.corners_per_view, strict=True):
+                v["corners"] = int(k)
+            out["left_out_views"] = [PurePath(n).name for n in self.left_out]
         if self.closed_form is not None:
             out["hand_eye_closed_form"] = pose_to_dict(self.closed_form)
         return out
@@ -320,16 +335,20 @@ def calibrate_eye_in_hand(
     Raises
     ------
     InputError
-        Images of different sizes, a board not found in a view (naming it), fewer than
-        :data:`MIN_VIEWS` views, flange rotations about one axis only, or an implausible
+        Images of different sizes, a chessboard not found in a view (naming it), fewer
+        than :data:`MIN_VIEWS` views (for a ChArUco board: views with enough corners),
+        flange rotations about one axis only, or an implausible
         result (:func:`~robostereo.robot.handeye.checks.check_plausible`: wrong board
         or square size, flange positions in metres, poses paired with the wrong images).
 
     Notes
     -----
-    1. :func:`~robostereo.robot.handeye.boards.detect_board` in every view.
-    2. :func:`cv2.calibrateCamera` (``k1, k2, p1, p2, k3``), or :func:`cv2.solvePnP`
-       with the known `camera`, gives ``C_i = T_camera_board`` per view.
+    1. :func:`~robostereo.robot.handeye.boards.view_corners` in every view: a whole
+       chessboard, or the ChArUco corners seen with their board points (a view with
+       under 6 of them, or all on one line, is warned about and left out).
+    2. :func:`cv2.calibrateCamera` (``k1, k2, p1, p2, k3``; each view with its own
+       corners), or :func:`cv2.solvePnP` with the known `camera`, gives
+       ``C_i = T_camera_board`` per view.
     3. :func:`~robostereo.robot.handeye.ax_xb.motion_pairs`,
        :func:`~robostereo.robot.handeye.ax_xb.solve_ax_xb` (Tsai-Lenz or Park-Martin
        rotation, then ``(R_A - I) t_X = R_X t_B - t_A``),
@@ -417,19 +436,32 @@ def solve_views(
     if camera is not None and tuple(camera.image_size) != (w, h):
         raise InputError(f"camera: image size {camera.image_size[0]} x "
                          f"{camera.image_size[1]} is not the views' {w} x {h}")
-    obj, img_pts = [], []
-    for im, name in zip(images, labels, strict=True):
-        found = detect_board(np.asarray(im), board)
-        if found is None:
-            raise InputError(f"{name}: {describe_board(board)} not found")
+    obj, img_pts, F = [], [], []
+    kept, left_out = [], []
+    for im, name, f in zip(images, labels, flange_poses, strict=True):
+        found = view_corners(np.asarray(im), board)
+        if isinstance(found, str):
+            if isinstance(board, Chessboard):
+                raise InputError(f"{name}: {describe_board(board)} {found}")
+            # a ChArUco view may show little of the board: named, left out
+            warn_input(f"{name}: {describe_board(board)}: {found}; view left out")
+            left_out.append(name)
+            continue
         obj.append(found[0].astype(np.float64).reshape(-1, 1, 3))
         img_pts.append(found[1].astype(np.float64).reshape(-1, 1, 2))
+        F.append(f.inv() if mode == "eye-to-hand" else f)
+        kept.append(name)
+    if len(kept) < MIN_VIEWS:
+        raise InputError(f"{source}: hand-eye needs at least {MIN_VIEWS} usable views, got "
+                         f"{len(kept)}: the {describe_board(board)} is found in too few "
+                         f"views ({', '.join(left_out[:3])}{', ...' if len(left_out) > 3 else ''}"
+                         "); check the board's squares, marker_mm and dictionary")
+    labels, n = kept, len(kept)
     obj32 = [o.astype(np.float32) for o in obj]
     pts32 = [p.astype(np.float32) for p in img_pts]
     if camera is not None:
         check_intrinsics(obj32, pts32, (w, h), camera.K, camera.dist_coeffs,
                          source=f"{source}: the known intrinsics")
-    F = [f.inv() for f in flange_poses] if mode == "eye-to-hand" else list(flange_poses)
     st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method)
     _check_mode(F, st, mode, source)
     z = view_scores(st.per_view, st.residuals.translation_mm, st.residuals.rotation_deg, n)
@@ -489,4 +521,7 @@ def solve_views(
         base_board=W, names=tuple(labels), closed_form=st.X if refine else None,
         corner_noise_px=st.noise, predicted_translation_rms_mm=predicted,
         outliers=tuple(labels[i] for i in np.flatnonzero(flagged)), rejected=tuple(rejected),
+        corners_per_view=None if isinstance(board, Chessboard) else np.array(
+            [len(o) for o in obj], dtype=np.int64),
+        left_out=tuple(left_out),
     )

@@ -24,7 +24,7 @@ from robostereo.errors import InputError, UnreachablePoseError
 from robostereo.geometry.camera import Camera, camera_to_dict
 from robostereo.geometry.poses import SE3, pose_to_dict
 from robostereo.robot.arms.sixaxis import SixAxisArm
-from robostereo.robot.handeye import Board, Chessboard, HandEyeViews
+from robostereo.robot.handeye import Board, Charuco, Chessboard, HandEyeViews
 from robostereo.robot.simulated.sixaxis_handeye import board_frame, board_scene
 from robostereo.robot.simulated.sixaxis_rig import render_six_axis
 
@@ -32,6 +32,7 @@ __all__ = [
     "BASE_CAMERA",
     "CELL_BOARD",
     "CELL_CAMERA",
+    "CELL_CHARUCO",
     "FLANGE_BOARD",
     "simulate_eye_to_hand_views",
 ]
@@ -56,6 +57,11 @@ turned 20 degrees about it."""
 CELL_BOARD = Chessboard(inner_corners=(9, 6), square_mm=30.0)
 """The carried board: 9 x 6 inner corners, 30 mm squares (300 x 210 mm)."""
 
+CELL_CHARUCO = Charuco(squares=(10, 7), square_mm=30.0, marker_mm=22.0,
+                       dictionary="DICT_5X5_100")
+"""The carried ChArUco board (``simulate-handeye --mode eye-to-hand --board charuco``):
+10 x 7 squares of 30 mm (the chessboard's 300 x 210 mm), 22 mm markers."""
+
 
 def simulate_eye_to_hand_views(
     *,
@@ -77,7 +83,8 @@ def simulate_eye_to_hand_views(
         Seed of the board poses and the sensor noise.
     arm, camera, base_camera, flange_board, board
         The simulated arm (default a UR5), the fixed camera and its true
-        ``T_base_camera``, the true ``T_flange_board`` and the board.
+        ``T_base_camera``, the true ``T_flange_board`` and the board
+        (:data:`CELL_BOARD`, or a ChArUco board such as :data:`CELL_CHARUCO`).
 
     Returns
     -------

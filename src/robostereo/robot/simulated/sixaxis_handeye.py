@@ -42,16 +42,18 @@ def board_scene(
     """A calibration board (2 mm thick) lying on the table, and the board primitive.
 
     A :class:`Chessboard` is drawn analytically (:class:`Checkerboard`), a
-    :class:`Charuco` as its OpenCV image printed at 10 px/mm (:class:`ImagePlane`).
+    :class:`Charuco` as its OpenCV image printed at 300 px a square (25 px/mm for 12 mm
+    squares; :class:`ImagePlane`).
     """
     cb: Checkerboard | ImagePlane
     if isinstance(board, Chessboard):
         cb = Checkerboard(origin=origin_xy, z=2.0, inner_corners=board.inner_corners,
                           square_mm=board.square_mm, yaw=yaw)
     else:
-        img = board.image(25.0).astype(np.float64) / 255.0
-        cb = ImagePlane(origin=origin_xy, image=0.08 + 0.77 * img, mm_per_px=0.04, z=2.0,
-                        yaw=yaw)
+        px_per_mm = 300.0 / board.square_mm
+        img = board.image(px_per_mm).astype(np.float64) / 255.0
+        cb = ImagePlane(origin=origin_xy, image=0.08 + 0.77 * img, mm_per_px=1.0 / px_per_mm,
+                        z=2.0, yaw=yaw)
     return Scene((TablePlane(z=0.0, albedo=0.3), cb), light_direction=(0.2, -0.1, 1.0)), cb
 
 
