@@ -32,21 +32,8 @@ import numpy as np
 from robostereo.errors import PlausibilityWarning
 from robostereo.geometry.poses import SE3, as_se3
 from robostereo.robot.simulated.grab_views import simulate_views
+from robostereo.robot.simulated.views_truth import views_depth_errors
 from robostereo.robot.views.locating import locate_views
-
-
-def _sim_errors(sim: Any, loc: Any) -> np.ndarray:
-    err = np.full(len(loc), np.inf)
-    h, w = sim.renderings[0].depth.shape
-    for r in np.unique(loc.reference):
-        k = np.nonzero(loc.reference == r)[0]
-        d = sim.renderings[int(r)].depth
-        x = np.clip(np.rint(loc.pixel[k, 0]).astype(int), 1, w - 2)
-        y = np.clip(np.rint(loc.pixel[k, 1]).astype(int), 1, h - 2)
-        for dy in (-1, 0, 1):
-            for dx in (-1, 0, 1):
-                err[k] = np.minimum(err[k], np.abs(d[y + dy, x + dx] - loc.depth_mm[k]))
-    return err
 
 
 def _render_errors(truth: Any, cap: Any, loc: Any) -> np.ndarray:
@@ -118,7 +105,7 @@ def main() -> int:
                              robot=robot)  # type: ignore[arg-type]
         for case, cap in _bad_variants(sim.capture):
             rows.append(_row(f"sim {kind} {robot} {pattern} {count}: {case}", cap,
-                             lambda c, loc, sim=sim: _sim_errors(sim, loc)))
+                             lambda c, loc, sim=sim: views_depth_errors(sim, loc)))
         print(f"done sim {kind} {robot} {pattern} {count}", flush=True)
     if args.renders:
         from view_renders import RenderSpec, render_views

@@ -14,6 +14,7 @@ from view_renders import RenderSpec, render_views
 from robostereo.errors import InputError, PlausibilityWarning
 from robostereo.geometry.poses import SE3, as_se3
 from robostereo.robot.simulated.grab_views import simulate_views
+from robostereo.robot.simulated.views_truth import views_depth_errors
 from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.view_agreement import DOUBTFUL_CONFIDENCE, pair_agreement
 from robostereo.robot.views.views_parameters import ViewsParameters
@@ -177,22 +178,6 @@ def test_correct_views_raise_no_disagreement(printed_cross):
             assert not [m for m in said if "depths are" in m or "disagree on depth" in m], said
 
 
-def _sim_depth_errors(sim, loc):
-    """Depth error of each point against the simulator's rendered depth (the nearest of
-    the 3 x 3 pixels about its reference pixel)."""
-    err = np.full(len(loc), np.inf)
-    h, w = sim.renderings[0].depth.shape
-    for r in np.unique(loc.reference):
-        k = np.nonzero(loc.reference == r)[0]
-        d = sim.renderings[int(r)].depth
-        x = np.clip(np.rint(loc.pixel[k, 0]).astype(int), 1, w - 2)
-        y = np.clip(np.rint(loc.pixel[k, 1]).astype(int), 1, h - 2)
-        for dy in (-1, 0, 1):
-            for dx in (-1, 0, 1):
-                err[k] = np.minimum(err[k], np.abs(d[y + dy, x + dx] - loc.depth_mm[k]))
-    return err
-
-
 def test_a_view_turned_under_the_pose_checks_reach_makes_no_point_sure():
     """The simulator's block from a cross of five, view 4's recorded pose turned 0.5 deg
     about its optical axis: the pairs along and across the cross disagree more than the
@@ -207,10 +192,10 @@ def test_a_view_turned_under_the_pose_checks_reach_makes_no_point_sure():
     loc, said = _located(turned)
     assert any("disagree on depth by" in m and "confidence over 0.5" in m for m in said), said
     assert len(loc) > 500 and loc.confidence.max() <= 0.5
-    err = _sim_depth_errors(sim, loc)
+    err = views_depth_errors(sim, loc)
     assert not np.any((loc.confidence >= 0.9) & (err > 3 * loc.bound_mm))
     blind, _ = _located(turned, lone_view_factor=None)
-    err = _sim_depth_errors(sim, blind)
+    err = views_depth_errors(sim, blind)
     assert np.sum((blind.confidence >= 0.9) & (err > 3 * blind.bound_mm)) > 20
 
 

@@ -26,6 +26,7 @@ from robostereo.simulation import Box
 __all__ = [
     "views_block_truth",
     "views_correct",
+    "views_depth_errors",
     "views_outline_coverage",
     "views_pulley_score",
 ]
@@ -97,6 +98,24 @@ def views_outline_coverage(sim: SimulatedViews, located: LocatedViews, *,
     return float((cKDTree(located.world).query(outline)[0] <= within_mm).mean())
 
 
+def views_depth_errors(sim: SimulatedViews, located: LocatedViews) -> NDArray[np.float64]:
+    """Each located point's depth error against the renderings' truth, mm, shape (M,):
+    the least ``|Z_true - Z|`` over the 3 x 3 pixels about its reference pixel (an edge
+    lies between pixels; ``inf`` where none has a depth)."""
+    h, w = sim.renderings[0].depth.shape
+    err = np.full(len(located), np.inf)
+    for r in np.unique(located.reference):
+        k = np.nonzero(located.reference == r)[0]
+        d = sim.renderings[int(r)].depth
+        x = np.clip(np.rint(located.pixel[k, 0]).astype(int), 1, w - 2)
+        y = np.clip(np.rint(located.pixel[k, 1]).astype(int), 1, h - 2)
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                off = np.abs(d[y + dy, x + dx] - located.depth_mm[k])
+                err[k] = np.fmin(err[k], off)
+    return err
+
+
 def views_correct(sim: SimulatedViews, located: LocatedViews) -> NDArray[np.bool_]:
     """Whether each located point is right, by the renderings' truth.
 
@@ -105,20 +124,8 @@ def views_correct(sim: SimulatedViews, located: LocatedViews) -> NDArray[np.bool
     located depth (``Z^2 / (f span)``; the two-view rule's tolerance).
     """
     cap = sim.capture
-    h, w = sim.renderings[0].depth.shape
-    f = float(cap.camera.fx)
-    ok = np.zeros(len(located), bool)
-    for r in np.unique(located.reference):
-        k = np.nonzero(located.reference == r)[0]
-        d = sim.renderings[int(r)].depth
-        x = np.clip(np.rint(located.pixel[k, 0]).astype(int), 1, w - 2)
-        y = np.clip(np.rint(located.pixel[k, 1]).astype(int), 1, h - 2)
-        z = located.depth_mm[k]
-        tol = z**2 / (f * cap.span_mm)
-        for dy in (-1, 0, 1):
-            for dx in (-1, 0, 1):
-                ok[k] |= np.abs(d[y + dy, x + dx] - z) <= tol
-    return ok
+    tol = located.depth_mm**2 / (float(cap.camera.fx) * cap.span_mm)
+    return views_depth_errors(sim, located) <= tol
 
 
 def views_pulley_score(sim: SimulatedViews, located: LocatedViews, *,
