@@ -88,6 +88,7 @@ def _run_demo_six_axis(args: argparse.Namespace) -> int:
     from robostereo.io import check_outputs
     from robostereo.robot.handeye import save_handeye_yaml
     from robostereo.robot.simulated.block_experiments import run_six_axis_block
+    from robostereo.robot.simulated.cell_handeye import eye_to_hand_session
 
     for name in ("capture-low", "capture-high"):
         d = args.out / name
@@ -104,6 +105,7 @@ def _run_demo_six_axis(args: argparse.Namespace) -> int:
                       then=lambda: save_handeye_yaml(args.out / "handeye.yaml",
                                                      res.calibration))
     s = res.summary()
+    s["eye_to_hand"] = eye_to_hand_session(seed=args.seed)
     if args.json:
         print(json.dumps(s))
         return 0
@@ -116,6 +118,10 @@ def _run_demo_six_axis(args: argparse.Namespace) -> int:
           f"{s['handeye_translation_error_mm']:.3f} mm, "
           f"{s['handeye_rotation_error_deg']:.4f} deg; board reprojection RMS "
           f"{s['reprojection_rms_px']:.3f} px")
+    e = s["eye_to_hand"]
+    print(f"  eye-to-hand (a fixed camera, the board on the flange, {e['views']} simulated "
+          f"views): T_base_camera error {e['base_camera_mm']:.3f} mm, "
+          f"{e['base_camera_deg']:.4f} deg; reprojection RMS {e['reprojection_rms_px']:.3f} px")
     print(f"  block top edge points: {s['block_points'][0]} (low), {s['block_points'][1]} "
           "(high)")
     print(f"  lift: measured {s['lift_mm']:.2f} mm, true {s['lift_true_mm']:.2f} mm "

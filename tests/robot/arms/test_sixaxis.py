@@ -107,6 +107,9 @@ def test_six_axis_demo(tmp_path, capsys):
     assert s["max_abs_error_mm"] <= 5.0 and s["all_within_bound"] is True
     assert s["handeye_translation_error_mm"] <= 1.0 and s["handeye_rotation_error_deg"] <= 0.1
     assert s["camera_tilt_deg"] >= 20.0 and min(s["block_points"]) > 100
+    # the eye-to-hand line (issue 37): a fixed camera calibrated within its targets
+    e = s["eye_to_hand"]
+    assert e["views"] == 14 and e["base_camera_mm"] < 0.3 and e["base_camera_deg"] < 0.05
     for name in ("capture-low", "capture-high"):
         data = yaml.safe_load((out / name / "capture.yaml").read_text())
         # the recorded hand-eye transform is the estimate, not the truth

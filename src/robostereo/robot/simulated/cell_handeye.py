@@ -24,7 +24,13 @@ from robostereo.errors import InputError, UnreachablePoseError
 from robostereo.geometry.camera import Camera, camera_to_dict
 from robostereo.geometry.poses import SE3, pose_to_dict
 from robostereo.robot.arms.sixaxis import SixAxisArm
-from robostereo.robot.handeye import Board, Charuco, Chessboard, HandEyeViews
+from robostereo.robot.handeye import (
+    Board,
+    Charuco,
+    Chessboard,
+    HandEyeViews,
+    calibrate_eye_to_hand,
+)
 from robostereo.robot.simulated.sixaxis_handeye import board_frame, board_scene
 from robostereo.robot.simulated.sixaxis_rig import render_six_axis
 
@@ -34,6 +40,7 @@ __all__ = [
     "CELL_CAMERA",
     "CELL_CHARUCO",
     "FLANGE_BOARD",
+    "eye_to_hand_session",
     "simulate_eye_to_hand_views",
 ]
 
@@ -152,3 +159,26 @@ def simulate_eye_to_hand_views(
                      board=board, pixel_pitch_mm=camera.pixel_pitch_mm[0],
                      grey_levels=camera.grey_levels, mode="eye-to-hand")
     return v, truth
+
+
+def eye_to_hand_session(*, views: int = 14, seed: int = 0) -> dict[str, float]:
+    """A simulated eye-to-hand calibration against its truth (the six-axis demo's line).
+
+    :func:`simulate_eye_to_hand_views` with the chessboard, then
+    :func:`~robostereo.robot.handeye.calibrate_eye_to_hand` with the intrinsics free.
+
+    Returns
+    -------
+    dict
+        ``views``; ``base_camera_mm`` / ``base_camera_deg`` and ``flange_board_mm`` /
+        ``flange_board_deg``: how far the estimated ``T_base_camera`` and
+        ``T_flange_board`` lie from the truth; ``reprojection_rms_px``.
+    """
+    v, _ = simulate_eye_to_hand_views(views=views, seed=seed)
+    cal = calibrate_eye_to_hand(v.images, v.flange_poses, v.board,
+                                pixel_pitch_mm=v.pixel_pitch_mm)
+    t, r = BASE_CAMERA.distance_to(cal.base_camera)
+    tb, rb = FLANGE_BOARD.distance_to(cal.flange_board)
+    return {"views": views, "base_camera_mm": float(t), "base_camera_deg": math.degrees(r),
+            "flange_board_mm": float(tb), "flange_board_deg": math.degrees(rb),
+            "reprojection_rms_px": float(cal.reprojection_rms_px)}
