@@ -2,8 +2,8 @@
 
 A pose off *across* a baseline moves the epipolar lines and the pose check sees it
 (:mod:`~robostereo.robot.views.pose_check`); a pose off *along* a baseline only changes
-the baseline's length, and with it every depth of that pair by the same factor (eq. 9:
-``Z = f D / d``, so ``dZ / Z = dD / D``).  One pair cannot see that; two pairs sharing
+the baseline's length, and with it every depth of that pair by the same factor (eq. 9
+[2]_: ``Z = f D / d``, so ``dZ / Z = dD / D``).  One pair cannot see that; two pairs sharing
 the reference's edge points can, since their depths at the same pixel must agree.  The
 test that follows [1]_:
 
