@@ -167,3 +167,23 @@ def test_point_errors_are_measured_on_the_true_surface(renders) -> None:
     # all of them with truth, each seen by the other view
     assert len(edges) > 1000
     assert np.isfinite(depth[edges[:, 1].astype(int), edges[:, 0].astype(int)]).all()
+
+
+def test_capture_depth_maps_writes_what_evaluate_reads(tmp_path: Path, capsys) -> None:
+    """``robostereo capture --depth-maps`` then ``robostereo evaluate``: no files needed."""
+    cap = tmp_path / "cap"
+    assert main(["capture", "--out", str(cap), "--depth-maps"]) == 0
+    assert sorted(p.name for p in (cap / "depth").iterdir()) == ["left.npy", "right.npy"]
+    depth = np.load(cap / "depth" / "left.npy")
+    assert depth.shape == (481, 509) and 900 < np.nanmedian(depth) < 1100
+    capsys.readouterr()
+    ev = _json(capsys, str(cap))[0]
+    ours = _method(ev, "robostereo")
+    assert ours["points"] > 100 and ours["median_mm"] < 1.5
+    # without the flag, no depth folder and evaluate refuses in one line
+    plain = tmp_path / "plain"
+    assert main(["capture", "--out", str(plain)]) == 0
+    assert not (plain / "depth").exists()
+    capsys.readouterr()
+    assert main(["evaluate", str(plain)]) == 2
+    _one_error(capsys, "no depth map for the reference view left.png")

@@ -74,6 +74,9 @@ def add_capture_parser(sub: Any) -> None:
     p.add_argument("--handeye", type=Path,
                    help="six-axis: record this camera file's camera and hand_eye "
                         "(robostereo handeye's output) instead of the truth")
+    p.add_argument("--depth-maps", action="store_true",
+                   help="also write each view's true depth (the renderer's, mm along its "
+                        "optical axis) as DIR/depth/<image>.npy, for robostereo evaluate")
     add_views_options(p)
     p.set_defaults(handler=run_capture_command)
 
@@ -94,7 +97,7 @@ def run_capture_command(args: argparse.Namespace) -> int:
     setup = RigSetup(center_xy=center, baseline_mm=_given(args.baseline, 20.0),
                      direction_deg=_given(args.direction, 0.0), roll_deg=_given(args.roll, 0.0))
     sim = simulate_capture(args.scene, setup=setup, lift_mm=args.lift, seed=args.seed)
-    write_capture(args.out, sim.capture)
+    write_capture(args.out, sim.capture, depth_maps=_depths(args, sim))
     g = sim.capture.epipolar
     print(f"{args.out}: {args.scene}, D = {g.baseline_mm:.3f} mm, alpha = "
           f"{math.degrees(g.alpha):.3f} deg, theta_l = {math.degrees(g.theta_l):.3f} deg, "
@@ -127,12 +130,17 @@ def _run_capture_six_axis(args: argparse.Namespace, baseline: float) -> int:
     vp = SixAxisViewpoints(baseline_mm=baseline, tilt_deg=tilt)
     sim = simulate_six_axis_capture(args.scene, lift_mm=args.lift, seed=args.seed,
                                     viewpoints=vp, hand_eye=hand_eye, camera=camera)
-    write_capture(args.out, sim.capture)
+    write_capture(args.out, sim.capture, depth_maps=_depths(args, sim))
     g = sim.capture.epipolar
     print(f"{args.out}: {args.scene} from the six-axis arm, D = {g.baseline_mm:.3f} mm, "
           f"camera tilted {tilt:g} deg, hand-eye "
           f"{'from ' + str(args.handeye) if args.handeye else 'true (simulated)'}")
     return 0
+
+
+def _depths(args: argparse.Namespace, sim: Any) -> list[Any] | None:
+    """``--depth-maps``: the simulator's rendered depth of each view, else None."""
+    return [r.depth for r in sim.renderings] if args.depth_maps else None
 
 
 def _given(value: float | None, default: float) -> float:
@@ -183,7 +191,7 @@ def views_capture(args: argparse.Namespace) -> int:
                              robot=ROBOTS[args.robot], lift_mm=args.lift, seed=args.seed,
                              **kw)
         say("writing the capture folder")
-        write_views_capture(args.out, sim.capture)
+        write_views_capture(args.out, sim.capture, depth_maps=_depths(args, sim))
     cap = sim.capture
     near, far = cap.depth_range_mm
     print(f"{args.out}: {args.scene}, {len(cap)} views {on_pattern(pattern)} spanning {span:g} mm "

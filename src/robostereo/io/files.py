@@ -196,7 +196,8 @@ def atomic_path(path: PathLike) -> Iterator[Path]:
 
 
 def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
-                       texts: Mapping[str, str]) -> Path:
+                       texts: Mapping[str, str],
+                       blobs: Mapping[str, bytes] | None = None) -> Path:
     """Write a folder of 8-bit PNG images and text files, all or nothing.
 
     The files are written into a temporary folder beside `directory`, which is then
@@ -210,6 +211,8 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
         File name to a uint8 image, written as PNG.
     texts : mapping of str to str
         File name to its UTF-8 text.
+    blobs : mapping of str to bytes, optional
+        Relative path (``/``-separated, subfolders made) to its bytes.
 
     Returns
     -------
@@ -239,6 +242,9 @@ def write_image_folder(directory: PathLike, images: Mapping[str, NDArray[Any]],
             (tmp / name).write_bytes(buf.tobytes())
         for name, text in texts.items():
             (tmp / name).write_text(text, encoding="utf-8")
+        for name, data in (blobs or {}).items():
+            (tmp / name).parent.mkdir(parents=True, exist_ok=True)
+            (tmp / name).write_bytes(data)
         name = ""
         umask = os.umask(0)
         os.umask(umask)

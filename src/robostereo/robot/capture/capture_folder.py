@@ -46,7 +46,7 @@ from __future__ import annotations
 
 import math
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -68,6 +68,7 @@ from robostereo.robot.capture.capture_keys import (
     camera_pose_from_dict,
     check_views_share_scene,
     default_focal_uncertainty_mm,
+    depth_map_blobs,
     extras_from_dict,
     extras_to_dict,
     pose_convention,
@@ -394,11 +395,15 @@ def capture_to_dict(capture: Capture) -> dict[str, Any]:
     return out
 
 
-def write_capture(directory: str | os.PathLike[str], capture: Capture) -> Path:
+def write_capture(directory: str | os.PathLike[str], capture: Capture, *,
+                  depth_maps: Sequence[Any] | None = None) -> Path:
     """Write a capture folder (``left.png``, ``right.png``, ``capture.yaml``).
 
     The folder is assembled beside `directory` and renamed into place at the end, so a
     failure leaves nothing behind.  `directory` must not exist or be an empty folder.
+    `depth_maps` (left, right; (H, W) mm along each optical axis, e.g. the simulator's
+    renderings) are written as ``depth/left.npy`` and ``depth/right.npy`` for
+    ``robostereo evaluate``.
 
     Returns
     -------
@@ -424,7 +429,8 @@ def write_capture(directory: str | os.PathLike[str], capture: Capture) -> Path:
     text = folder_yaml_text(capture_to_dict(capture))
 
     return write_image_folder(directory, dict(zip(_IMAGES, images, strict=True)),
-                              {CAPTURE_YAML: text})
+                              {CAPTURE_YAML: text},
+                              depth_map_blobs(("left", "right"), depth_maps))
 
 
 def read_capture(directory: str | os.PathLike[str]) -> Capture:

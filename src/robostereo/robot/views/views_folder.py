@@ -44,7 +44,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path, PurePosixPath
 from typing import Any
 
@@ -59,6 +59,7 @@ from robostereo.robot.capture.capture_keys import (
     VIEW_DEPTH_KEY,
     camera_pose_from_dict,
     check_views_share_scene,
+    depth_map_blobs,
     extras_from_dict,
     extras_to_dict,
     pose_convention,
@@ -136,7 +137,8 @@ def views_capture_to_dict(capture: ViewsCapture,
     return out
 
 
-def write_views_capture(directory: str | os.PathLike[str], capture: ViewsCapture) -> Path:
+def write_views_capture(directory: str | os.PathLike[str], capture: ViewsCapture, *,
+                        depth_maps: Sequence[Any] | None = None) -> Path:
     """Write an N-view capture folder: one PNG per view and ``capture.yaml``.
 
     The folder is assembled beside `directory` and renamed into place at the end, so a
@@ -148,6 +150,9 @@ def write_views_capture(directory: str | os.PathLike[str], capture: ViewsCapture
     capture : ViewsCapture
         Grey (H, W) images of integers 0..255.  Its `names` (plain ``.png`` file names)
         name the images; without them ``view_00.png``, ``view_01.png``, ...
+    depth_maps : sequence of ndarray, optional
+        One (H, W) ground-truth depth map per view (mm along its optical axis), written
+        as ``depth/<image stem>.npy`` for ``robostereo evaluate``.
 
     Returns
     -------
@@ -189,7 +194,8 @@ def write_views_capture(directory: str | os.PathLike[str], capture: ViewsCapture
     from robostereo.io import folder_yaml_text, write_image_folder
 
     text = folder_yaml_text(views_capture_to_dict(capture, names))
-    return write_image_folder(directory, images, {CAPTURE_YAML: text})
+    return write_image_folder(directory, images, {CAPTURE_YAML: text},
+                              depth_map_blobs([Path(n).stem for n in names], depth_maps))
 
 
 def is_views_folder(directory: str | os.PathLike[str]) -> bool:
