@@ -172,13 +172,16 @@ def eye_to_hand_session(*, views: int = 14, seed: int = 0) -> dict[str, float]:
     dict
         ``views``; ``base_camera_mm`` / ``base_camera_deg`` and ``flange_board_mm`` /
         ``flange_board_deg``: how far the estimated ``T_base_camera`` and
-        ``T_flange_board`` lie from the truth; ``reprojection_rms_px``.
+        ``T_flange_board`` lie from the truth; ``reprojection_rms_px`` (rounded as the
+        demo's other figures).
     """
     v, _ = simulate_eye_to_hand_views(views=views, seed=seed)
     cal = calibrate_eye_to_hand(v.images, v.flange_poses, v.board,
                                 pixel_pitch_mm=v.pixel_pitch_mm)
     t, r = BASE_CAMERA.distance_to(cal.base_camera)
     tb, rb = FLANGE_BOARD.distance_to(cal.flange_board)
-    return {"views": views, "base_camera_mm": float(t), "base_camera_deg": math.degrees(r),
-            "flange_board_mm": float(tb), "flange_board_deg": math.degrees(rb),
-            "reprojection_rms_px": float(cal.reprojection_rms_px)}
+    return {"views": views, "base_camera_mm": round(float(t), 4),
+            "base_camera_deg": round(math.degrees(r), 5),
+            "flange_board_mm": round(float(tb), 4),
+            "flange_board_deg": round(math.degrees(rb), 5),
+            "reprojection_rms_px": round(float(cal.reprojection_rms_px), 3)}
