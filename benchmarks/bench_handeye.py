@@ -85,7 +85,8 @@ def renders(seed: int) -> dict[str, object]:
           f"{_err(X_TRUE, cal.hand_eye)}; true intrinsics held {_err(X_TRUE, known.hand_eye)}"
           f"; fx {cal.camera.fx:.2f} (true 800); pairs {cal.residuals.rms_translation_mm:.3f}"
           f" mm (noise explains {cal.predicted_translation_rms_mm:.3f}); reprojection "
-          f"{cal.reprojection_rms_px:.3f} px")
+          f"{cal.reprojection_rms_px:.3f} px; the views pin X to {cal.hand_eye_sigma_mm:.3f} mm"
+          f" {cal.hand_eye_sigma_deg:.4f} deg")
     return {"views": "renders", "seed": seed, "closed_form": _errors(X_TRUE, cal.closed_form),
             "refined": _errors(X_TRUE, cal.hand_eye),
             "intrinsics_held": _errors(X_TRUE, known.hand_eye)}

@@ -155,6 +155,10 @@ def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str, mode:
           f"refined: moved {moved[0]:.3f} mm, {math.degrees(moved[1]):.4f} deg): translation "
           f"[{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}] mm, rotation vector [{rv[0]:.5f}, "
           f"{rv[1]:.5f}, {rv[2]:.5f}] rad")
+    if math.isfinite(cal.hand_eye_sigma_mm):
+        print(f"  the views pin it to {cal.hand_eye_sigma_mm:.3f} mm and "
+              f"{cal.hand_eye_sigma_deg:.4f} deg (one standard deviation, largest axis; "
+              "views turned further apart pin the rotation against the principal point)")
     if eth:
         t, rv = cal.flange_board.translation, cal.flange_board.rotvec
         print(f"board on the flange: translation [{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}] mm, "

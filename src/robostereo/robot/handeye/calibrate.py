@@ -116,6 +116,9 @@ class EyeInHandCalibration:
     left_out : tuple of str
         Views left out because too few ChArUco corners were found in them (each
         warned about).
+    hand_eye_sigma_mm, hand_eye_sigma_deg : float
+        How well the views pin the hand-eye transform (the refinement's covariance,
+        :class:`~robostereo.robot.handeye.refine.RefinedHandEye`); NaN unrefined.
     """
 
     camera: Camera
@@ -134,6 +137,8 @@ class EyeInHandCalibration:
     rejected: tuple[str, ...] = ()
     corners_per_view: NDArray[np.int64] | None = None
     left_out: tuple[str, ...] = ()
+    hand_eye_sigma_mm: float = math.nan
+    hand_eye_sigma_deg: float = math.nan
 
     def __post_init__(self) -> None:
         n = len(self.board_poses)
@@ -188,6 +193,9 @@ class EyeInHandCalibration:
             out["left_out_views"] = [PurePath(n).name for n in self.left_out]
         if self.closed_form is not None:
             out["hand_eye_closed_form"] = pose_to_dict(self.closed_form)
+        if math.isfinite(self.hand_eye_sigma_mm):  # how well the views pin it
+            out["hand_eye_sigma"] = {"translation_mm": round(self.hand_eye_sigma_mm, 6),
+                                     "rotation_deg": round(self.hand_eye_sigma_deg, 6)}
         return out
 
 
@@ -494,9 +502,11 @@ def solve_views(
                                 guess=(K, dist, st.rvecs, st.tvecs))
         per_view = ref.per_view_rms_px
         rms = ref.rms_px
+        sigma = (ref.hand_eye_sigma_mm, ref.hand_eye_sigma_deg)
     else:
         st_final, per_view = st, st.per_view
         rms = float(np.sqrt(np.mean(per_view**2)))
+        sigma = (math.nan, math.nan)
     C = [SE3.from_rotvec(t, r) for r, t in zip(st_final.rvecs, st_final.tvecs, strict=True)]
     res = handeye_residuals(*motion_pairs(F, C), X)
     # the checks again on the final result; with known intrinsics, against the noise of
@@ -523,5 +533,5 @@ def solve_views(
         outliers=tuple(labels[i] for i in np.flatnonzero(flagged)), rejected=tuple(rejected),
         corners_per_view=None if isinstance(board, Chessboard) else np.array(
             [len(o) for o in obj], dtype=np.int64),
-        left_out=tuple(left_out),
+        left_out=tuple(left_out), hand_eye_sigma_mm=sigma[0], hand_eye_sigma_deg=sigma[1],
     )

@@ -74,9 +74,12 @@ class EyeToHandCalibration(EyeInHandCalibration):
                                "base_camera": shared.pop("hand_eye"),
                                "flange_board": pose_to_dict(self.flange_board)}
         closed = shared.pop("hand_eye_closed_form", None)
+        sigma = shared.pop("hand_eye_sigma", None)
         out.update(shared)
         if closed is not None:
             out["base_camera_closed_form"] = closed
+        if sigma is not None:
+            out["base_camera_sigma"] = sigma
         return out
 
 

@@ -84,6 +84,16 @@ class RefinedHandEye:
         Reprojection RMS of each view's corners, pixels.
     rms_px : float
         Over all corners, pixels.
+    hand_eye_sigma_mm, hand_eye_sigma_deg : float
+        How well the views pin ``X``: the largest standard deviation of its translation
+        (mm) and rotation (deg) in the fit's covariance, ``s^2 (J^T J)^-1`` at the
+        solution with the intrinsics free (or held), ``s`` the corners' residual RMS
+        [1]_.  The principal point and the rotation trade where the views turn little.
+
+    References
+    ----------
+    .. [1] R. Hartley and A. Zisserman, *Multiple View Geometry*, 2nd ed., 2003, 5.2.4
+       (the covariance of an estimate from the Jacobian of its residuals).
     """
 
     K: NDArray[np.float64]
@@ -92,6 +102,8 @@ class RefinedHandEye:
     base_board: SE3
     per_view_rms_px: NDArray[np.float64]
     rms_px: float
+    hand_eye_sigma_mm: float = float("nan")
+    hand_eye_sigma_deg: float = float("nan")
 
     def __post_init__(self) -> None:
         if self.K.shape != (3, 3) or self.dist.shape != (5,):
@@ -226,5 +238,13 @@ def refine_eye_in_hand(
     per_view = np.sqrt(np.bincount(idx, weights=sq, minlength=n) / np.maximum(counts, 1))
     Rx, tx = _pose(rest[:6])
     Rw, tw = _pose(rest[6:12])
+    # how well the views pin X: the covariance s^2 (J^T J)^-1 of the fit
+    dof = max(r.size - sol.x.size, 1)
+    cov = np.linalg.pinv(sol.jac.T @ sol.jac) * (float(np.sum(sq)) / dof)
+    rot = cov[n_free:n_free + 3, n_free:n_free + 3]
+    tra = cov[n_free + 3:n_free + 6, n_free + 3:n_free + 6]
     return RefinedHandEye(K=Kv, dist=dv, hand_eye=SE3(Rx, tx), base_board=SE3(Rw, tw),
-                          per_view_rms_px=per_view, rms_px=float(np.sqrt(np.mean(sq))))
+                          per_view_rms_px=per_view, rms_px=float(np.sqrt(np.mean(sq))),
+                          hand_eye_sigma_mm=float(np.sqrt(np.linalg.eigvalsh(tra).max())),
+                          hand_eye_sigma_deg=float(np.degrees(
+                              np.sqrt(np.linalg.eigvalsh(rot).max()))))
