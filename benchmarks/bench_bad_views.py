@@ -36,16 +36,6 @@ from robostereo.robot.simulated.views_truth import views_depth_errors
 from robostereo.robot.views.locating import locate_views
 
 
-def _render_errors(truth: Any, cap: Any, loc: Any) -> np.ndarray:
-    err = np.zeros(len(loc))
-    for r in np.unique(loc.reference):
-        k = loc.reference == r
-        pose = as_se3(cap.poses[r])
-        o, axis = pose.translation, pose.rotation[:, 2]
-        err[k] = np.abs((loc.world[k] - o) @ axis - truth.ray_depth(o, axis, loc.world[k]))
-    return err
-
-
 def _bad_variants(cap: Any) -> list[tuple[str, Any]]:
     k = len(cap) - 1
     b = cap.centres[k] - cap.centres.mean(axis=0)
@@ -115,7 +105,7 @@ def main() -> int:
                                                  count=count, seed=1))
             for case, bad in _bad_variants(cap):
                 rows.append(_row(f"render print {pattern} {count}: {case}", bad,
-                                 lambda c, loc, truth=truth: _render_errors(truth, c, loc)))
+                                 lambda c, loc, truth=truth: truth.depth_errors(c, loc)))
             print(f"done render {pattern} {count}", flush=True)
     rows.sort(key=lambda r: -r["share"])
     print("case | points | median z mm | conf >= 0.9 beyond 3 bounds | worst mm | said")

@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -184,6 +185,18 @@ class ViewsTruth:
             t, _ = prim.hit(o, d[:, 0], d[:, 1], d[:, 2])
             best = np.minimum(best, t)
         return best
+
+    def depth_errors(self, capture: ViewsCapture, located: Any) -> NDArray[np.float64]:
+        """``|depth error|`` of each point of `located` (a ``LocatedViews``), mm: along
+        its reference camera's recorded axis, against :meth:`ray_depth`."""
+        err = np.zeros(len(located))
+        for r in np.unique(located.reference):
+            k = located.reference == r
+            pose = capture.poses[int(r)]
+            o, axis = pose.translation, pose.rotation[:, 2]
+            err[k] = np.abs((located.world[k] - o) @ axis - self.ray_depth(o, axis,
+                                                                            located.world[k]))
+        return err
 
     def outline(self, step_mm: float = 1.0) -> NDArray[np.float64]:
         """Samples of the box's top outline every `step_mm`, shape ``(K, 3)``."""

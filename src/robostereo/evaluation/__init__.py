@@ -43,6 +43,8 @@ from robostereo.evaluation.depth_maps import (
     DEPTH_SUFFIXES,
     DepthFiles,
     capture_depth_files,
+    depth_map_bytes,
+    depth_map_files,
     read_depth_map,
     write_depth_map,
 )
@@ -144,6 +146,8 @@ __all__ = [
     "cross_check_occlusion",
     "depth_errors",
     "depth_figures",
+    "depth_map_bytes",
+    "depth_map_files",
     "depth_step_mask",
     "edge_visibility",
     "errors_3d",

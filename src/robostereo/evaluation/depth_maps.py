@@ -23,7 +23,7 @@ these keys and ignore them; only ``robostereo evaluate`` reads the maps.
 from __future__ import annotations
 
 import os
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path, PurePosixPath
 from typing import Any
@@ -39,6 +39,8 @@ __all__ = [
     "DEPTH_SUFFIXES",
     "DepthFiles",
     "capture_depth_files",
+    "depth_map_bytes",
+    "depth_map_files",
     "read_depth_map",
     "write_depth_map",
 ]
@@ -130,9 +132,51 @@ def read_depth_map(path: str | os.PathLike[str], *, image_size: tuple[int, int] 
     return depth
 
 
+def depth_map_bytes(depth: ArrayLike, suffix: str, *, scale: float = DEFAULT_DEPTH_SCALE,
+                    name: str = "depth map") -> bytes:
+    """A depth map (mm; NaN, inf or <= 0: unknown, written as 0) encoded as the file
+    `suffix` (``.pfm``, ``.npy`` or ``.png``) holds; `name` is the file for messages.
+
+    Raises
+    ------
+    InputError
+        Not (H, W); a PNG whose largest scaled depth exceeds 65535.
+
+    >>> len(depth_map_bytes(np.ones((2, 3)), ".npy")) > 6 * 4
+    True
+    """
+    import io
+
+    import cv2
+
+    d = np.asarray(depth, dtype=np.float64)
+    if d.ndim != 2:
+        raise InputError(f"{name}: a depth map is (H, W), got shape {d.shape}")
+    with np.errstate(invalid="ignore"):
+        known = np.isfinite(d) & (d > 0)
+    if suffix == ".png":
+        v = np.where(known, np.rint(np.where(known, d, 0.0) * scale), 0.0)
+        if v.max(initial=0.0) > _PNG_MAX:
+            raise InputError(f"{name}: depth {d[known].max():g} mm times depth_scale "
+                             f"{scale:g} exceeds a 16-bit PNG's {_PNG_MAX}: lower "
+                             "depth_scale")
+        ok, buf = cv2.imencode(".png", v.astype(np.uint16))
+    else:
+        out = np.where(known, d, 0.0).astype(np.float32)
+        if suffix == ".npy":
+            b = io.BytesIO()
+            np.save(b, out, allow_pickle=False)
+            return b.getvalue()
+        ok, buf = cv2.imencode(".pfm", out)
+    if not ok:  # pragma: no cover - OpenCV encodes these always
+        raise InputError(f"{name}: could not encode the depth map")
+    return buf.tobytes()
+
+
 def write_depth_map(path: str | os.PathLike[str], depth: ArrayLike, *,
                     scale: float = DEFAULT_DEPTH_SCALE) -> Path:
-    """Write a depth map (mm; NaN, inf or <= 0: unknown) as PFM, NPY or 16-bit PNG.
+    """Write a depth map (mm; NaN, inf or <= 0: unknown) as PFM, NPY or 16-bit PNG
+    (:func:`depth_map_bytes`).
 
     Parameters
     ----------
@@ -149,34 +193,25 @@ def write_depth_map(path: str | os.PathLike[str], depth: ArrayLike, *,
     Raises
     ------
     InputError
-        Not (H, W); a PNG whose largest scaled depth exceeds 65535.
+        Not (H, W); a PNG whose largest scaled depth exceeds 65535; a file that cannot
+        be written.
     """
     p = Path(path)
-    kind = _suffix(p)
-    d = np.asarray(depth, dtype=np.float64)
-    if d.ndim != 2:
-        raise InputError(f"{p}: a depth map is (H, W), got shape {d.shape}")
-    with np.errstate(invalid="ignore"):
-        known = np.isfinite(d) & (d > 0)
-    if kind == ".png":
-        v = np.where(known, np.rint(np.where(known, d, 0.0) * scale), 0.0)
-        if v.max(initial=0.0) > _PNG_MAX:
-            raise InputError(f"{p}: depth {d[known].max():g} mm times depth_scale {scale:g} "
-                             f"exceeds a 16-bit PNG's {_PNG_MAX}: lower depth_scale")
-        import cv2
-
-        if not cv2.imwrite(str(p), v.astype(np.uint16)):
-            raise InputError(f"{p}: could not write the depth map")
-        return p
-    out = np.where(known, d, 0.0).astype(np.float32)
-    if kind == ".npy":
-        np.save(p, out)
-        return p
-    import cv2
-
-    if not cv2.imwrite(str(p), out):
-        raise InputError(f"{p}: could not write the depth map")
+    data = depth_map_bytes(depth, _suffix(p), scale=scale, name=str(p))
+    try:
+        p.write_bytes(data)
+    except OSError as e:
+        raise InputError(f"{p}: could not write the depth map ({e.strerror})") from None
     return p
+
+
+def depth_map_files(stems: Sequence[str], depths: Sequence[ArrayLike] | None
+                    ) -> dict[str, bytes]:
+    """Ground-truth depth maps as the files of a capture folder that
+    :func:`capture_depth_files` finds without a key: ``depth/<stem>.npy``, one per view
+    (none when `depths` is None); for the capture writers' all-or-nothing folder."""
+    return {f"{DEPTH_FOLDER}/{stem}.npy": depth_map_bytes(d, ".npy", name=f"{stem} depth")
+            for stem, d in zip(stems, depths or (), strict=False)}
 
 
 @dataclass(frozen=True)

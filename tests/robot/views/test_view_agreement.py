@@ -109,16 +109,6 @@ def _shifted(cap, k, mm):
     return dataclasses.replace(cap, poses=tuple(poses))
 
 
-def _depth_errors(loc, cap, truth):
-    err = np.zeros(len(loc))
-    for r in np.unique(loc.reference):
-        k = loc.reference == r
-        pose = as_se3(cap.poses[r])
-        o, axis = pose.translation, pose.rotation[:, 2]
-        err[k] = np.abs((loc.world[k] - o) @ axis - truth.ray_depth(o, axis, loc.world[k]))
-    return err
-
-
 def _located(cap, **kw):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", PlausibilityWarning)
@@ -159,13 +149,13 @@ def test_three_views_one_off_along_the_baseline_are_warned_about_and_bounds_carr
     loc, said = _located(bad, matcher=matcher)
     assert any("disagree on depth by" in m and "the bounds carry it" in m for m in said), said
     assert loc.confidence.max() <= DOUBTFUL_CONFIDENCE  # no view to blame: none is sure
-    err = _depth_errors(loc, bad, truth)
+    err = truth.depth_errors(bad, loc)
     assert len(loc) > 100
     sure = loc.confidence >= 0.9
     assert not np.any(sure & (err > 3 * loc.bound_mm))
     # without the comparison the same views give confident points far beyond their bounds
     blind, _ = _located(bad, matcher=matcher, lone_view_factor=None)
-    err = _depth_errors(blind, bad, truth)
+    err = truth.depth_errors(bad, blind)
     assert np.sum((blind.confidence >= 0.9) & (err > 3 * blind.bound_mm)) > 50
 
 

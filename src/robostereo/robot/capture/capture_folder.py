@@ -55,6 +55,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError, require_finite, require_positive, shown
+from robostereo.evaluation.depth_maps import depth_map_files
 from robostereo.geometry.camera import Camera, camera_to_dict
 from robostereo.geometry.plausibility import check_depth_disparities, check_uncertainties
 from robostereo.geometry.pose_rectification import GeneralEpipolarGeometry
@@ -68,7 +69,6 @@ from robostereo.robot.capture.capture_keys import (
     camera_pose_from_dict,
     check_views_share_scene,
     default_focal_uncertainty_mm,
-    depth_map_blobs,
     extras_from_dict,
     extras_to_dict,
     pose_convention,
@@ -430,7 +430,7 @@ def write_capture(directory: str | os.PathLike[str], capture: Capture, *,
 
     return write_image_folder(directory, dict(zip(_IMAGES, images, strict=True)),
                               {CAPTURE_YAML: text},
-                              depth_map_blobs(("left", "right"), depth_maps))
+                              depth_map_files(("left", "right"), depth_maps))
 
 
 def read_capture(directory: str | os.PathLike[str]) -> Capture:

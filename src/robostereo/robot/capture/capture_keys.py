@@ -44,7 +44,6 @@ __all__ = [
     "camera_pose_from_dict",
     "check_views_share_scene",
     "default_focal_uncertainty_mm",
-    "depth_map_blobs",
     "extras_from_dict",
     "extras_to_dict",
     "hand_eye_bound_mm",
@@ -109,21 +108,6 @@ def hand_eye_bound_mm(depth_mm: Any, hand_eye_deg: float) -> Any:
     1.75
     """
     return np.asarray(depth_mm, dtype=float) * math.tan(math.radians(hand_eye_deg))
-
-
-def depth_map_blobs(stems: Sequence[str], depths: Sequence[Any] | None
-                    ) -> dict[str, bytes]:
-    """Ground-truth depth maps as the files of a capture folder: ``depth/<stem>.npy``,
-    mm along each view's optical axis, non-finite where unknown (what ``robostereo
-    evaluate`` finds without a key); none when `depths` is None."""
-    import io
-
-    out: dict[str, bytes] = {}
-    for stem, depth in zip(stems, depths or (), strict=False):
-        buf = io.BytesIO()
-        np.save(buf, np.asarray(depth, dtype=np.float32), allow_pickle=False)
-        out[f"depth/{stem}.npy"] = buf.getvalue()
-    return out
 
 
 def default_focal_uncertainty_mm(camera: Camera) -> float:

@@ -51,6 +51,7 @@ from typing import Any
 import numpy as np
 
 from robostereo.errors import InputError, shown
+from robostereo.evaluation.depth_maps import depth_map_files
 from robostereo.geometry.camera import camera_to_dict
 from robostereo.geometry.poses import SE3, as_se3, pose_from_dict, pose_to_dict
 from robostereo.robot.capture.capture_folder import CAPTURE_YAML, read_capture
@@ -59,7 +60,6 @@ from robostereo.robot.capture.capture_keys import (
     VIEW_DEPTH_KEY,
     camera_pose_from_dict,
     check_views_share_scene,
-    depth_map_blobs,
     extras_from_dict,
     extras_to_dict,
     pose_convention,
@@ -195,7 +195,7 @@ def write_views_capture(directory: str | os.PathLike[str], capture: ViewsCapture
 
     text = folder_yaml_text(views_capture_to_dict(capture, names))
     return write_image_folder(directory, images, {CAPTURE_YAML: text},
-                              depth_map_blobs([Path(n).stem for n in names], depth_maps))
+                              depth_map_files([Path(n).stem for n in names], depth_maps))
 
 
 def is_views_folder(directory: str | os.PathLike[str]) -> bool:
