@@ -26,6 +26,7 @@ files of ``handeye --intrinsics`` and ``plan --camera`` in
 from __future__ import annotations
 
 import argparse
+import os
 import signal
 import sys
 import threading
@@ -139,13 +140,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     someone else) raise :class:`Terminated` (:class:`KeyboardInterrupt`), and the first
     of them makes both ignored while the command unwinds.  Called with `argv` (in a
     process that goes on), the handlers are restored on return; without it (the
-    program) they stay ignored after an interrupt, so that a second Ctrl-C during the
-    interpreter's exit (worker threads joined, ``atexit``) is quiet too.
+    program) an interrupt ends the process once the command has unwound, without the
+    interpreter's teardown (see :func:`_report_interrupt`).
     """
     parser = build_parser()
     args = parser.parse_args(argv)
     previous: dict[int, Any] = {}
-    interrupted = False
     if threading.current_thread() is threading.main_thread():
         previous = {s: signal.getsignal(s) for s in _INTERRUPTS}
         signal.signal(signal.SIGTERM, _on_interrupt)
@@ -166,39 +166,42 @@ def main(argv: Sequence[str] | None = None) -> int:
               file=sys.stderr)
         return 2
     except KeyboardInterrupt as e:  # Terminated too
-        interrupted = True
-        return _report_interrupt(e)
+        return _report_interrupt(e, exit_now=argv is None)
     except SystemError as e:
         # the signal handler ran inside a numba dispatcher's call on this thread, which
         # then reports "returned a result with an exception set": the interrupt it is
         cause = _interrupt_in(e)
         if cause is None:
             raise
-        interrupted = True
-        return _report_interrupt(cause)
-    finally:
-        if interrupted and argv is None:
-            # the program ends quietly: signals stay ignored, and work the interrupt cut
-            # short (numba's compiler in mid-build) fails in its finalizers at exit
-            sys.unraisablehook = _quiet_unraisable
-        else:
-            for s, handler in previous.items():
-                if handler is not None:
-                    signal.signal(s, handler)
+        return _report_interrupt(cause, exit_now=argv is None)
+    finally:  # the program's interrupt ended in _report_interrupt
+        for s, handler in previous.items():
+            if handler is not None:
+                signal.signal(s, handler)
 
 
-def _quiet_unraisable(unraisable: Any) -> None:
-    """After an interrupt: errors of finalizers at the program's exit are not shown (an
-    interrupt during numba's compiling left llvmlite objects whose ``__del__`` printed
-    a traceback after the one line, in a clean CI run)."""
+def _report_interrupt(cause: KeyboardInterrupt, exit_now: bool = False) -> int:
+    """The one line of an interrupt, and its exit code (143 SIGTERM, 130 SIGINT).
 
-
-def _report_interrupt(cause: KeyboardInterrupt) -> int:
-    """The one line of an interrupt, and its exit code (143 SIGTERM, 130 SIGINT)."""
+    With `exit_now` (the program, the command unwound: its ``finally`` blocks removed
+    what it had begun to write) the process ends here, without the interpreter's
+    teardown: work the interrupt cut short (numba's compiler in mid-build) leaves
+    llvmlite objects whose finalizers print tracebacks at exit, late enough in the
+    teardown that ``sys.unraisablehook`` is no longer consulted (seen in a clean CI
+    run).  Otherwise the signal handlers are restored (the caller goes on).
+    """
     if threading.current_thread() is threading.main_thread():
         for s in _INTERRUPTS:  # raised without the handler (a library's own): ignore too
             if signal.getsignal(s) is _on_interrupt:
                 signal.signal(s, signal.SIG_IGN)
     terminated = isinstance(cause, Terminated)
     print(f"robostereo: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
-    return 143 if terminated else 130
+    code = 143 if terminated else 130
+    if exit_now:
+        for stream in (sys.stdout, sys.stderr):
+            try:
+                stream.flush()
+            except (OSError, ValueError):  # a closed pipe: nothing more to say
+                pass
+        os._exit(code)
+    return code
