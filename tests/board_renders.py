@@ -128,8 +128,10 @@ def render_board(cam_in_board: SE3, inner_corners: tuple[int, int], square_mm: f
 
 def render_views(seed: int, *, views: int = 14, inner_corners: tuple[int, int] = (8, 5),
                  square_mm: float = 20.0, hand_eye: SE3 = X_TRUE,
-                 base_board: SE3 = BASE_BOARD) -> Renders:
-    """`views` renders of the board from a wrist camera on a six-axis-like arm."""
+                 base_board: SE3 = BASE_BOARD,
+                 tilt_deg: tuple[float, float] = (12.0, 38.0)) -> Renders:
+    """`views` renders of the board from a wrist camera on a six-axis-like arm, tilted
+    `tilt_deg` from the board's normal."""
     rng = np.random.default_rng([seed, 77])
     cols, rows = inner_corners
     centre = np.array([(cols - 1) * square_mm / 2, (rows - 1) * square_mm / 2, 0.0])
@@ -140,7 +142,7 @@ def render_views(seed: int, *, views: int = 14, inner_corners: tuple[int, int] =
     while len(images) < views:
         k = len(images)
         az = 2 * math.pi * k / views + rng.uniform(-0.3, 0.3)
-        tilt = math.radians(rng.uniform(12.0, 38.0))
+        tilt = math.radians(rng.uniform(*tilt_deg))
         dist = rng.uniform(420.0, 520.0)
         target = centre + np.array([rng.uniform(-30, 30), rng.uniform(-20, 20), 0.0])
         # the board's z points away from the camera side: the camera sits at -z

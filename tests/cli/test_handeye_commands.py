@@ -142,3 +142,27 @@ def test_intrinsics_from_a_stereo_camera_yaml_are_refused(folder, tmp_path, caps
     out = tmp_path / "cam.yaml"
     _refused(capsys, ["handeye", str(folder), "-o", str(out), "--intrinsics", str(stereo)],
              out, "--intrinsics", "stereo camera YAML")
+
+
+def test_advise_writes_flange_poses_with_the_camera_file(folder, tmp_path, capsys):
+    """--advise: four flange poses in views.yaml's pose form and the spread at each tilt,
+    written with the camera file or not at all."""
+    from robostereo.geometry.poses import pose_from_dict
+
+    out, adv = tmp_path / "cam.yaml", tmp_path / "advice.yaml"
+    assert main(["handeye", str(folder), "-o", str(out), "--advise", str(adv)]) == 0
+    text = capsys.readouterr().out
+    assert "4 more views tilted" in text and f"-> {adv}" in text
+    data = yaml.safe_load(adv.read_text())
+    assert data["mode"] == "eye-in-hand" and len(data["flange_poses"]) == 4
+    poses = [pose_from_dict(p) for p in data["flange_poses"]]
+    assert len({tuple(p.translation.round(3)) for p in poses}) == 4
+    rows = [c for c in data["candidates"] if c["sigma"] is not None]
+    assert rows and all(c["sigma"]["rotation_deg"] <= data["current_sigma"]["rotation_deg"]
+                        for c in rows)  # four views more never pin it less
+    assert data["advised_tilt_deg"] in [c["tilt_deg"] for c in rows]
+    c2 = tmp_path / "c2.yaml"
+    for clash in (c2, folder / "views.yaml"):  # the camera file, an input
+        before = (folder / "views.yaml").read_bytes()
+        _refused(capsys, ["handeye", str(folder), "-o", str(c2), "--advise", str(clash)], c2)
+        assert (folder / "views.yaml").read_bytes() == before

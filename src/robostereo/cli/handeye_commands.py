@@ -68,6 +68,10 @@ def add_handeye_parser(sub: Any) -> None:
                    help="drop the views whose residuals stand out (robust z-score > 3.5 "
                         "of the reprojection RMS or of the AX = XB residuals of their "
                         "pairs) and solve again once")
+    p.add_argument("--advise", type=Path, metavar="ADVICE_YAML",
+                   help="also write the flange poses of four more views, tilted from the "
+                        "board's normal, that would pin the hand-eye transform best, with "
+                        "the spread they would leave at each tilt tried")
     p.set_defaults(handler=run_handeye)
 
 
@@ -75,17 +79,20 @@ _PAIRS_SHOWN = 10
 
 
 def run_handeye(args: argparse.Namespace) -> int:
-    from robostereo.io import check_outputs
+    from robostereo.io import atomic_outputs, check_outputs
     from robostereo.robot.handeye import (
         VIEWS_YAML,
         calibrate_eye_in_hand,
         calibrate_eye_to_hand,
         describe_board,
+        handeye_yaml_text,
         read_views,
-        save_handeye_yaml,
+        view_advice_text,
     )
 
     require_output_folder(args.output)
+    if args.advise is not None:
+        require_output_folder(args.advise)
     camera = None
     if args.intrinsics is not None:
         camera, extra = load_any_camera(args.intrinsics)
@@ -95,14 +102,19 @@ def run_handeye(args: argparse.Namespace) -> int:
                              "robostereo handeye wrote")
     v = read_views(args.views)
     # refuse an input as the output (views.yaml, an image, the intrinsics file)
-    check_outputs({"-o": args.output},
-                  inputs=[args.views / VIEWS_YAML, *v.names, args.intrinsics])
+    outputs = check_outputs({"-o": args.output, "--advise": args.advise},
+                            inputs=[args.views / VIEWS_YAML, *v.names, args.intrinsics])
     mode = args.mode or v.mode
     solve = calibrate_eye_to_hand if mode == "eye-to-hand" else calibrate_eye_in_hand
     cal = solve(v.images, v.flange_poses, v.board, pixel_pitch_mm=v.pixel_pitch_mm,
                 grey_levels=v.grey_levels, method=args.method, names=v.names, camera=camera,
                 reject_outliers=args.reject_outliers, source=str(args.views / VIEWS_YAML))
-    save_handeye_yaml(args.output, cal)  # written whole, or not at all
+    texts = {"-o": handeye_yaml_text(cal)}
+    if args.advise is not None:
+        texts["--advise"] = view_advice_text(cal.advice)
+    with atomic_outputs(outputs) as tmp:  # written whole, or not at all
+        for key, text in texts.items():
+            tmp[key].write_text(text, encoding="utf-8")
     _print_handeye(args, v, cal, describe_board(v.board), mode)
     return 0
 
@@ -159,6 +171,14 @@ def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str, mode:
         print(f"  the views pin it to {cal.hand_eye_sigma_mm:.3f} mm and "
               f"{cal.hand_eye_sigma_deg:.4f} deg (one standard deviation, largest axis; "
               "views turned further apart pin the rotation against the principal point)")
+    if cal.advice is not None and cal.advice.best is not None:
+        a, k = cal.advice, cal.advice.best
+        tilts = a.view_tilts_deg
+        print(f"  4 more views tilted {a.tilts_deg[k]:g} deg from the board's normal (yours: "
+              f"{tilts.min():.0f}-{tilts.max():.0f}) would pin it to {a.sigma_mm[k]:.3f} mm "
+              f"and {a.sigma_deg[k]:.4f} deg; 4 more like yours to {a.like_views_mm:.3f} mm "
+              f"and {a.like_views_deg:.4f} deg"
+              + ("" if args.advise is None else f" (their flange poses -> {args.advise})"))
     if eth:
         t, rv = cal.flange_board.translation, cal.flange_board.rotvec
         print(f"board on the flange: translation [{t[0]:.3f}, {t[1]:.3f}, {t[2]:.3f}] mm, "

@@ -21,7 +21,11 @@ Modules
     :func:`calibrate_eye_to_hand`: a fixed camera, the board on the flange
     (``T_base_camera`` and ``T_flange_board``).
 :mod:`~robostereo.robot.handeye.refine`
-    The joint reprojection refinement of intrinsics, hand-eye transform and board pose.
+    The joint reprojection refinement of intrinsics, hand-eye transform and board pose;
+    the corners' model and how well the views pin the transform.
+:mod:`~robostereo.robot.handeye.view_advice`
+    Where to put more views: the transform's spread with four tilted views added, and
+    the flange poses that place them.
 :mod:`~robostereo.robot.handeye.checks`
     Residuals the corner noise can explain, views that stand out, implausible results.
 :mod:`~robostereo.robot.handeye.handeye_yaml`
@@ -101,17 +105,23 @@ from robostereo.robot.handeye.eye_to_hand import (
     calibrate_eye_to_hand,
 )
 from robostereo.robot.handeye.handeye_yaml import (
+    handeye_yaml_text,
     load_base_camera_yaml,
     load_handeye_yaml,
     save_handeye_yaml,
+    view_advice_text,
 )
 from robostereo.robot.handeye.refine import (
+    CornerModel,
     RefinedHandEye,
+    hand_eye_sigma,
     project_board,
     refine_eye_in_hand,
 )
+from robostereo.robot.handeye.view_advice import ADVICE_TILTS_DEG, ViewAdvice, advise_views
 
 __all__ = [
+    "ADVICE_TILTS_DEG",
     "ALL_METHODS",
     "DEFAULT_METHOD",
     "DICTIONARIES",
@@ -132,6 +142,7 @@ __all__ = [
     "Charuco",
     "CharucoCorners",
     "Chessboard",
+    "CornerModel",
     "EyeInHandCalibration",
     "EyeToHandCalibration",
     "HandEyeMethod",
@@ -141,6 +152,8 @@ __all__ = [
     "RefinedHandEye",
     "RobotWorldMethod",
     "SolveMethod",
+    "ViewAdvice",
+    "advise_views",
     "calibrate_eye_in_hand",
     "calibrate_eye_to_hand",
     "charuco_view_problem",
@@ -153,7 +166,9 @@ __all__ = [
     "detect_charuco",
     "detect_chessboard",
     "dictionary_name",
+    "hand_eye_sigma",
     "handeye_residuals",
+    "handeye_yaml_text",
     "load_base_camera_yaml",
     "load_handeye_yaml",
     "motion_pairs",
@@ -169,6 +184,7 @@ __all__ = [
     "solve_ax_xb",
     "solve_ax_zb",
     "solve_views",
+    "view_advice_text",
     "view_corners",
     "view_scores",
     "write_views",

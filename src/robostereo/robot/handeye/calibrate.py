@@ -57,6 +57,7 @@ from robostereo.robot.handeye.checks import (
     predicted_pair_translation_mm,
     view_scores,
 )
+from robostereo.robot.handeye.view_advice import ViewAdvice, advise_views
 
 __all__ = [
     "ALL_METHODS",
@@ -119,6 +120,10 @@ class EyeInHandCalibration:
     hand_eye_sigma_mm, hand_eye_sigma_deg : float
         How well the views pin the hand-eye transform (the refinement's covariance,
         :class:`~robostereo.robot.handeye.refine.RefinedHandEye`); NaN unrefined.
+    advice : ViewAdvice, optional
+        What four more views at larger tilts would pin it to, and the flange poses that
+        place them (:func:`~robostereo.robot.handeye.view_advice.advise_views`); None
+        unrefined.
     """
 
     camera: Camera
@@ -139,6 +144,7 @@ class EyeInHandCalibration:
     left_out: tuple[str, ...] = ()
     hand_eye_sigma_mm: float = math.nan
     hand_eye_sigma_deg: float = math.nan
+    advice: ViewAdvice | None = None
 
     def __post_init__(self) -> None:
         n = len(self.board_poses)
@@ -503,10 +509,14 @@ def solve_views(
         per_view = ref.per_view_rms_px
         rms = ref.rms_px
         sigma = (ref.hand_eye_sigma_mm, ref.hand_eye_sigma_deg)
+        advice = advise_views([o.reshape(-1, 3) for o in obj], F, K, dist, X, W,
+                              board.object_points, (w, h), ref.variance_px2,
+                              fix_intrinsics=camera is not None, fix_k3=fix_k3, mode=mode)
     else:
         st_final, per_view = st, st.per_view
         rms = float(np.sqrt(np.mean(per_view**2)))
         sigma = (math.nan, math.nan)
+        advice = None
     C = [SE3.from_rotvec(t, r) for r, t in zip(st_final.rvecs, st_final.tvecs, strict=True)]
     res = handeye_residuals(*motion_pairs(F, C), X)
     # the checks again on the final result; with known intrinsics, against the noise of
@@ -534,4 +544,5 @@ def solve_views(
         corners_per_view=None if isinstance(board, Chessboard) else np.array(
             [len(o) for o in obj], dtype=np.int64),
         left_out=tuple(left_out), hand_eye_sigma_mm=sigma[0], hand_eye_sigma_deg=sigma[1],
+        advice=advice,
     )

@@ -8,7 +8,9 @@ camera, ``T_flange_camera``, the residuals per view and per pair of views) or an
 eye-to-hand``, the camera, ``base_camera`` = ``T_base_camera``, ``flange_board``, the
 residuals); :func:`load_handeye_yaml` reads back the camera and ``T_flange_camera`` (as
 ``robostereo capture --handeye`` does), :func:`load_base_camera_yaml` the camera and
-``T_base_camera`` (as ``robostereo rig --base-camera`` does).
+``T_base_camera`` (as ``robostereo rig --base-camera`` does).  :func:`view_advice_text`
+is the file of ``robostereo handeye --advise``: the flange poses of four more views
+that would pin the transform better (:mod:`~robostereo.robot.handeye.view_advice`).
 """
 
 from __future__ import annotations
@@ -20,11 +22,14 @@ from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
 from robostereo.robot.handeye.calibrate import EyeInHandCalibration
 from robostereo.robot.handeye.eye_to_hand import EyeToHandCalibration
+from robostereo.robot.handeye.view_advice import ViewAdvice
 
 __all__ = [
+    "handeye_yaml_text",
     "load_base_camera_yaml",
     "load_handeye_yaml",
     "save_handeye_yaml",
+    "view_advice_text",
 ]
 
 
@@ -32,13 +37,39 @@ def save_handeye_yaml(path: Any,
                       calibration: EyeInHandCalibration | EyeToHandCalibration) -> None:
     """Write ``camera.yaml``
     (:meth:`~robostereo.robot.handeye.calibrate.EyeInHandCalibration.to_dict`) atomically."""
-    import yaml
-
     from robostereo.io import atomic_path
 
-    text = yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None)
+    text = handeye_yaml_text(calibration)
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
+
+
+def handeye_yaml_text(calibration: EyeInHandCalibration | EyeToHandCalibration) -> str:
+    """The text :func:`save_handeye_yaml` writes."""
+    import yaml
+
+    return yaml.safe_dump(calibration.to_dict(), sort_keys=False, default_flow_style=None)
+
+
+def view_advice_text(advice: ViewAdvice) -> str:
+    """The advice file: a comment, then :meth:`ViewAdvice.to_dict
+    <robostereo.robot.handeye.view_advice.ViewAdvice.to_dict>` (``flange_poses`` in the
+    pose form of ``views.yaml``, ready to send to the arm and to list beside the new
+    views' images).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> a = ViewAdvice(np.array([30.0]), np.array([0.05]), np.array([0.02]),
+    ...                ((SE3.identity(),) * 4,), 0.08, 0.04, np.array([10.0, 12.0]))
+    >>> print(view_advice_text(a).splitlines()[2])
+    mode: eye-in-hand
+    """
+    import yaml
+
+    head = ("# robostereo handeye --advise: four more views, tilted from the board's normal,\n"
+            "# that would pin the hand-eye transform best (sigma: one standard deviation)\n")
+    return head + yaml.safe_dump(advice.to_dict(), sort_keys=False, default_flow_style=None)
 
 
 def _read(path: Any, key: str, what: str, other: str) -> tuple[Camera, SE3]:

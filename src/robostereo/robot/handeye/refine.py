@@ -36,7 +36,9 @@ from robostereo.errors import InputError
 from robostereo.geometry.poses import SE3
 
 __all__ = [
+    "CornerModel",
     "RefinedHandEye",
+    "hand_eye_sigma",
     "project_board",
     "refine_eye_in_hand",
 ]
@@ -66,6 +68,127 @@ def project_board(points: NDArray[np.float64], K: NDArray[np.float64],
     return np.column_stack([K[0, 0] * xd + K[0, 2], K[1, 1] * yd + K[1, 2]])
 
 
+class CornerModel:
+    """The board corners of a set of views as the robot places them (module docstring):
+    ``u_ik = pi(K, d; X^-1 F_i^-1 W p_k)``.
+
+    Parameters
+    ----------
+    object_points : sequence of ndarray, shape (K_i, 3)
+        Board corners of each view in the board frame, mm.
+    flange_poses : sequence of SE3
+        ``F_i = T_base_flange`` of each view, mm.
+
+    Examples
+    --------
+    >>> K = np.array([[800.0, 0, 320], [0, 800, 240], [0, 0, 1]])
+    >>> m = CornerModel([np.zeros((1, 3))], [SE3.from_rotvec([0.0, 0.0, -400.0], [0.0, 0.0, 0.0])])
+    >>> m.pixels(K, np.zeros(5), SE3.identity(), SE3.identity())
+    array([[320., 240.]])
+    """
+
+    def __init__(self, object_points: Sequence[NDArray[np.float64]],
+                 flange_poses: Sequence[SE3]) -> None:
+        if len(object_points) != len(flange_poses):
+            raise InputError(f"object_points and flange_poses must be as many, got "
+                             f"{len(object_points)} and {len(flange_poses)}")
+        self.counts = np.array([len(o) for o in object_points], dtype=np.int64)
+        self.view = np.repeat(np.arange(len(flange_poses)), self.counts)  # (M,)
+        self.obj = (np.concatenate([np.asarray(o, dtype=np.float64).reshape(-1, 3)
+                                    for o in object_points])
+                    if len(object_points) else np.zeros((0, 3)))        # (M, 3)
+        inv_f = [f.inv() for f in flange_poses]
+        self._RG = np.stack([g.rotation for g in inv_f])[self.view] if inv_f else \
+            np.zeros((0, 3, 3))                                            # (M, 3, 3)
+        self._tG = np.stack([g.translation for g in inv_f])[self.view] if inv_f else \
+            np.zeros((0, 3))                                               # (M, 3)
+
+    def pixels_from(self, K: NDArray[np.float64], dist: NDArray[np.float64],
+                    Rx: NDArray[np.float64], tx: NDArray[np.float64],
+                    Rw: NDArray[np.float64], tw: NDArray[np.float64]) -> NDArray[np.float64]:
+        """The corners' pixels ``(M, 2)`` from ``X = (Rx, tx)`` and ``W = (Rw, tw)``."""
+        q = self.obj @ Rw.T + tw                                  # base frame
+        q = np.einsum("nij,nj->ni", self._RG, q) + self._tG       # flange frame of the view
+        q = (q - tx) @ Rx                                         # camera frame: X^-1
+        return project_board(q, K, dist)
+
+    def pixels(self, K: NDArray[np.float64], dist: NDArray[np.float64], hand_eye: SE3,
+               base_board: SE3) -> NDArray[np.float64]:
+        """The corners' pixels ``(M, 2)``."""
+        return self.pixels_from(K, dist, hand_eye.rotation, hand_eye.translation,
+                                base_board.rotation, base_board.translation)
+
+    def information(self, K: NDArray[np.float64], dist: NDArray[np.float64], hand_eye: SE3,
+                    base_board: SE3, *, fix_intrinsics: bool = False,
+                    fix_k3: bool = True) -> NDArray[np.float64]:
+        """``J^T J`` of the corners' pixels, ``(P, P)``, at the given solution.
+
+        The parameters, in order: ``fx, fy, cx, cy, k1, k2, p1, p2 (, k3)`` unless
+        `fix_intrinsics` (``k3`` unless `fix_k3`); then small rotations of ``X`` and of
+        ``W`` in their own frames (``R exp([w])``, radians) each followed by its
+        translation (mm): so a covariance's rotation block is in radians of angle,
+        whatever the rotation vector.  Central differences.
+        """
+        n_dist = 4 if fix_k3 else 5
+        d0 = np.zeros(5)
+        d0[: min(5, len(dist))] = np.asarray(dist, dtype=np.float64).ravel()[:5]
+        intr0 = np.array([] if fix_intrinsics else
+                         [K[0, 0], K[1, 1], K[0, 2], K[1, 2], *d0[:n_dist]])
+
+        def pixels(v: NDArray[np.float64]) -> NDArray[np.float64]:
+            Kv, dv = K, d0
+            if not fix_intrinsics:
+                Kv = np.array([[v[0], 0.0, v[2]], [0.0, v[1], v[3]], [0.0, 0.0, 1.0]])
+                dv = d0.copy()
+                dv[:n_dist] = v[4:4 + n_dist]
+            r = v[intr0.size:]
+            Rx = hand_eye.rotation @ Rotation.from_rotvec(r[:3]).as_matrix()
+            Rw = base_board.rotation @ Rotation.from_rotvec(r[6:9]).as_matrix()
+            return self.pixels_from(Kv, dv, Rx, hand_eye.translation + r[3:6], Rw,
+                                    base_board.translation + r[9:12]).ravel()
+
+        v0 = np.concatenate([intr0, np.zeros(12)])
+        steps = np.concatenate([np.maximum(np.abs(intr0) * 1e-7, 1e-9),
+                                np.tile([1e-7, 1e-7, 1e-7, 1e-5, 1e-5, 1e-5], 2)])
+        J = np.empty((2 * len(self.obj), v0.size))                 # (2M, P)
+        for k, h in enumerate(steps):  # P <= 21 columns, each a vectorised projection
+            e = np.zeros_like(v0)
+            e[k] = h
+            J[:, k] = (pixels(v0 + e) - pixels(v0 - e)) / (2 * h)
+        return J.T @ J
+
+
+def hand_eye_sigma(information: NDArray[np.float64], variance_px2: float,
+                   n_intrinsics: int) -> tuple[float, float]:
+    """How well views pin ``X``: the largest standard deviations of its translation (mm)
+    and rotation (deg) in the covariance ``s^2 (J^T J)^-1`` [1]_.
+
+    Parameters
+    ----------
+    information : ndarray, shape (P, P)
+        ``J^T J`` in :meth:`CornerModel.information`'s parameters.
+    variance_px2 : float
+        ``s^2``, the corners' residual variance (one coordinate, px^2).
+    n_intrinsics : int
+        How many of the parameters are intrinsics (0 when they are held).
+
+    References
+    ----------
+    .. [1] R. Hartley and A. Zisserman, *Multiple View Geometry*, 2nd ed., 2003, 5.2.4.
+
+    Examples
+    --------
+    >>> info = np.diag([1e4] * 3 + [1.0] * 3 + [1.0] * 6)
+    >>> [round(v, 4) for v in hand_eye_sigma(info, 0.01, 0)]
+    [0.1, 0.0573]
+    """
+    cov = np.linalg.pinv(information) * variance_px2
+    rot = cov[n_intrinsics:n_intrinsics + 3, n_intrinsics:n_intrinsics + 3]
+    tra = cov[n_intrinsics + 3:n_intrinsics + 6, n_intrinsics + 3:n_intrinsics + 6]
+    return (float(np.sqrt(max(np.linalg.eigvalsh(tra).max(), 0.0))),
+            float(np.degrees(np.sqrt(max(np.linalg.eigvalsh(rot).max(), 0.0)))))
+
+
 @dataclass(frozen=True, eq=False)
 class RefinedHandEye:
     """Result of :func:`refine_eye_in_hand`.
@@ -89,6 +212,9 @@ class RefinedHandEye:
         (mm) and rotation (deg) in the fit's covariance, ``s^2 (J^T J)^-1`` at the
         solution with the intrinsics free (or held), ``s`` the corners' residual RMS
         [1]_.  The principal point and the rotation trade where the views turn little.
+    variance_px2 : float
+        ``s^2``: the corners' residual variance, one coordinate, px^2 (over the degrees
+        of freedom).
 
     References
     ----------
@@ -104,6 +230,7 @@ class RefinedHandEye:
     rms_px: float
     hand_eye_sigma_mm: float = float("nan")
     hand_eye_sigma_deg: float = float("nan")
+    variance_px2: float = float("nan")
 
     def __post_init__(self) -> None:
         if self.K.shape != (3, 3) or self.dist.shape != (5,):
@@ -192,15 +319,12 @@ def refine_eye_in_hand(
                          f"got {len(object_points)}, {len(image_points)} and {n}")
     if not (np.isfinite(noise_px) and noise_px > 0):
         raise InputError(f"noise_px must be a finite number > 0, got {noise_px}")
-    counts = [len(o) for o in object_points]
-    idx = np.repeat(np.arange(n), counts)
-    obj = np.concatenate([np.asarray(o, dtype=np.float64).reshape(-1, 3)
-                          for o in object_points])
+    model = CornerModel(object_points, flange_poses)
     uv = np.concatenate([np.asarray(p, dtype=np.float64).reshape(-1, 2)
                          for p in image_points])
-    inv_f = [f.inv() for f in flange_poses]
-    RG = np.stack([g.rotation for g in inv_f])[idx]
-    tG = np.stack([g.translation for g in inv_f])[idx]
+    if len(uv) != len(model.obj):
+        raise InputError(f"object_points and image_points must match, got {len(model.obj)} "
+                         f"corners and {len(uv)} pixels")
     d0 = np.zeros(5)
     d0[: min(5, len(dist))] = np.asarray(dist, dtype=np.float64).ravel()[:5]
     n_dist = 4 if fix_k3 else 5
@@ -224,10 +348,7 @@ def refine_eye_in_hand(
         Kv, dv, rest = unpack(v)
         Rx, tx = _pose(rest[:6])
         Rw, tw = _pose(rest[6:12])
-        q = obj @ Rw.T + tw                                # base frame
-        q = np.einsum("nij,nj->ni", RG, q) + tG           # flange frame of the view
-        q = (q - tx) @ Rx                                 # camera frame: X^-1
-        return (project_board(q, Kv, dv) - uv).ravel()
+        return (model.pixels_from(Kv, dv, Rx, tx, Rw, tw) - uv).ravel()
 
     v0 = np.concatenate([intr0[free], poses0])
     sol = least_squares(residuals, v0, method="trf", loss="soft_l1", f_scale=3.0 * noise_px,
@@ -235,16 +356,16 @@ def refine_eye_in_hand(
     Kv, dv, rest = unpack(sol.x)
     r = residuals(sol.x).reshape(-1, 2)
     sq = np.sum(r * r, axis=1)
-    per_view = np.sqrt(np.bincount(idx, weights=sq, minlength=n) / np.maximum(counts, 1))
-    Rx, tx = _pose(rest[:6])
-    Rw, tw = _pose(rest[6:12])
+    counts = model.counts
+    per_view = np.sqrt(np.bincount(model.view, weights=sq, minlength=n)
+                       / np.maximum(counts, 1))
+    X, W = SE3(*_pose(rest[:6])), SE3(*_pose(rest[6:12]))
     # how well the views pin X: the covariance s^2 (J^T J)^-1 of the fit
     dof = max(r.size - sol.x.size, 1)
-    cov = np.linalg.pinv(sol.jac.T @ sol.jac) * (float(np.sum(sq)) / dof)
-    rot = cov[n_free:n_free + 3, n_free:n_free + 3]
-    tra = cov[n_free + 3:n_free + 6, n_free + 3:n_free + 6]
-    return RefinedHandEye(K=Kv, dist=dv, hand_eye=SE3(Rx, tx), base_board=SE3(Rw, tw),
+    info = model.information(Kv, dv, X, W, fix_intrinsics=fix_intrinsics, fix_k3=fix_k3)
+    variance = float(np.sum(sq)) / dof
+    sigma_mm, sigma_deg = hand_eye_sigma(info, variance, n_free)
+    return RefinedHandEye(K=Kv, dist=dv, hand_eye=X, base_board=W,
                           per_view_rms_px=per_view, rms_px=float(np.sqrt(np.mean(sq))),
-                          hand_eye_sigma_mm=float(np.sqrt(np.linalg.eigvalsh(tra).max())),
-                          hand_eye_sigma_deg=float(np.degrees(
-                              np.sqrt(np.linalg.eigvalsh(rot).max()))))
+                          hand_eye_sigma_mm=sigma_mm, hand_eye_sigma_deg=sigma_deg,
+                          variance_px2=variance)
