@@ -186,6 +186,28 @@ class ViewsTruth:
             best = np.minimum(best, t)
         return best
 
+    def pixel_depth_error(self, origin: NDArray[np.float64], rotation: NDArray[np.float64],
+                          focal_px: float, points: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``|depth error|`` of `points` ``(M, 3)`` at their pixel, mm: the least over the
+        ray from `origin` through each point and the eight rays 1 px round it of the
+        located depth minus the true depth (``rotation`` ``(3, 3)``: the reference
+        camera's axes as columns).
+
+        An edge point lies between pixels; at a depth step (a silhouette) the depth
+        along its one exact ray is either side's, so the error is taken at the pixel,
+        as ``robostereo evaluate`` takes it from a depth map (its 3 x 3 neighbourhood).
+        """
+        o = np.asarray(origin, dtype=float)
+        R = np.asarray(rotation, dtype=float)
+        pts = np.atleast_2d(np.asarray(points, dtype=float))
+        depth = (pts - o) @ R[:, 2]
+        px = depth / float(focal_px)  # mm a pixel at each point's depth
+        best = np.abs(depth - self.ray_depth(o, R[:, 2], pts))
+        for dx, dy in ((1, 0), (-1, 0), (0, 1), (0, -1), (1, 1), (-1, -1), (1, -1), (-1, 1)):
+            q = pts + (dx * R[:, 0] + dy * R[:, 1])[None, :] * px[:, None]
+            best = np.minimum(best, np.abs(depth - self.ray_depth(o, R[:, 2], q)))
+        return best
+
     def depth_errors(self, capture: ViewsCapture, located: Any) -> NDArray[np.float64]:
         """``|depth error|`` of each point of `located` (a ``LocatedViews``), mm: along
         its reference camera's recorded axis, against :meth:`ray_depth`."""
