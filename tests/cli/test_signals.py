@@ -220,3 +220,30 @@ def test_finalizers_that_fail_after_an_interrupt_print_nothing_more():
                        capture_output=True, text=True, timeout=120)
     assert p.returncode == 130 and p.stderr.splitlines() == ["robostereo: interrupted"], (
         p.returncode, p.stderr)
+
+
+def test_an_interrupt_inside_llvms_callbacks_is_sent_again_later():
+    """Raised inside a ctypes callback of llvmlite (numba compiling or loading its
+    cache), a KeyboardInterrupt left LLVM broken and the program crashed (SIGSEGV, about
+    one run in ten of the property test): there the handler sends the signal again
+    50 ms later instead of raising."""
+    import types
+
+    import robostereo.cli as cli
+
+    llvm = types.SimpleNamespace(f_globals={"__name__": "llvmlite.binding.executionengine"},
+                                 f_back=None)
+    inner = types.SimpleNamespace(f_globals={"__name__": "numba.core.caching"}, f_back=llvm)
+    plain = types.SimpleNamespace(f_globals={"__name__": "robostereo.matcher"}, f_back=None)
+    assert cli._in_native_callback(inner) and not cli._in_native_callback(plain)
+    got = []
+    before = signal.signal(signal.SIGUSR1, lambda s, f: got.append(s))
+    try:
+        cli._on_interrupt(signal.SIGUSR1, inner)  # returns: no exception inside LLVM
+        deadline = time.monotonic() + 5
+        while not got and time.monotonic() < deadline:
+            time.sleep(0.01)
+        assert got == [signal.SIGUSR1]
+        assert signal.getsignal(signal.SIGINT) is not signal.SIG_IGN  # not taken as done
+    finally:
+        signal.signal(signal.SIGUSR1, before)

@@ -88,13 +88,37 @@ class Terminated(KeyboardInterrupt):
 _INTERRUPTS = (signal.SIGINT, signal.SIGTERM)
 
 
+#: modules in whose frames an interrupt is not raised but sent again a little later:
+#: LLVM calls back into them while numba compiles or loads its cache, and an exception
+#: raised inside such a ctypes callback leaves LLVM's state broken (a crash, seen)
+_NATIVE_CALLBACKS = ("llvmlite.",)
+_RESEND_S = 0.05
+
+
+def _in_native_callback(frame: Any) -> bool:
+    """Whether `frame` or a caller of it runs in one of :data:`_NATIVE_CALLBACKS`."""
+    while frame is not None:
+        name = frame.f_globals.get("__name__", "")
+        if name.startswith(_NATIVE_CALLBACKS):
+            return True
+        frame = frame.f_back
+    return False
+
+
 def _on_interrupt(signum: int, frame: Any) -> None:
     """The first SIGINT or SIGTERM: ignore any further one from now on, then unwind.
 
     A second Ctrl-C soon after the first would otherwise land in the unwinding (the
     outputs' temporary files removed, the threads joined, the interpreter's exit) and
     end the program with a ``KeyboardInterrupt`` traceback, or leave a temporary file.
+    One that arrives inside LLVM's callbacks (numba compiling) is sent again 50 ms
+    later instead, until it lands where an exception can unwind.
     """
+    if _in_native_callback(frame):
+        resend = threading.Timer(_RESEND_S, os.kill, (os.getpid(), signum))
+        resend.daemon = True
+        resend.start()
+        return
     for s in _INTERRUPTS:
         signal.signal(s, signal.SIG_IGN)
     raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
@@ -140,12 +164,14 @@ def main(argv: Sequence[str] | None = None) -> int:
     someone else) raise :class:`Terminated` (:class:`KeyboardInterrupt`), and the first
     of them makes both ignored while the command unwinds.  Called with `argv` (in a
     process that goes on), the handlers are restored on return; without it (the
-    program) an interrupt ends the process once the command has unwound, without the
-    interpreter's teardown (see :func:`_report_interrupt`).
+    program) they stay ignored after an interrupt, so that a second Ctrl-C during the
+    interpreter's exit (worker threads joined, ``atexit``) is quiet too, and nothing the
+    exit prints after the one line is shown (see :func:`_report_interrupt`).
     """
     parser = build_parser()
     args = parser.parse_args(argv)
     previous: dict[int, Any] = {}
+    interrupted = False
     if threading.current_thread() is threading.main_thread():
         previous = {s: signal.getsignal(s) for s in _INTERRUPTS}
         signal.signal(signal.SIGTERM, _on_interrupt)
@@ -166,29 +192,32 @@ def main(argv: Sequence[str] | None = None) -> int:
               file=sys.stderr)
         return 2
     except KeyboardInterrupt as e:  # Terminated too
-        return _report_interrupt(e, exit_now=argv is None)
+        interrupted = True
+        return _report_interrupt(e, quiet_exit=argv is None)
     except SystemError as e:
         # the signal handler ran inside a numba dispatcher's call on this thread, which
         # then reports "returned a result with an exception set": the interrupt it is
         cause = _interrupt_in(e)
         if cause is None:
             raise
-        return _report_interrupt(cause, exit_now=argv is None)
-    finally:  # the program's interrupt ended in _report_interrupt
-        for s, handler in previous.items():
-            if handler is not None:
-                signal.signal(s, handler)
+        interrupted = True
+        return _report_interrupt(cause, quiet_exit=argv is None)
+    finally:
+        if not (interrupted and argv is None):  # the program's stay ignored (Notes)
+            for s, handler in previous.items():
+                if handler is not None:
+                    signal.signal(s, handler)
 
 
-def _report_interrupt(cause: KeyboardInterrupt, exit_now: bool = False) -> int:
+def _report_interrupt(cause: KeyboardInterrupt, quiet_exit: bool = False) -> int:
     """The one line of an interrupt, and its exit code (143 SIGTERM, 130 SIGINT).
 
-    With `exit_now` (the program, the command unwound: its ``finally`` blocks removed
-    what it had begun to write) the process ends here, without the interpreter's
-    teardown: work the interrupt cut short (numba's compiler in mid-build) leaves
-    llvmlite objects whose finalizers print tracebacks at exit, late enough in the
-    teardown that ``sys.unraisablehook`` is no longer consulted (seen in a clean CI
-    run).  Otherwise the signal handlers are restored (the caller goes on).
+    With `quiet_exit` (the program, which exits when :func:`main` returns) the standard
+    error is sent to ``/dev/null`` once the line is out: the interpreter's exit still
+    runs (worker pools stopped, semaphores released, ``atexit``), but work the interrupt
+    cut short (numba's compiler in mid-build) leaves llvmlite objects whose finalizers
+    print tracebacks at exit, late enough in the teardown that ``sys.unraisablehook`` is
+    no longer consulted (seen in a clean CI run), and those are not shown.
     """
     if threading.current_thread() is threading.main_thread():
         for s in _INTERRUPTS:  # raised without the handler (a library's own): ignore too
@@ -196,12 +225,19 @@ def _report_interrupt(cause: KeyboardInterrupt, exit_now: bool = False) -> int:
                 signal.signal(s, signal.SIG_IGN)
     terminated = isinstance(cause, Terminated)
     print(f"robostereo: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
-    code = 143 if terminated else 130
-    if exit_now:
-        for stream in (sys.stdout, sys.stderr):
-            try:
-                stream.flush()
-            except (OSError, ValueError):  # a closed pipe: nothing more to say
-                pass
-        os._exit(code)
-    return code
+    if quiet_exit:
+        _silence_stderr()
+    return 143 if terminated else 130
+
+
+def _silence_stderr() -> None:
+    """Flush the standard error and point its file descriptor at ``/dev/null``."""
+    try:
+        sys.stderr.flush()
+        null = os.open(os.devnull, os.O_WRONLY)
+        try:
+            os.dup2(null, sys.stderr.fileno())
+        finally:
+            os.close(null)
+    except (OSError, ValueError, AttributeError):  # no stderr or no descriptor: nothing
+        pass

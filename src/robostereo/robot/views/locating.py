@@ -22,12 +22,7 @@ neighbouring views):
 5. the edge points the search left that enough views' edges agree on, placed by those
    edges (:func:`~robostereo.robot.views.edge_votes.vote_fits`, ``ViewsParameters.edge_votes``);
 6. the edge points those views used are marked as located, so the same 3-D point is
-   reported once, from the first reference that found it;
-7. with three views or more, a point of the pairs' reference that one of its pairs
-   (:func:`~robostereo.robot.views.view_pairs.pair_parts`, run first to compare the
-   views) contradicts at its pixel, none agreeing, is doubted by Bayes' rule
-   (:func:`~robostereo.robot.views.view_pairs.contradicted_probability`) and left out
-   below ``min_confidence``.
+   reported once, from the first reference that found it.
 
 Its tuning is :class:`~robostereo.robot.views.views_parameters.ViewsParameters`, its
 result :class:`~robostereo.robot.views.located_points.LocatedViews`.
@@ -52,7 +47,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError, PlausibilityWarning, warn_input
-from robostereo.geometry.poses import as_se3
 from robostereo.robot.capture.capture_keys import hand_eye_bound_mm, rotation_disparity_px
 from robostereo.robot.views.edge_votes import left_out_views, vote_fits, votes_confidence
 from robostereo.robot.views.frame_checks import usable_views
@@ -72,11 +66,9 @@ from robostereo.robot.views.prepared_views import prepare_views, reference_edges
 from robostereo.robot.views.ray_search import search_rays
 from robostereo.robot.views.view_agreement import DOUBTFUL_CONFIDENCE, PairAgreement
 from robostereo.robot.views.view_pairs import (
-    contradicted_probability,
     is_pairs,
     locate_pairs,
     pair_parts,
-    pairs_against,
     views_agreement,
     warn_disagreement,
 )
@@ -176,7 +168,7 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     -----
     ``'pairs'``: :mod:`~robostereo.robot.views.view_pairs`'s steps; two views give the
     two-view path's (:func:`robostereo.robot.capture.locate_pair.locate`) points exactly.
-    ``'sweep'``: the module's steps 1-7.
+    ``'sweep'``: the module's steps 1-6.
 
     References
     ----------
@@ -274,7 +266,7 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                         focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm)
     bound = bound + hand_eye_bound_mm(cat["depth"], capture.hand_eye_uncertainty_deg)
     if agreed is not None:  # what the pairs disagree by beyond these bounds, carried
-        ref, others, agreement, pair_points = agreed
+        ref, others, agreement = agreed
         own = float(np.median(bound))
         carried = max(float(agreement.beyond_noise.max())
                       - float(np.median(bound / cat["depth"])), 0.0)
@@ -285,19 +277,6 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                               int(np.argmax(agreement.beyond_noise)), source,
                               carried_mm=carried_mm, typical_mm=own)
             doubtful = True
-        # -- a point of the pairs' reference that a pair contradicts at its pixel (a
-        #    point there at another depth, beyond the two bounds, none agreeing): one of
-        #    the two is wrong; below min_confidence it gets the no-match label
-        at = np.nonzero(cat["ref"] == ref)[0]
-        pose = as_se3(capture.poses[ref])
-        against = np.zeros(len(bound))
-        against[at] = pairs_against(cat["pixel"][at], cat["depth"][at], bound[at],
-                                    pair_points, pose.translation, pose.rotation[:, 2],
-                                    p.agree_px)
-        cat["conf"] = contradicted_probability(cat["conf"], against)
-        sure = cat["conf"] >= p.min_confidence
-        cat = {k: v[sure] for k, v in cat.items()}
-        bound = bound[sure]
     if doubtful:  # the views disagree and none can be blamed: no point is sure
         cat["conf"] = np.minimum(cat["conf"], DOUBTFUL_CONFIDENCE)
     count = cat["views"].sum(axis=1)
@@ -310,12 +289,11 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
 
 
 def _pair_check(capture: ViewsCapture, p: ViewsParameters, source: str
-                ) -> tuple[int | None,
-                           tuple[int, list[int], PairAgreement, list[dict[str, Any]]] | None]:
+                ) -> tuple[int | None, tuple[int, list[int], PairAgreement] | None]:
     """The pairs' agreement for the sweep: the lone view to leave out (or None) and the
-    reference, its pairs' views, their agreement and their points (None with no two
-    pairs), which the sweep holds against its own bounds and points.  The pairs' own
-    warnings (a pair that locates little) are the sweep's business and dropped."""
+    reference, its pairs' views and their agreement (None with no two pairs), which the
+    sweep holds against its own bounds.  The pairs' own warnings (a pair that locates
+    little) are the sweep's business and dropped."""
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", PlausibilityWarning)
@@ -326,7 +304,7 @@ def _pair_check(capture: ViewsCapture, p: ViewsParameters, source: str
         return None, None
     lone, agreement, _ = views_agreement(capture, ref, views, parts, p, source,
                                          bounds=False)
-    return lone, (ref, views, agreement, parts)
+    return lone, (ref, views, agreement)
 
 
 def _scene_range(capture: ViewsCapture, views: Any, ref: int, edges: Any,

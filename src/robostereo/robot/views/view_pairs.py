@@ -71,7 +71,6 @@ __all__ = [
     "locate_pairs",
     "pair_parts",
     "pair_reference",
-    "pairs_against",
     "views_agreement",
     "warn_disagreement",
 ]
@@ -272,60 +271,6 @@ def contradicted_probability(probability: NDArray[np.float64],
     with np.errstate(invalid="ignore", divide="ignore"):
         both = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.5)
     return np.where(a > 0, both, p)
-
-
-def pairs_against(pixel: _F, depth: _F, bound: _F, parts: list[dict[str, Any]],
-                  centre: _F, axis: _F, agree_px: float) -> _F:
-    """How strongly the reference's pairs contradict other points at their pixels.
-
-    Parameters
-    ----------
-    pixel : ndarray, shape (M, 2)
-        The points' pixels in the pairs' reference image.
-    depth, bound : ndarray, shape (M,)
-        Their depths along `axis` and bounds, mm.
-    parts : list of dict
-        :func:`pair_parts`'s pairs (``pixel``, ``world``, ``bound``, ``probability``).
-    centre, axis : ndarray, shape (3,)
-        The reference's optical centre and axis.
-    agree_px : float
-        How near a pair's point must lie, pixels.
-
-    Returns
-    -------
-    ndarray, shape (M,)
-        The largest probability of a pair's point within `agree_px` whose depth differs
-        from the point's by more than the two bounds, where no pair's point there
-        agrees; 0 elsewhere (no pair's point, or one that agrees).
-
-    Examples
-    --------
-    >>> part = {"pixel": np.array([[10.0, 10.0], [30.0, 30.0]]), "bound": np.ones(2),
-    ...         "world": np.array([[0.0, 0.0, 500.0], [0.0, 0.0, 420.0]]),
-    ...         "probability": np.array([0.99, 0.97])}
-    >>> pairs_against(np.array([[10.5, 10.0], [30.0, 30.0], [60.0, 5.0]]),
-    ...               np.array([500.5, 450.0, 400.0]), np.ones(3), [part],
-    ...               np.zeros(3), np.array([0.0, 0.0, 1.0]), 1.0)
-    array([0.  , 0.97, 0.  ])
-    """
-    m = len(depth)
-    against = np.zeros(m)
-    agreed = np.zeros(m, bool)
-    if not m:
-        return against
-    points = cKDTree(pixel)
-    for part in parts:
-        if not len(part["pixel"]):
-            continue
-        # every (point, pair's point) within agree_px: (K,) indices each
-        near = points.sparse_distance_matrix(cKDTree(part["pixel"]), agree_px,
-                                             output_type="ndarray")
-        i, j = near["i"], near["j"]
-        d = (part["world"][j] - centre) @ axis
-        off = np.abs(d - depth[i]) > part["bound"][j] + bound[i]
-        agreed[i[~off]] = True
-        np.maximum.at(against, i[off], part["probability"][j[off]])
-    return np.where(agreed, 0.0, against)
 
 
 def _located_pair(capture: ViewsCapture, ref: int, other: int, source: str,
