@@ -24,11 +24,7 @@ add pairs to it [1]_:
    as the spread: the least-squares depth along the reference's ray, in which the
    reference's own edge error cancels between pairs on opposite sides [2]_), its bound
    that mean's, widened by how far the first point lies from it;
-6. a point only one pair holds that a later pair contradicts (a point within
-   ``agree_px`` at another depth, beyond the two bounds): one of the two is wrong, and
-   its probability becomes the Bayes posterior of that (:func:`contradicted_probability`);
-   below the pairs' own acceptance it gets the no-match label (thesis 3.5);
-7. reported: every point of the reference's widest pair, and the other pairs' points
+6. reported: every point of the reference's widest pair, and the other pairs' points
    that ``min_pairs`` pairs agree on (one pair cannot check its own match, a second one
    can).
 
@@ -65,7 +61,6 @@ from robostereo.robot.views.viewpoints import ViewsCapture
 
 __all__ = [
     "combine_pairs",
-    "contradicted_probability",
     "epipolar_sines",
     "is_pairs",
     "locate_pairs",
@@ -172,9 +167,7 @@ def combine_pairs(centre: _F, axis: _F, parts: list[dict[str, Any]], *,
         Per group (G of them): ``world`` (G, 3), ``depth`` (G,) along `axis`, ``bound``
         (G,), ``pixel`` (G, 2) of the first point, ``members`` (G, P) bool (which pairs
         agree), ``probability`` (G,) the largest of its points', ``spread_px`` (G,) RMS
-        distance of its points from the first, pixels, ``against`` (G,) the largest
-        probability of a later pair's point within `agree_px` whose depth disagrees
-        beyond the two bounds (0 where none).
+        distance of its points from the first, pixels.
 
     Notes
     -----
@@ -209,9 +202,6 @@ def combine_pairs(centre: _F, axis: _F, parts: list[dict[str, Any]], *,
             g["bmin"][j] = np.minimum(g["bmin"][j], p["bound"][att])
             g["probability"][j] = np.maximum(g["probability"][j], p["probability"][att])
             g["sq_px"][j] += np.sum((p["pixel"][att] - g["pixel"][j]) ** 2, axis=1)
-            # a point of this pair at a group's pixel with another depth: one is wrong
-            bad = np.nonzero(hit & ~ok)[0]
-            np.maximum.at(g["against"], idx[bad], p["probability"][bad])
             new = ~ok  # agreeing points beyond a group's nearest are dropped
         k = np.nonzero(new)[0]
         add = {"pixel": p["pixel"][k], "world": p["world"][k], "depth": depth[k],
@@ -219,14 +209,14 @@ def combine_pairs(centre: _F, axis: _F, parts: list[dict[str, Any]], *,
                "wsum": 1.0 / var[k], "rsum": (1.0 / depth[k]) / var[k],
                "members": np.zeros((len(k), n_parts), bool),
                "probability": p["probability"][k].astype(np.float64),
-               "sq_px": np.zeros(len(k)), "against": np.zeros(len(k))}
+               "sq_px": np.zeros(len(k))}
         add["members"][:, q] = True
         g = add if g is None else {f: np.concatenate([g[f], add[f]]) for f in g}
     if g is None:
         g = {"pixel": np.zeros((0, 2)), "world": np.zeros((0, 3)), "depth": np.zeros(0),
              "bound": np.zeros(0), "bmin": np.zeros(0), "wsum": np.zeros(0), "rsum": np.zeros(0),
              "members": np.zeros((0, 0), bool), "probability": np.zeros(0),
-             "sq_px": np.zeros(0), "against": np.zeros(0)}
+             "sq_px": np.zeros(0)}
     support = g["members"].sum(axis=1)
     single = support <= 1
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -238,39 +228,7 @@ def combine_pairs(centre: _F, axis: _F, parts: list[dict[str, Any]], *,
                      centre + (g["world"] - centre) * scale[:, None])
     return {"world": world, "depth": depth, "bound": bound, "pixel": g["pixel"],
             "members": g["members"], "probability": g["probability"],
-            "spread_px": spread, "against": g["against"]}
-
-
-def contradicted_probability(probability: NDArray[np.float64],
-                             against: NDArray[np.float64]) -> NDArray[np.float64]:
-    """A point's probability once another pair's point at its pixel disagrees.
-
-    Two matches of one edge point that put it at different depths cannot both be right.
-    Taking each right with its own probability, independently, and at most one of them
-    right, the first is right with ``p (1 - a) / (p (1 - a) + a (1 - p))`` (Bayes' rule
-    on the two outcomes left); ``a = 0`` (no contradiction) leaves ``p``.
-
-    Parameters
-    ----------
-    probability, against : ndarray, shape (G,)
-        The point's probability and the contradicting point's (0 where none).
-
-    Returns
-    -------
-    ndarray, shape (G,)
-
-    Examples
-    --------
-    >>> contradicted_probability(np.array([0.9, 0.9, 0.95]), np.array([0.0, 0.9, 0.6])).round(3)
-    array([0.9  , 0.5  , 0.927])
-    """
-    p = np.asarray(probability, dtype=np.float64)
-    a = np.asarray(against, dtype=np.float64)
-    num = p * (1.0 - a)
-    den = num + a * (1.0 - p)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        both = np.where(den > 0, num / np.where(den > 0, den, 1.0), 0.5)
-    return np.where(a > 0, both, p)
+            "spread_px": spread}
 
 
 def _located_pair(capture: ViewsCapture, ref: int, other: int, source: str,
@@ -451,7 +409,7 @@ def locate_pairs(capture: ViewsCapture, *, params: Any = None,
 
     Notes
     -----
-    The module's steps 1-7.  A capture of two views gives the two-view path's points,
+    The module's steps 1-6.  A capture of two views gives the two-view path's points,
     bounds and probabilities exactly (one pair, every point its own group).
 
     References
@@ -482,14 +440,7 @@ def locate_pairs(capture: ViewsCapture, *, params: Any = None,
     # -- gathered in the reference image, widest pair first; agreeing pairs combined
     g = combine_pairs(centre, axis, parts, agree_px=p.agree_px)
     support = g["members"].sum(axis=1)
-    # -- a point only one pair holds, that another pair contradicts: one of them is
-    # wrong; below the pairs' own acceptance it gets the no-match label (thesis 3.5)
-    lone = (support <= 1) & (g["against"] > 0)
-    g["probability"] = np.where(lone, contradicted_probability(g["probability"],
-                                                               g["against"]),
-                                g["probability"])
-    keep = ((support >= min(p.min_pairs, len(parts))) | g["members"][:, 0]) \
-        & ~(lone & (g["probability"] < p.pair_match.match.acceptance))
+    keep = (support >= min(p.min_pairs, len(parts))) | g["members"][:, 0]
     members = g["members"][keep]
     m = int(keep.sum())
     seen = np.zeros((m, n), bool)
