@@ -210,14 +210,15 @@ class ViewsTruth:
 
     def depth_errors(self, capture: ViewsCapture, located: Any) -> NDArray[np.float64]:
         """``|depth error|`` of each point of `located` (a ``LocatedViews``), mm: along
-        its reference camera's recorded axis, against :meth:`ray_depth`."""
+        its reference camera's recorded axis, at its pixel (:meth:`pixel_depth_error`,
+        as the simulator's ``views_depth_errors`` takes its 3 x 3 pixels)."""
         err = np.zeros(len(located))
+        f = float(capture.camera.K[0, 0])
         for r in np.unique(located.reference):
             k = located.reference == r
             pose = capture.poses[int(r)]
-            o, axis = pose.translation, pose.rotation[:, 2]
-            err[k] = np.abs((located.world[k] - o) @ axis - self.ray_depth(o, axis,
-                                                                            located.world[k]))
+            err[k] = self.pixel_depth_error(pose.translation, pose.rotation, f,
+                                            located.world[k])
         return err
 
     def outline(self, step_mm: float = 1.0) -> NDArray[np.float64]:

@@ -4,6 +4,7 @@ exit 2, nothing written), at any value, its default too; the options that do app
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -80,3 +81,39 @@ def test_a_six_axis_baseline_of_20_is_20_not_its_default_40(tmp_path):
         assert main(["capture", "--robot", "six-axis", "--out", str(d), *extra]) == 0
         # (the tilted camera's optical centres stand a little further apart: 20.6, 40.3)
         assert read_capture(d).epipolar.baseline_mm == pytest.approx(want, rel=0.05)
+
+
+def test_a_capture_with_a_calibrated_hand_eye_carries_its_sigma_in_every_bound(
+        tmp_path, capsys):
+    """``capture --handeye``: the calibration's hand_eye_sigma (three times its rotation)
+    is written as ``uncertainty: hand_eye_deg``, and locate's bounds grow by Z tan of it;
+    a file without it records none."""
+    from robostereo.robot.capture import locate, read_capture
+    from robostereo.robot.handeye import write_views
+    from robostereo.robot.simulated.sixaxis_handeye import simulate_handeye_views
+
+    views, _ = simulate_handeye_views(views=8, seed=2)
+    write_views(tmp_path / "hv", views)
+    assert main(["handeye", str(tmp_path / "hv"), "-o", str(tmp_path / "cam.yaml")]) == 0
+    sigma = yaml.safe_load((tmp_path / "cam.yaml").read_text())["hand_eye_sigma"]
+    assert 0 < sigma["rotation_deg"] < 0.1
+    assert main(["capture", "--robot", "six-axis", "--handeye", str(tmp_path / "cam.yaml"),
+                 "--out", str(tmp_path / "cap")]) == 0
+    assert "its rotation may be off by 3 x" in capsys.readouterr().out
+    spec = yaml.safe_load((tmp_path / "cap" / "capture.yaml").read_text())
+    assert spec["uncertainty"]["hand_eye_deg"] == pytest.approx(3 * sigma["rotation_deg"])
+    cap = read_capture(tmp_path / "cap")
+    bare = dataclasses.replace(cap, hand_eye_uncertainty_deg=0.0)
+    with_it, without = locate(cap), locate(bare)
+    z = without.epipolar_xyz[:, 2]
+    np.testing.assert_allclose(with_it.z_bound - without.z_bound,
+                               z * math.tan(math.radians(3 * sigma["rotation_deg"])),
+                               rtol=0.02)
+    # a camera file without hand_eye_sigma records no such uncertainty
+    data = yaml.safe_load((tmp_path / "cam.yaml").read_text())
+    del data["hand_eye_sigma"]
+    (tmp_path / "old.yaml").write_text(yaml.safe_dump(data))
+    assert main(["capture", "--robot", "six-axis", "--handeye", str(tmp_path / "old.yaml"),
+                 "--out", str(tmp_path / "cap2")]) == 0
+    spec = yaml.safe_load((tmp_path / "cap2" / "capture.yaml").read_text())
+    assert "hand_eye_deg" not in spec.get("uncertainty", {})

@@ -73,7 +73,8 @@ def add_capture_parser(sub: Any) -> None:
                    help="six-axis: camera tilt from vertical, degrees (25)")
     p.add_argument("--handeye", type=Path,
                    help="six-axis: record this camera file's camera and hand_eye "
-                        "(robostereo handeye's output) instead of the truth")
+                        "(robostereo handeye's output) instead of the truth, and three "
+                        "times its hand_eye_sigma rotation as uncertainty: hand_eye_deg")
     p.add_argument("--depth-maps", action="store_true",
                    help="also write each view's true depth (the renderer's, mm along its "
                         "optical axis) as DIR/depth/<image>.npy, for robostereo evaluate")
@@ -117,24 +118,39 @@ def _refuse_other_robots_options(args: argparse.Namespace, six_axis_takes: str) 
                          "--direction, --roll and --center")
 
 
+HAND_EYE_SIGMAS = 3.0
+"""``capture --handeye``: the calibration's ``hand_eye_sigma`` rotation times this is
+written as ``uncertainty: hand_eye_deg`` (the bounds are worst cases, not one standard
+deviation)."""
+
+
 def _run_capture_six_axis(args: argparse.Namespace, baseline: float) -> int:
+    from dataclasses import replace
+
     from robostereo.robot.capture import write_capture
-    from robostereo.robot.handeye import load_handeye_yaml
+    from robostereo.robot.handeye import load_hand_eye_sigma, load_handeye_yaml
     from robostereo.robot.simulated.sixaxis_rig import SixAxisViewpoints, simulate_six_axis_capture
 
-    camera = hand_eye = None
+    camera = hand_eye = sigma = None
     if args.handeye is not None:
         camera, hand_eye = load_handeye_yaml(args.handeye)
+        sigma = load_hand_eye_sigma(args.handeye)
     require_positive("--baseline", baseline)
     tilt = _six_axis_tilt(args)
     vp = SixAxisViewpoints(baseline_mm=baseline, tilt_deg=tilt)
     sim = simulate_six_axis_capture(args.scene, lift_mm=args.lift, seed=args.seed,
                                     viewpoints=vp, hand_eye=hand_eye, camera=camera)
-    write_capture(args.out, sim.capture, depth_maps=_depths(args, sim))
-    g = sim.capture.epipolar
+    capture = sim.capture
+    if sigma is not None:  # what the calibration says its rotation may be off by, carried
+        capture = replace(capture, hand_eye_uncertainty_deg=HAND_EYE_SIGMAS * sigma[1])
+    write_capture(args.out, capture, depth_maps=_depths(args, sim))
+    g = capture.epipolar
     print(f"{args.out}: {args.scene} from the six-axis arm, D = {g.baseline_mm:.3f} mm, "
           f"camera tilted {tilt:g} deg, hand-eye "
-          f"{'from ' + str(args.handeye) if args.handeye else 'true (simulated)'}")
+          f"{'from ' + str(args.handeye) if args.handeye else 'true (simulated)'}"
+          + ("" if sigma is None else
+             f"; its rotation may be off by {HAND_EYE_SIGMAS:g} x {sigma[1]:.4f} deg "
+             "(uncertainty: hand_eye_deg, in every bound)"))
     return 0
 
 

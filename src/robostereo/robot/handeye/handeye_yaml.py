@@ -27,6 +27,7 @@ from robostereo.robot.handeye.view_advice import ViewAdvice
 __all__ = [
     "handeye_yaml_text",
     "load_base_camera_yaml",
+    "load_hand_eye_sigma",
     "load_handeye_yaml",
     "save_handeye_yaml",
     "view_advice_text",
@@ -100,6 +101,45 @@ def _read(path: Any, key: str, what: str, other: str) -> tuple[Camera, SE3]:
 def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
     """Read the camera and ``T_flange_camera`` of a ``robostereo handeye`` file."""
     return _read(path, "hand_eye", "hand-eye camera file", "base_camera")
+
+
+def load_hand_eye_sigma(path: Any) -> tuple[float, float] | None:
+    """The ``hand_eye_sigma`` (``base_camera_sigma`` eye-to-hand) of a ``robostereo
+    handeye`` file: ``(translation_mm, rotation_deg)``, one standard deviation of the
+    transform along its worst axes; None when the file has none (unrefined, or written
+    before it was reported).
+
+    Raises
+    ------
+    InputError
+        The file unreadable, or the key not two non-negative finite numbers.
+    """
+    import math
+    from pathlib import Path
+
+    import yaml
+
+    from robostereo.errors import require_file
+    from robostereo.io.yaml_loading import load_yaml
+
+    p = require_file(path, "hand-eye camera file")
+    try:
+        data = load_yaml(Path(p).read_text(encoding="utf-8"), str(p))
+    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
+        raise InputError(f"{p}: not a readable YAML file ({exc.__class__.__name__})") from None
+    key = "base_camera_sigma" if isinstance(data, dict) and "base_camera" in data \
+        else "hand_eye_sigma"
+    sigma = data.get(key) if isinstance(data, dict) else None
+    if sigma is None:
+        return None
+    try:
+        mm, deg = float(sigma["translation_mm"]), float(sigma["rotation_deg"])
+    except (TypeError, KeyError, ValueError):
+        raise InputError(f"{p}: {key} must hold translation_mm and rotation_deg") from None
+    if not all(math.isfinite(v) and v >= 0 for v in (mm, deg)):
+        raise InputError(f"{p}: {key} must be non-negative finite numbers, got "
+                         f"{mm!r} mm and {deg!r} deg")
+    return mm, deg
 
 
 def load_base_camera_yaml(path: Any) -> tuple[Camera, SE3]:
