@@ -44,11 +44,11 @@ class ViewsParameters:
         hub-pulley they matched 78 % of the edge points against 99.96 % and on the real
         DTU views they report no more points than their widest pair (1978 against the
         sweep's 5115): the two-view matcher is sparse on real views (issue 35).  With 3
-        and 5 views the pairs' points were within their bounds (at their pixel) 98.7-100 %
-        of the time on every render family, the sweep's 95.2-99.7 %, and the pairs'
-        confidence was calibrated within 0.011 (the sweep's 0.035), but on the
-        untextured box they found 0.62-1.09x the outer pair's points where the sweep
-        found 4.5-5.7x.
+        and 5 views the pairs' points were within their bounds (at their pixel) 95.0-100 %
+        of the time on the render families, the sweep's 95.2-99.7 %, and on the
+        textured ones the pairs' confidence was calibrated within 0.002 (the sweep's
+        0.035), but on the untextured box they found 0.62-1.16x the outer pair's points
+        where the sweep found 4.5-5.7x.
     agree_px : float
         ``'pairs'``: a pair's point joins another pair's within this many pixels in the
         reference image (when their depths agree within their bounds).
