@@ -171,6 +171,9 @@ def test_main_called_with_arguments_gives_the_signal_handlers_back(monkeypatch, 
     import robostereo.cli as cli
     from robostereo.cli import plan
 
+    # a shell's background job starts with SIGINT ignored, and main leaves an ignored
+    # SIGINT alone (nohup): the test gives itself Python's default handler
+    inherited = signal.signal(signal.SIGINT, signal.default_int_handler)
     before = signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)
 
     def handler(args):
@@ -178,9 +181,12 @@ def test_main_called_with_arguments_gives_the_signal_handlers_back(monkeypatch, 
         time.sleep(1.0)  # the handler raises here
 
     monkeypatch.setattr(plan, "run_plan", handler)
-    assert cli.main(["plan", "--depth", "1000", "--accuracy", "5"]) == 130
-    assert capsys.readouterr().err.splitlines() == ["robostereo: interrupted"]
-    assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
+    try:
+        assert cli.main(["plan", "--depth", "1000", "--accuracy", "5"]) == 130
+        assert capsys.readouterr().err.splitlines() == ["robostereo: interrupted"]
+        assert (signal.getsignal(signal.SIGINT), signal.getsignal(signal.SIGTERM)) == before
+    finally:
+        signal.signal(signal.SIGINT, inherited)
 
 
 _FINALIZER_FAILS = """
@@ -237,13 +243,19 @@ def test_an_interrupt_inside_llvms_callbacks_is_sent_again_later():
     plain = types.SimpleNamespace(f_globals={"__name__": "robostereo.matcher"}, f_back=None)
     assert cli._in_native_callback(inner) and not cli._in_native_callback(plain)
     got = []
+    sigterm = signal.getsignal(signal.SIGTERM)
     before = signal.signal(signal.SIGUSR1, lambda s, f: got.append(s))
     try:
-        cli._on_interrupt(signal.SIGUSR1, inner)  # returns: no exception inside LLVM
+        sigint = signal.getsignal(signal.SIGINT)
+        cli._on_program_interrupt(signal.SIGUSR1, inner)  # returns: no exception in LLVM
         deadline = time.monotonic() + 5
         while not got and time.monotonic() < deadline:
             time.sleep(0.01)
         assert got == [signal.SIGUSR1]
-        assert signal.getsignal(signal.SIGINT) is not signal.SIG_IGN  # not taken as done
+        assert signal.getsignal(signal.SIGINT) is sigint  # not taken as done
+        with pytest.raises(KeyboardInterrupt):  # elsewhere it is raised at once
+            cli._on_program_interrupt(signal.SIGINT, plain)
     finally:
         signal.signal(signal.SIGUSR1, before)
+        signal.signal(signal.SIGINT, sigint)
+        signal.signal(signal.SIGTERM, sigterm)

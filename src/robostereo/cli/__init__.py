@@ -111,17 +111,23 @@ def _on_interrupt(signum: int, frame: Any) -> None:
     A second Ctrl-C soon after the first would otherwise land in the unwinding (the
     outputs' temporary files removed, the threads joined, the interpreter's exit) and
     end the program with a ``KeyboardInterrupt`` traceback, or leave a temporary file.
-    One that arrives inside LLVM's callbacks (numba compiling) is sent again 50 ms
-    later instead, until it lands where an exception can unwind.
     """
+    for s in _INTERRUPTS:
+        signal.signal(s, signal.SIG_IGN)
+    raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
+
+
+def _on_program_interrupt(signum: int, frame: Any) -> None:
+    """:func:`_on_interrupt` for the program: one that arrives inside LLVM's callbacks
+    (numba compiling) is sent again 50 ms later instead, until it lands where an
+    exception can unwind.  (In a process that goes on, :func:`main` called with
+    arguments, the signal is the caller's to time and is raised where it lands.)"""
     if _in_native_callback(frame):
         resend = threading.Timer(_RESEND_S, os.kill, (os.getpid(), signum))
         resend.daemon = True
         resend.start()
         return
-    for s in _INTERRUPTS:
-        signal.signal(s, signal.SIG_IGN)
-    raise Terminated if signum == signal.SIGTERM else KeyboardInterrupt
+    _on_interrupt(signum, frame)
 
 
 def _show_warning(message: Warning | str, category: type[Warning], *rest: Any,
@@ -174,9 +180,10 @@ def main(argv: Sequence[str] | None = None) -> int:
     interrupted = False
     if threading.current_thread() is threading.main_thread():
         previous = {s: signal.getsignal(s) for s in _INTERRUPTS}
-        signal.signal(signal.SIGTERM, _on_interrupt)
+        handler = _on_program_interrupt if argv is None else _on_interrupt
+        signal.signal(signal.SIGTERM, handler)
         if previous[signal.SIGINT] is signal.default_int_handler:  # not SIG_IGN (nohup)
-            signal.signal(signal.SIGINT, _on_interrupt)
+            signal.signal(signal.SIGINT, handler)
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("always", PlausibilityWarning)
@@ -221,7 +228,7 @@ def _report_interrupt(cause: KeyboardInterrupt, quiet_exit: bool = False) -> int
     """
     if threading.current_thread() is threading.main_thread():
         for s in _INTERRUPTS:  # raised without the handler (a library's own): ignore too
-            if signal.getsignal(s) is _on_interrupt:
+            if signal.getsignal(s) in (_on_interrupt, _on_program_interrupt):
                 signal.signal(s, signal.SIG_IGN)
     terminated = isinstance(cause, Terminated)
     print(f"robostereo: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
