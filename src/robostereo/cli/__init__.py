@@ -172,7 +172,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     process that goes on), the handlers are restored on return; without it (the
     program) they stay ignored after an interrupt, so that a second Ctrl-C during the
     interpreter's exit (worker threads joined, ``atexit``) is quiet too, and nothing the
-    exit prints after the one line is shown (see :func:`_report_interrupt`).
+    exit prints after the one line is shown.
     """
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -200,7 +200,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return 2
     except KeyboardInterrupt as e:  # Terminated too
         interrupted = True
-        return _report_interrupt(e, quiet_exit=argv is None)
+        return _report_interrupt(e)
     except SystemError as e:
         # the signal handler ran inside a numba dispatcher's call on this thread, which
         # then reports "returned a result with an exception set": the interrupt it is
@@ -208,32 +208,29 @@ def main(argv: Sequence[str] | None = None) -> int:
         if cause is None:
             raise
         interrupted = True
-        return _report_interrupt(cause, quiet_exit=argv is None)
+        return _report_interrupt(cause)
     finally:
-        if not (interrupted and argv is None):  # the program's stay ignored (Notes)
+        if interrupted and argv is None:
+            # the program's signals stay ignored (Notes), and what its exit prints after
+            # the one line is not shown: work the interrupt cut short (numba's compiler
+            # in mid-build) leaves llvmlite objects whose finalizers print tracebacks
+            # late in the teardown, where sys.unraisablehook is no longer asked (seen in
+            # a clean CI run); the exit itself still runs (pools, semaphores, atexit)
+            _silence_stderr()
+        else:
             for s, handler in previous.items():
                 if handler is not None:
                     signal.signal(s, handler)
 
 
-def _report_interrupt(cause: KeyboardInterrupt, quiet_exit: bool = False) -> int:
-    """The one line of an interrupt, and its exit code (143 SIGTERM, 130 SIGINT).
-
-    With `quiet_exit` (the program, which exits when :func:`main` returns) the standard
-    error is sent to ``/dev/null`` once the line is out: the interpreter's exit still
-    runs (worker pools stopped, semaphores released, ``atexit``), but work the interrupt
-    cut short (numba's compiler in mid-build) leaves llvmlite objects whose finalizers
-    print tracebacks at exit, late enough in the teardown that ``sys.unraisablehook`` is
-    no longer consulted (seen in a clean CI run), and those are not shown.
-    """
+def _report_interrupt(cause: KeyboardInterrupt) -> int:
+    """The one line of an interrupt, and its exit code (143 SIGTERM, 130 SIGINT)."""
     if threading.current_thread() is threading.main_thread():
         for s in _INTERRUPTS:  # raised without the handler (a library's own): ignore too
             if signal.getsignal(s) in (_on_interrupt, _on_program_interrupt):
                 signal.signal(s, signal.SIG_IGN)
     terminated = isinstance(cause, Terminated)
     print(f"robostereo: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
-    if quiet_exit:
-        _silence_stderr()
     return 143 if terminated else 130
 
 

@@ -128,13 +128,12 @@ def _run_capture_six_axis(args: argparse.Namespace, baseline: float) -> int:
     from dataclasses import replace
 
     from robostereo.robot.capture import write_capture
-    from robostereo.robot.handeye import load_hand_eye_sigma, load_handeye_yaml
+    from robostereo.robot.handeye import load_handeye_with_sigma
     from robostereo.robot.simulated.sixaxis_rig import SixAxisViewpoints, simulate_six_axis_capture
 
     camera = hand_eye = sigma = None
     if args.handeye is not None:
-        camera, hand_eye = load_handeye_yaml(args.handeye)
-        sigma = load_hand_eye_sigma(args.handeye)
+        camera, hand_eye, sigma = load_handeye_with_sigma(args.handeye)
     require_positive("--baseline", baseline)
     tilt = _six_axis_tilt(args)
     vp = SixAxisViewpoints(baseline_mm=baseline, tilt_deg=tilt)

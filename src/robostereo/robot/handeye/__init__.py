@@ -107,7 +107,7 @@ from robostereo.robot.handeye.eye_to_hand import (
 from robostereo.robot.handeye.handeye_yaml import (
     handeye_yaml_text,
     load_base_camera_yaml,
-    load_hand_eye_sigma,
+    load_handeye_with_sigma,
     load_handeye_yaml,
     save_handeye_yaml,
     view_advice_text,
@@ -171,7 +171,7 @@ __all__ = [
     "handeye_residuals",
     "handeye_yaml_text",
     "load_base_camera_yaml",
-    "load_hand_eye_sigma",
+    "load_handeye_with_sigma",
     "load_handeye_yaml",
     "motion_pairs",
     "outlier_views",

@@ -511,7 +511,8 @@ def solve_views(
         sigma = (ref.hand_eye_sigma_mm, ref.hand_eye_sigma_deg)
         advice = advise_views([o.reshape(-1, 3) for o in obj], F, K, dist, X, W,
                               board.object_points, (w, h), ref.variance_px2,
-                              fix_intrinsics=camera is not None, fix_k3=fix_k3, mode=mode)
+                              fix_intrinsics=camera is not None, fix_k3=fix_k3, mode=mode,
+                              information=ref.information)
     else:
         st_final, per_view = st, st.per_view
         rms = float(np.sqrt(np.mean(per_view**2)))

@@ -27,7 +27,7 @@ from robostereo.robot.handeye.view_advice import ViewAdvice
 __all__ = [
     "handeye_yaml_text",
     "load_base_camera_yaml",
-    "load_hand_eye_sigma",
+    "load_handeye_with_sigma",
     "load_handeye_yaml",
     "save_handeye_yaml",
     "view_advice_text",
@@ -73,21 +73,27 @@ def view_advice_text(advice: ViewAdvice) -> str:
     return head + yaml.safe_dump(advice.to_dict(), sort_keys=False, default_flow_style=None)
 
 
-def _read(path: Any, key: str, what: str, other: str) -> tuple[Camera, SE3]:
+def _mapping(path: Any, what: str) -> tuple[Any, Any]:
+    """The file's path and its parsed YAML (one line naming the file if unreadable)."""
     from pathlib import Path
 
     import yaml
 
     from robostereo.errors import require_file
-    from robostereo.geometry.camera import camera_from_dict
-    from robostereo.geometry.poses import as_se3, pose_from_dict
     from robostereo.io.yaml_loading import load_yaml
 
     p = require_file(path, what)
     try:
-        data = load_yaml(Path(p).read_text(encoding="utf-8"), str(p))
+        return p, load_yaml(Path(p).read_text(encoding="utf-8"), str(p))
     except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
         raise InputError(f"{p}: not a readable YAML file ({exc.__class__.__name__})") from None
+
+
+def _calibration(p: Any, data: Any, key: str, other: str) -> tuple[Camera, SE3]:
+    """The camera and the pose under `key` of a parsed ``robostereo handeye`` file."""
+    from robostereo.geometry.camera import camera_from_dict
+    from robostereo.geometry.poses import as_se3, pose_from_dict
+
     if isinstance(data, dict) and "camera" in data and other in data and key not in data:
         mode = "eye-to-hand" if other == "base_camera" else "eye-in-hand"
         raise InputError(f"{p}: an {mode} calibration ({other}), not the {key} this needs")
@@ -100,49 +106,42 @@ def _read(path: Any, key: str, what: str, other: str) -> tuple[Camera, SE3]:
 
 def load_handeye_yaml(path: Any) -> tuple[Camera, SE3]:
     """Read the camera and ``T_flange_camera`` of a ``robostereo handeye`` file."""
-    return _read(path, "hand_eye", "hand-eye camera file", "base_camera")
+    p, data = _mapping(path, "hand-eye camera file")
+    return _calibration(p, data, "hand_eye", "base_camera")
 
 
-def load_hand_eye_sigma(path: Any) -> tuple[float, float] | None:
-    """The ``hand_eye_sigma`` (``base_camera_sigma`` eye-to-hand) of a ``robostereo
-    handeye`` file: ``(translation_mm, rotation_deg)``, one standard deviation of the
-    transform along its worst axes; None when the file has none (unrefined, or written
-    before it was reported).
+def load_handeye_with_sigma(path: Any) -> tuple[Camera, SE3, tuple[float, float] | None]:
+    """:func:`load_handeye_yaml`'s camera and ``T_flange_camera``, and the file's
+    ``hand_eye_sigma``: ``(translation_mm, rotation_deg)``, one standard deviation of
+    the transform along its worst axes, or None when the file has none (unrefined, or
+    written before it was reported).
 
     Raises
     ------
     InputError
-        The file unreadable, or the key not two non-negative finite numbers.
+        As :func:`load_handeye_yaml`, and ``hand_eye_sigma`` not two non-negative finite
+        numbers.
     """
     import math
-    from pathlib import Path
 
-    import yaml
-
-    from robostereo.errors import require_file
-    from robostereo.io.yaml_loading import load_yaml
-
-    p = require_file(path, "hand-eye camera file")
-    try:
-        data = load_yaml(Path(p).read_text(encoding="utf-8"), str(p))
-    except (OSError, UnicodeDecodeError, yaml.YAMLError) as exc:
-        raise InputError(f"{p}: not a readable YAML file ({exc.__class__.__name__})") from None
-    key = "base_camera_sigma" if isinstance(data, dict) and "base_camera" in data \
-        else "hand_eye_sigma"
-    sigma = data.get(key) if isinstance(data, dict) else None
+    p, data = _mapping(path, "hand-eye camera file")
+    camera, hand_eye = _calibration(p, data, "hand_eye", "base_camera")
+    sigma = data.get("hand_eye_sigma")
     if sigma is None:
-        return None
+        return camera, hand_eye, None
     try:
         mm, deg = float(sigma["translation_mm"]), float(sigma["rotation_deg"])
     except (TypeError, KeyError, ValueError):
-        raise InputError(f"{p}: {key} must hold translation_mm and rotation_deg") from None
+        raise InputError(f"{p}: hand_eye_sigma must hold translation_mm and "
+                         "rotation_deg") from None
     if not all(math.isfinite(v) and v >= 0 for v in (mm, deg)):
-        raise InputError(f"{p}: {key} must be non-negative finite numbers, got "
+        raise InputError(f"{p}: hand_eye_sigma must be non-negative finite numbers, got "
                          f"{mm!r} mm and {deg!r} deg")
-    return mm, deg
+    return camera, hand_eye, (mm, deg)
 
 
 def load_base_camera_yaml(path: Any) -> tuple[Camera, SE3]:
     """Read the camera and ``T_base_camera`` of a ``robostereo handeye --mode
     eye-to-hand`` file (``cell.yaml``)."""
-    return _read(path, "base_camera", "eye-to-hand camera file", "hand_eye")
+    p, data = _mapping(path, "eye-to-hand camera file")
+    return _calibration(p, data, "base_camera", "hand_eye")

@@ -56,9 +56,7 @@ def project_board(points: NDArray[np.float64], K: NDArray[np.float64],
     >>> project_board(np.array([[10.0, -20.0, 400.0]]), K, np.zeros(5))
     array([[340., 200.]])
     """
-    d = np.zeros(5)
-    d[: min(5, len(dist))] = np.asarray(dist, dtype=np.float64)[:5]
-    k1, k2, p1, p2, k3 = d
+    k1, k2, p1, p2, k3 = _distortion5(dist)
     x = points[:, 0] / points[:, 2]
     y = points[:, 1] / points[:, 2]
     r2 = x * x + y * y
@@ -66,6 +64,23 @@ def project_board(points: NDArray[np.float64], K: NDArray[np.float64],
     xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x)
     yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y
     return np.column_stack([K[0, 0] * xd + K[0, 2], K[1, 1] * yd + K[1, 2]])
+
+
+def _distortion5(dist: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``(k1, k2, p1, p2, k3)`` from a shorter or longer vector (missing terms 0)."""
+    d = np.zeros(5)
+    d[: min(5, np.size(dist))] = np.asarray(dist, dtype=np.float64).ravel()[:5]
+    return d
+
+
+def _intrinsics(values: NDArray[np.float64], dist: NDArray[np.float64]
+                ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``K`` and the distortion from ``fx, fy, cx, cy, k1, k2, p1, p2 (, k3)``: the terms
+    `values` gives after ``cy`` replace the first of `dist` ``(5,)``."""
+    K = np.array([[values[0], 0.0, values[2]], [0.0, values[1], values[3]], [0.0, 0.0, 1.0]])
+    d = dist.copy()
+    d[: len(values) - 4] = values[4:]
+    return K, d
 
 
 class CornerModel:
@@ -130,17 +145,12 @@ class CornerModel:
         whatever the rotation vector.  Central differences.
         """
         n_dist = 4 if fix_k3 else 5
-        d0 = np.zeros(5)
-        d0[: min(5, len(dist))] = np.asarray(dist, dtype=np.float64).ravel()[:5]
+        d0 = _distortion5(dist)
         intr0 = np.array([] if fix_intrinsics else
                          [K[0, 0], K[1, 1], K[0, 2], K[1, 2], *d0[:n_dist]])
 
         def pixels(v: NDArray[np.float64]) -> NDArray[np.float64]:
-            Kv, dv = K, d0
-            if not fix_intrinsics:
-                Kv = np.array([[v[0], 0.0, v[2]], [0.0, v[1], v[3]], [0.0, 0.0, 1.0]])
-                dv = d0.copy()
-                dv[:n_dist] = v[4:4 + n_dist]
+            Kv, dv = (K, d0) if fix_intrinsics else _intrinsics(v[:intr0.size], d0)
             r = v[intr0.size:]
             Rx = hand_eye.rotation @ Rotation.from_rotvec(r[:3]).as_matrix()
             Rw = base_board.rotation @ Rotation.from_rotvec(r[6:9]).as_matrix()
@@ -215,6 +225,10 @@ class RefinedHandEye:
     variance_px2 : float
         ``s^2``: the corners' residual variance, one coordinate, px^2 (over the degrees
         of freedom).
+    information : ndarray, shape (P, P), optional
+        ``J^T J`` at the solution in :meth:`CornerModel.information`'s parameters (what
+        the sigmas come from; :func:`~robostereo.robot.handeye.view_advice.advise_views`
+        adds candidate views to it).
 
     References
     ----------
@@ -231,6 +245,7 @@ class RefinedHandEye:
     hand_eye_sigma_mm: float = float("nan")
     hand_eye_sigma_deg: float = float("nan")
     variance_px2: float = float("nan")
+    information: NDArray[np.float64] | None = None
 
     def __post_init__(self) -> None:
         if self.K.shape != (3, 3) or self.dist.shape != (5,):
@@ -325,8 +340,7 @@ def refine_eye_in_hand(
     if len(uv) != len(model.obj):
         raise InputError(f"object_points and image_points must match, got {len(model.obj)} "
                          f"corners and {len(uv)} pixels")
-    d0 = np.zeros(5)
-    d0[: min(5, len(dist))] = np.asarray(dist, dtype=np.float64).ravel()[:5]
+    d0 = _distortion5(dist)
     n_dist = 4 if fix_k3 else 5
     intr0 = np.array([K[0, 0], K[1, 1], K[0, 2], K[1, 2], *d0[:n_dist]])
     poses0 = np.concatenate([hand_eye.rotvec, hand_eye.translation,
@@ -339,9 +353,7 @@ def refine_eye_in_hand(
         intr = intr0.copy()
         intr[free] = v[:n_free]
         rest = v[n_free:]
-        Kv = np.array([[intr[0], 0.0, intr[2]], [0.0, intr[1], intr[3]], [0.0, 0.0, 1.0]])
-        dv = d0.copy()
-        dv[:n_dist] = intr[4:]
+        Kv, dv = _intrinsics(intr, d0)
         return Kv, dv, rest
 
     def residuals(v: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -368,4 +380,4 @@ def refine_eye_in_hand(
     return RefinedHandEye(K=Kv, dist=dv, hand_eye=X, base_board=W,
                           per_view_rms_px=per_view, rms_px=float(np.sqrt(np.mean(sq))),
                           hand_eye_sigma_mm=sigma_mm, hand_eye_sigma_deg=sigma_deg,
-                          variance_px2=variance)
+                          variance_px2=variance, information=info)

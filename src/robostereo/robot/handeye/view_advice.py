@@ -171,6 +171,7 @@ def advise_views(
     fix_k3: bool = True,
     mode: str = "eye-in-hand",
     tilts_deg: Sequence[float] = ADVICE_TILTS_DEG,
+    information: NDArray[np.float64] | None = None,
 ) -> ViewAdvice:
     """Predict ``X``'s spread with four more views at each of `tilts_deg`.
 
@@ -195,6 +196,10 @@ def advise_views(
         The robot's form of the flange poses returned.
     tilts_deg : sequence of float
         Candidate tilts, deg in (0, 80).
+    information : ndarray, shape (P, P), optional
+        The views' ``J^T J`` when the caller has it
+        (:attr:`~robostereo.robot.handeye.refine.RefinedHandEye.information`); else it
+        is computed from `object_points`.
 
     Returns
     -------
@@ -243,8 +248,9 @@ def advise_views(
     n_intr = 0 if fix_intrinsics else (8 if fix_k3 else 9)
 
     # the views taken: their information, tilts and distance
-    info = CornerModel(object_points, flange_poses).information(
-        K, dist, hand_eye, base_board, fix_intrinsics=fix_intrinsics, fix_k3=fix_k3)
+    info = information if information is not None else CornerModel(
+        object_points, flange_poses).information(K, dist, hand_eye, base_board,
+                                                 fix_intrinsics=fix_intrinsics, fix_k3=fix_k3)
     current = hand_eye_sigma(info, variance_px2, n_intr)
     W_inv = base_board.inv()
     cams = [W_inv @ f @ hand_eye for f in flange_poses]      # T_board_camera
