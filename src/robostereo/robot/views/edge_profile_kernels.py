@@ -13,31 +13,63 @@ __all__ = ["fit_one_step_kernel", "fit_two_steps_kernel", "opposite_edges"]
 
 
 @kernel(nogil=True)
-def _cost(s, g, sigma, s1, s2, c):  # type: ignore[no-untyped-def]
+def _solve_small(A, r, d, n):  # type: ignore[no-untyped-def]
+    """``A d = r`` for one n x n system (n of 3 to 5) by Gaussian elimination with partial
+    pivoting (`A`, `r` overwritten); False if a pivot vanishes.  In place: no allocation
+    and no LAPACK call, which cost more than the elimination at this size."""
+    for c in range(n):
+        piv = c
+        for i in range(c + 1, n):
+            if abs(A[i, c]) > abs(A[piv, c]):
+                piv = i
+        if not abs(A[piv, c]) > 0.0:
+            return False
+        if piv != c:
+            for j in range(n):
+                A[c, j], A[piv, j] = A[piv, j], A[c, j]
+            r[c], r[piv] = r[piv], r[c]
+        for i in range(c + 1, n):
+            f = A[i, c] / A[c, c]
+            for j in range(c, n):
+                A[i, j] -= f * A[c, j]
+            r[i] -= f * r[c]
+    for c in range(n - 1, -1, -1):
+        x = r[c]
+        for j in range(c + 1, n):
+            x -= A[c, j] * d[j]
+        d[c] = x / A[c, c]
+    return True
+
+
+@kernel(nogil=True)
+def _cost(s, g, q, s1, s2, c, e1, e2, A, r):  # type: ignore[no-untyped-def]
     """Least squares of ``a + b1 Phi((s - s1)/sigma) + b2 Phi((s - s2)/sigma)`` for fixed
-    ``s1, s2``: the linear coefficients into `c` (3,), the sum of squared residuals."""
+    ``s1, s2`` (``q = 1 / (sigma sqrt 2)``): the linear coefficients into `c` (3,), each
+    step's ``Phi`` at the samples into `e1`, `e2` (S,); returns the sum of squared
+    residuals.  `A` (3, 3) and `r` (3,) are work space."""
     k = s.shape[0]
-    A = np.zeros((3, 3))
-    r = np.zeros(3)
-    f = np.empty(3)
-    f[0] = 1.0
-    q = 1.0 / (sigma * math.sqrt(2.0))
-    e1 = np.empty(k)
-    e2 = np.empty(k)
+    A[:, :] = 0.0
+    r[:] = 0.0
     for i in range(k):
-        e1[i] = 0.5 * math.erfc(-(s[i] - s1) * q)
-        e2[i] = 0.5 * math.erfc(-(s[i] - s2) * q)
-        f[1] = e1[i]
-        f[2] = e2[i]
-        for a in range(3):
-            r[a] += f[a] * g[i]
-            for b in range(3):
-                A[a, b] += f[a] * f[b]
+        a1 = 0.5 * math.erfc(-(s[i] - s1) * q)
+        a2 = 0.5 * math.erfc(-(s[i] - s2) * q)
+        e1[i] = a1
+        e2[i] = a2
+        r[0] += g[i]
+        r[1] += a1 * g[i]
+        r[2] += a2 * g[i]
+        A[0, 0] += 1.0
+        A[0, 1] += a1
+        A[0, 2] += a2
+        A[1, 1] += a1 * a1
+        A[1, 2] += a1 * a2
+        A[2, 2] += a2 * a2
+    A[1, 0] = A[0, 1]
+    A[2, 0] = A[0, 2]
+    A[2, 1] = A[1, 2]
     for a in range(3):
-        A[a, a] += 1e-9
-    x = np.linalg.solve(A, r)  # A: positive definite (the 1e-9 above)
-    for a in range(3):
-        c[a] = x[a]
+        A[a, a] += 1e-9  # positive definite
+    _solve_small(A, r, c, 3)
     ss = 0.0
     for i in range(k):
         ss += (g[i] - (c[0] + c[1] * e1[i] + c[2] * e2[i])) ** 2
@@ -50,7 +82,9 @@ def fit_two_steps_kernel(s, prof, sigma, own, other, iterations):  # type: ignor
     :func:`robostereo.robot.views.edge_profiles.fit_two_steps`).
 
     `s`, `prof` (M, S); `own`, `other` (M,) starting positions.  Returns the fitted
-    positions of the own and other steps, their heights and the residual RMS (M,) each."""
+    positions of the own and other steps, their heights and the residual RMS (M,) each.
+    The steps' ``Phi`` at the current positions are the last accepted cost's (each
+    computed once), and the work arrays are allocated once for all profiles."""
     m, k = s.shape
     o_own = np.empty(m)
     o_oth = np.empty(m)
@@ -58,9 +92,19 @@ def fit_two_steps_kernel(s, prof, sigma, own, other, iterations):  # type: ignor
     h_oth = np.empty(m)
     rms = np.empty(m)
     norm = 1.0 / (sigma * math.sqrt(2.0 * math.pi))
+    q = 1.0 / (sigma * math.sqrt(2.0))
     c = np.zeros(3)
     cn = np.zeros(3)
-    J = np.zeros(5)
+    e1 = np.empty(k)  # each step's Phi at the current positions
+    e2 = np.empty(k)
+    f1 = np.empty(k)  # and at the trial ones
+    f2 = np.empty(k)
+    A = np.empty((3, 3))
+    r3 = np.empty(3)
+    H = np.empty((5, 5))
+    gvec = np.empty(5)
+    d = np.zeros(5)
+    J = np.empty(5)
     for p in range(m):
         si = s[p]
         gi = prof[p]
@@ -68,41 +112,43 @@ def fit_two_steps_kernel(s, prof, sigma, own, other, iterations):  # type: ignor
         hi = si.max()
         s1 = other[p]
         s2 = own[p]
-        cost = _cost(si, gi, sigma, s1, s2, c)
+        cost = _cost(si, gi, q, s1, s2, c, e1, e2, A, r3)
         lam = 1e-2
         # Levenberg-Marquardt on (a, b1, b2, s1, s2); the heights then solved again at
         # the new positions (variable projection)
         for _ in range(iterations):
-            H = np.zeros((5, 5))
-            gvec = np.zeros(5)
+            H[:, :] = 0.0
+            gvec[:] = 0.0
             for i in range(k):
                 z1 = (si[i] - s1) / sigma
                 z2 = (si[i] - s2) / sigma
-                p1 = 0.5 * math.erfc(-z1 / math.sqrt(2.0))
-                p2 = 0.5 * math.erfc(-z2 / math.sqrt(2.0))
-                r = gi[i] - (c[0] + c[1] * p1 + c[2] * p2)
+                r = gi[i] - (c[0] + c[1] * e1[i] + c[2] * e2[i])
                 J[0] = 1.0
-                J[1] = p1
-                J[2] = p2
+                J[1] = e1[i]
+                J[2] = e2[i]
                 J[3] = -c[1] * norm * math.exp(-0.5 * z1 * z1)
                 J[4] = -c[2] * norm * math.exp(-0.5 * z2 * z2)
                 for a in range(5):
                     gvec[a] += J[a] * r
-                    for b in range(5):
+                    for b in range(a, 5):
                         H[a, b] += J[a] * J[b]
             for a in range(5):
+                for b in range(a):
+                    H[a, b] = H[b, a]
                 H[a, a] += lam * H[a, a] + 1e-9
-            d = np.linalg.solve(H, gvec)
+            if not _solve_small(H, gvec, d, 5):
+                break
             n1 = min(max(s1 + d[3], lo), hi)
             n2 = min(max(s2 + d[4], lo), hi)
-            new = _cost(si, gi, sigma, n1, n2, cn)
+            new = _cost(si, gi, q, n1, n2, cn, f1, f2, A, r3)
             if new < cost:
                 step = max(abs(n1 - s1), abs(n2 - s2))
                 s1 = n1
                 s2 = n2
                 cost = new
-                for a in range(3):
-                    c[a] = cn[a]
+                c[:] = cn
+                e1[:] = f1
+                e2[:] = f2
                 lam *= 0.3
                 if step < 1e-4:
                     break
@@ -114,34 +160,6 @@ def fit_two_steps_kernel(s, prof, sigma, own, other, iterations):  # type: ignor
         h_oth[p] = c[1]
         rms[p] = math.sqrt(cost / k)
     return o_own, o_oth, h_own, h_oth, rms
-
-
-@kernel(nogil=True)
-def _solve4(A, r, d):  # type: ignore[no-untyped-def]
-    """``A d = r`` for one 4 x 4 system by Gaussian elimination with partial pivoting
-    (`A`, `r` overwritten); False if a pivot vanishes."""
-    for c in range(4):
-        piv = c
-        for i in range(c + 1, 4):
-            if abs(A[i, c]) > abs(A[piv, c]):
-                piv = i
-        if not abs(A[piv, c]) > 0.0:
-            return False
-        if piv != c:
-            for j in range(4):
-                A[c, j], A[piv, j] = A[piv, j], A[c, j]
-            r[c], r[piv] = r[piv], r[c]
-        for i in range(c + 1, 4):
-            f = A[i, c] / A[c, c]
-            for j in range(c, 4):
-                A[i, j] -= f * A[c, j]
-            r[i] -= f * r[c]
-    for c in range(3, -1, -1):
-        x = r[c]
-        for j in range(c + 1, 4):
-            x -= A[c, j] * d[j]
-        d[c] = x / A[c, c]
-    return True
 
 
 @kernel(nogil=True)
@@ -203,7 +221,7 @@ def fit_one_step_kernel(s, prof, iterations):  # type: ignore[no-untyped-def]
                         H[u, v] += J[u] * J[v]
             for u in range(4):
                 H[u, u] += 1e-3 * H[u, u] + 1e-12
-            if not _solve4(H, g, d):
+            if not _solve_small(H, g, d, 4):
                 break
             a += d[0]
             b += d[1]
