@@ -193,42 +193,70 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
     ratio = max(coarse_px / step_px, 1.0)
     grid = np.arange(1.0 / far, 1.0 / near + drho * ratio, drho * ratio)
     sweep = (views.smoothed, patch, offs, others.astype(np.int64), a, b, aff)
-    costs, comb, srt, keep = _sweep(sweep, np.broadcast_to(grid, (m, len(grid))).copy(),
-                                    mute, half_window, combine)
+    comb, costs, kept = _sweep(sweep, np.broadcast_to(grid, (m, len(grid))), mute,
+                               combine)
     k = np.argmin(comb, axis=1) if m else np.zeros(0, np.intp)
     best = comb[np.arange(m), k]
-    far_k = np.abs(np.arange(len(grid))[None, :] - k[:, None]) >= 3
-    second = np.where(far_k, comb, np.inf).min(axis=1)
+    # the best depth three or more steps away
+    rows = np.arange(m)
+    for d in range(-2, 3):
+        near_k = k + d
+        inside = (near_k >= 0) & (near_k < len(grid))
+        comb[rows[inside], near_k[inside]] = np.inf
+    second = comb.min(axis=1) if len(grid) else np.full(m, np.inf)
     rho = grid[k]
     if ratio > 1.0 and m:
         # -- then the fine steps within a coarse step either side of the coarse best
         half = int(np.ceil(ratio))
         fine = rho[:, None] + drho * np.arange(-half, half + 1)[None, :]
         fine = np.clip(fine, 0.5 / far, None)
-        costs, comb, srt, keep = _sweep(sweep, fine, mute, half_window, combine)
+        comb, costs, kept = _sweep(sweep, fine, mute, combine)
         k = np.argmin(comb, axis=1)
         best = comb[np.arange(m), k]
         rho = fine[np.arange(m), k]
-    kept = srt[np.arange(m), keep[np.arange(m), k] - 1, k]  # the worst view that voted
     with np.errstate(divide="ignore", invalid="ignore"):
         distinct = np.where(np.isfinite(second) & (second > 0), best / second, 1.0)
-    return RayMatches(others=others, rho=rho, costs=costs[np.arange(m), :, k],
-                      combined=best, kept=kept, distinct=np.clip(distinct, 0.0, 1.0),
-                      affine=aff)
+    return RayMatches(others=others, rho=rho, costs=costs, combined=best, kept=kept,
+                      distinct=np.clip(distinct, 0.0, 1.0), affine=aff)
 
 
-def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], half_window: int,
-           combine: str) -> tuple[_F, _F, _F, NDArray[np.intp]]:
-    """Costs (M, V, K) at each point's inverse depths `rho` (M, K), their combination
-    (M, K), the views' sorted costs and how many voted."""
-    costs = sweep_costs(*sweep, rho, SMOOTH_REACH, mute)
-    c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (M, V, K)
-    srt = np.sort(c, axis=1)
-    seen = np.isfinite(srt).sum(axis=1)  # (M, K)
-    keep = np.maximum((seen + 1) // 2, 1) if combine == "best-half" else np.maximum(seen, 1)
-    csum = np.cumsum(np.where(np.isfinite(srt), srt, 0.0), axis=1)
-    comb = np.take_along_axis(csum, (keep - 1)[:, None, :], axis=1)[:, 0, :] / keep
-    return costs, np.where(seen > 0, comb, np.inf), srt, keep
+SWEEP_CHUNK_COSTS = 1 << 21
+"""Most window costs (points x views x depths) :func:`_sweep` holds at once: its
+working arrays then stay near 100 MB however many edge points a reference has (on
+eight real DTU views at 800 x 600, a coarse sweep of every point at once took 2.8 GB)."""
+
+
+def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], combine: str
+           ) -> tuple[_F, NDArray[np.float32], _F]:
+    """The views' costs at each point's inverse depths `rho` (M, K) combined (M, K); at
+    each point's best depth, every view's cost (M, V; NaN where not scored) and the
+    worst cost that voted (M,).  Points are scored :data:`SWEEP_CHUNK_COSTS` costs at a
+    time (each point's result is its own)."""
+    images, patch, offs, others, a, b, aff = sweep
+    m, n_k = rho.shape
+    n_v = len(others)
+    comb = np.empty((m, n_k))
+    at_best = np.empty((m, n_v), np.float32)
+    kept = np.empty(m)
+    step = max(SWEEP_CHUNK_COSTS // max(n_v * n_k, 1), 1)
+    for lo in range(0, m, step):
+        s = slice(lo, lo + step)
+        costs = sweep_costs(images, patch[s], offs, others, a[s], b[s], aff[s],
+                            np.ascontiguousarray(rho[s]), SMOOTH_REACH, mute[s])
+        c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (m, V, K)
+        srt = np.sort(c, axis=1)
+        seen = np.isfinite(srt).sum(axis=1)  # (m, K)
+        keep = (np.maximum((seen + 1) // 2, 1) if combine == "best-half"
+                else np.maximum(seen, 1))
+        csum = np.cumsum(np.where(np.isfinite(srt), srt, 0.0), axis=1)
+        part = np.take_along_axis(csum, (keep - 1)[:, None, :], axis=1)[:, 0, :] / keep
+        part = np.where(seen > 0, part, np.inf)
+        comb[s] = part
+        i = np.arange(len(part))
+        k = np.argmin(part, axis=1)
+        at_best[s] = costs[i, :, k]
+        kept[s] = srt[i, keep[i, k] - 1, k]  # the worst view that voted
+    return comb, at_best, kept
 
 
 def carried_normals(affine: _F, normal: _F) -> _F:
