@@ -455,3 +455,81 @@ def central_gradient(s, gx, gy):  # type: ignore[no-untyped-def]
                 gy[y, x] = 0.0
             else:
                 gy[y, x] = (s[y + 1, x] - s[y - 1, x]) * np.float32(0.5)
+
+
+@kernel(nogil=True)
+def ray_edge_peaks(gx, gy, a, b, normals, grid, threshold, border):  # type: ignore[no-untyped-def]
+    """The inverse depths along each ray where one view's gradient across the edge peaks
+    (:func:`robostereo.robot.views.edge_votes.edge_votes`, step 1), one point at a time.
+
+    Parameters
+    ----------
+    gx, gy : float32 (H, W)
+        The view's gradient.
+    a, b : float64 (K, 3)
+        Each point at inverse depth ``rho`` projects to ``(a + rho b)`` (homogeneous).
+    normals : float64 (K, 2)
+        The edge's unit normal carried into the view.
+    grid : float64 (G,)
+        The inverse depths.
+    threshold : float
+        Least gradient across the edge at a peak.
+    border : int
+        Least distance of a sample from the image's border, pixels.
+
+    Returns
+    -------
+    point : int64 (C,)
+        Each peak's point, in order of point and then depth.
+    k : int64 (C,)
+        Its index in `grid`.
+    frac : float64 (C,)
+        The parabola's vertex through it and its neighbours, in grid steps (0 where the
+        parabola opens upward or a neighbour falls outside the image).
+    """
+    h, w = gx.shape
+    m = a.shape[0]
+    n_g = grid.shape[0]
+    cap = 16
+    point = np.empty(cap, np.int64)
+    kk = np.empty(cap, np.int64)
+    frac = np.empty(cap)
+    c = 0
+    d = np.empty(n_g)
+    for i in range(m):
+        nx = normals[i, 0]
+        ny = normals[i, 1]
+        for g in range(n_g):
+            hz = a[i, 2] + grid[g] * b[i, 2]
+            d[g] = -np.inf
+            if not hz > 0.0:
+                continue
+            x = (a[i, 0] + grid[g] * b[i, 0]) / hz
+            y = (a[i, 1] + grid[g] * b[i, 1]) / hz
+            if not (x >= border and y >= border and x <= w - 1 - border
+                    and y <= h - 1 - border):
+                continue
+            x = min(max(x, 0.0), w - 1.001)
+            y = min(max(y, 0.0), h - 1.001)
+            d[g] = _bilinear(gx, x, y) * nx + _bilinear(gy, x, y) * ny
+        for g in range(1, n_g - 1):
+            y1 = d[g]
+            if not (y1 >= threshold and y1 > d[g - 1] and y1 >= d[g + 1]):
+                continue
+            if c == cap:  # grow the outputs
+                cap *= 2
+                point2 = np.empty(cap, np.int64)
+                kk2 = np.empty(cap, np.int64)
+                frac2 = np.empty(cap)
+                point2[:c] = point[:c]
+                kk2[:c] = kk[:c]
+                frac2[:c] = frac[:c]
+                point, kk, frac = point2, kk2, frac2
+            y0 = d[g - 1]
+            y2 = d[g + 1]
+            den = y0 - 2.0 * y1 + y2
+            point[c] = i
+            kk[c] = g
+            frac[c] = 0.5 * (y0 - y2) / den if (np.isfinite(den) and den < 0) else 0.0
+            c += 1
+    return point[:c], kk[:c], frac[:c]
