@@ -47,3 +47,24 @@ def test_edge_points_near_the_top_and_bottom_borders_are_searched_in_the_other_v
     assert np.mean(scored >= 2) >= 0.9
     # at the plane's depth: within a search step over the 40 mm baseline (0.75 px)
     assert np.mean(np.abs(1.0 / rays.rho - 1000.0) <= 20.0) >= 0.9
+
+
+def test_the_sweep_in_chunks_of_points_gives_what_it_gives_at_once(monkeypatch):
+    # the sweep scores its points a bounded number of costs at a time: each point's
+    # result is its own, so a chunk of one point gives every array exactly
+    import robostereo.robot.views.ray_search as rs
+
+    views = _plane_views((-40.0, -20.0, 0.0, 20.0, 40.0), 1000.0, (60, 160))
+    edges = reference_edges(views, 2, 8.0, 5)
+    assert len(edges) >= 50
+
+    def search():
+        return search_rays(views, 2, edges, (800.0, 1250.0), half_window=3, step_px=0.5,
+                           min_sine=float(np.sin(np.radians(15.0))), coarse_px=2.0)
+
+    whole = search()
+    monkeypatch.setattr(rs, "SWEEP_CHUNK_COSTS", 1)
+    chunked = search()
+    for name in ("rho", "costs", "combined", "kept", "distinct"):
+        np.testing.assert_array_equal(getattr(chunked, name), getattr(whole, name))
+    assert np.mean(np.abs(1.0 / whole.rho - 1000.0) <= 20.0) >= 0.9

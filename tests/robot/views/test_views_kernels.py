@@ -66,3 +66,27 @@ def test_the_gradient_kernel_is_half_the_central_differences():
     want_x[:, 1:-1] = (s[:, 2:] - s[:, :-2]) * np.float32(0.5)
     want_y[1:-1] = (s[2:] - s[:-2]) * np.float32(0.5)
     assert np.array_equal(gx, want_x) and np.array_equal(gy, want_y)
+
+
+def test_the_edge_peak_kernel_finds_where_a_ray_crosses_an_edge():
+    from robostereo.robot.views.views_kernels import ray_edge_peaks
+
+    # a view whose gradient across x peaks on the column x = 50.3 (a blurred edge); rays
+    # whose images move along x by 10000 px per unit of inverse depth cross it where
+    # rho = (50.3 - x0) / 1e4
+    h, w = 40, 100
+    xx = np.arange(w, dtype=float)
+    gx = np.repeat((12.0 * np.exp(-0.5 * (xx - 50.3) ** 2))[None], h, axis=0).astype(np.float32)
+    gy = np.zeros_like(gx)
+    x0 = np.array([20.0, 30.0, 20.0])
+    a = np.column_stack([x0, [15.0, 20.0, -30.0], np.ones(3)])  # the third: above the image
+    b = np.tile([1e4, 0.0, 0.0], (3, 1))
+    normals = np.tile([1.0, 0.0], (3, 1))
+    grid = np.arange(0.0, 0.0065, 1e-4)
+    point, k, frac = ray_edge_peaks(gx, gy, a, b, normals, grid, 4.0, 3)
+    assert point.tolist() == [0, 1]
+    rho = grid[k] + np.clip(frac, -0.5, 0.5) * 1e-4
+    np.testing.assert_allclose(rho, (50.3 - x0[:2]) / 1e4, atol=0.2e-4)
+    # a stronger threshold than the ridge: no peak; the wrong polarity: none either
+    assert len(ray_edge_peaks(gx, gy, a, b, normals, grid, 20.0, 3)[0]) == 0
+    assert len(ray_edge_peaks(gx, gy, a, b, -normals, grid, 4.0, 3)[0]) == 0
