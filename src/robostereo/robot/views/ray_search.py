@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from robostereo.matcher.parallel import n_threads, run_all
 from robostereo.robot.views.prepared_views import PreparedViews, ReferenceEdges
 from robostereo.robot.views.views_kernels import sweep_costs
 
@@ -230,17 +231,17 @@ def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], combine: st
            ) -> tuple[_F, NDArray[np.float32], _F]:
     """The views' costs at each point's inverse depths `rho` (M, K) combined (M, K); at
     each point's best depth, every view's cost (M, V; NaN where not scored) and the
-    worst cost that voted (M,).  Points are scored :data:`SWEEP_CHUNK_COSTS` costs at a
-    time (each point's result is its own)."""
+    worst cost that voted (M,).  Points are scored in chunks of at most
+    :data:`SWEEP_CHUNK_COSTS` costs, on the matcher's threads
+    (:func:`~robostereo.matcher.parallel.run_all`; each point's result is its own)."""
     images, patch, offs, others, a, b, aff = sweep
     m, n_k = rho.shape
     n_v = len(others)
     comb = np.empty((m, n_k))
     at_best = np.empty((m, n_v), np.float32)
     kept = np.empty(m)
-    step = max(SWEEP_CHUNK_COSTS // max(n_v * n_k, 1), 1)
-    for lo in range(0, m, step):
-        s = slice(lo, lo + step)
+
+    def chunk(s: slice) -> None:
         costs = sweep_costs(images, patch[s], offs, others, a[s], b[s], aff[s],
                             np.ascontiguousarray(rho[s]), SMOOTH_REACH, mute[s])
         c = np.where(np.isnan(costs), np.inf, costs.astype(np.float64))  # (m, V, K)
@@ -256,6 +257,9 @@ def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], combine: st
         k = np.argmin(part, axis=1)
         at_best[s] = costs[i, :, k]
         kept[s] = srt[i, keep[i, k] - 1, k]  # the worst view that voted
+
+    step = max(min(SWEEP_CHUNK_COSTS // max(n_v * n_k, 1), -(-m // n_threads())), 1)
+    run_all([lambda s=slice(lo, lo + step): chunk(s) for lo in range(0, m, step)])
     return comb, at_best, kept
 
 
