@@ -25,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import InputError
+from robostereo.matcher.parallel import n_threads, run_all
 from robostereo.robot.views.edge_profile_kernels import (
     fit_one_step_kernel,
     fit_two_steps_kernel,
@@ -155,6 +156,11 @@ class TwoStepFit:
     rms: _F
 
 
+MIN_PROFILES_PER_THREAD = 256
+"""Fewest profiles :func:`fit_two_steps` gives a thread (about 6 ms of work): fewer
+are fitted on the calling thread."""
+
+
 def fit_two_steps(s: _F, prof: _F, sigma: float, own: _F, other: _F,
                   iterations: int = 12) -> TwoStepFit:
     """``a + b1 Phi((s - s1) / sigma) + b2 Phi((s - s2) / sigma)`` fitted to each profile.
@@ -179,10 +185,17 @@ def fit_two_steps(s: _F, prof: _F, sigma: float, own: _F, other: _F,
         heights and ``a`` solved by least squares at each
         (:func:`~robostereo.robot.views.edge_profile_kernels.fit_two_steps_kernel`).
     """
-    o2, o1, h2, h1, rms = fit_two_steps_kernel(
-        np.ascontiguousarray(s, dtype=np.float64), np.ascontiguousarray(prof, dtype=np.float64),
-        float(sigma), np.ascontiguousarray(own, dtype=np.float64),
-        np.ascontiguousarray(other, dtype=np.float64), int(iterations))
+    s = np.ascontiguousarray(s, dtype=np.float64)
+    prof = np.ascontiguousarray(prof, dtype=np.float64)
+    own = np.ascontiguousarray(own, dtype=np.float64)
+    other = np.ascontiguousarray(other, dtype=np.float64)
+    # each profile's fit is its own: shares of them on the matcher's threads
+    step = max(-(-len(s) // n_threads()), MIN_PROFILES_PER_THREAD)
+    parts = run_all([lambda lo=lo: fit_two_steps_kernel(s[lo:lo + step], prof[lo:lo + step],
+                                                        float(sigma), own[lo:lo + step],
+                                                        other[lo:lo + step], int(iterations))
+                     for lo in range(0, max(len(s), 1), step)])
+    o2, o1, h2, h1, rms = (np.concatenate(x) for x in zip(*parts, strict=True))
     return TwoStepFit(own=o2, other=o1, own_height=h2, other_height=h1, rms=rms)
 
 
