@@ -10,7 +10,9 @@
 * :func:`row_peaks` / :func:`edge_near`: sub-pixel edge points on the pixel grid, as
   the matcher's (thesis 3.1-3.2: the peak of the gradient magnitude along a row, a
   parabola through it and its neighbours), along rows for edges whose normal is nearer
-  x and along columns for the others.
+  x and along columns for the others;
+* :func:`ray_edge_peaks`: where a view's gradient across an edge peaks along each
+  reference ray (the edge votes of :mod:`~robostereo.robot.views.edge_votes`).
 """
 
 from __future__ import annotations
@@ -19,7 +21,8 @@ import numpy as np
 
 from robostereo.matcher.jit import kernel
 
-__all__ = ["central_gradient", "edge_near", "grid_edges", "normal_residuals", "sweep_costs"]
+__all__ = ["central_gradient", "edge_near", "grid_edges", "normal_residuals", "ray_edge_peaks",
+           "sweep_costs"]
 
 #: cost of a view where the window falls outside the image (not a vote)
 OUTSIDE = np.float32(np.nan)
