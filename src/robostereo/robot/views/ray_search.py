@@ -222,9 +222,10 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
 
 
 SWEEP_CHUNK_COSTS = 1 << 21
-"""Most window costs (points x views x depths) :func:`_sweep` holds at once: its
-working arrays then stay near 100 MB however many edge points a reference has (on
-eight real DTU views at 800 x 600, a coarse sweep of every point at once took 2.8 GB)."""
+"""Most window costs (points x views x depths) :func:`_sweep` holds at once, over all
+its threads: its working arrays then stay near 100 MB however many edge points a
+reference has and however many cores score them (on eight real DTU views at 800 x 600,
+a coarse sweep of every point at once took 2.8 GB)."""
 
 
 def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], combine: str
@@ -232,7 +233,7 @@ def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], combine: st
     """The views' costs at each point's inverse depths `rho` (M, K) combined (M, K); at
     each point's best depth, every view's cost (M, V; NaN where not scored) and the
     worst cost that voted (M,).  Points are scored in chunks of at most
-    :data:`SWEEP_CHUNK_COSTS` costs, on the matcher's threads
+    :data:`SWEEP_CHUNK_COSTS` costs shared among the matcher's threads
     (:func:`~robostereo.matcher.parallel.run_all`; each point's result is its own)."""
     images, patch, offs, others, a, b, aff = sweep
     m, n_k = rho.shape
@@ -258,7 +259,8 @@ def _sweep(sweep: tuple[Any, ...], rho: _F, mute: NDArray[np.bool_], combine: st
         at_best[s] = costs[i, :, k]
         kept[s] = srt[i, keep[i, k] - 1, k]  # the worst view that voted
 
-    step = max(min(SWEEP_CHUNK_COSTS // max(n_v * n_k, 1), -(-m // n_threads())), 1)
+    threads = n_threads()
+    step = max(min(SWEEP_CHUNK_COSTS // max(threads * n_v * n_k, 1), -(-m // threads)), 1)
     run_all([lambda s=slice(lo, lo + step): chunk(s) for lo in range(0, m, step)])
     return comb, at_best, kept
 
