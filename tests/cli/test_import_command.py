@@ -102,6 +102,35 @@ def test_import_mvsnet_puts_quarter_size_depth_maps_on_the_image_grid(tmp_path, 
     assert np.isnan(got[:4, :4]).all() and np.isfinite(got[4:, 4:]).all()
 
 
+def test_import_mvsnet_writes_its_depth_maps_with_the_folder_or_nothing(tmp_path, capsys,
+                                                                         monkeypatch):
+    # the depth maps go into the same all-or-nothing folder as the images: one that
+    # cannot be encoded leaves no capture folder behind and nothing staged beside it
+    import robostereo.evaluation.depth_maps as depth_maps
+    from robostereo.errors import InputError
+
+    d = write_mvsnet(tmp_path)
+    _quarter_depths(d / "Depths", [f"depth_map_{k:04d}.pfm" for k in range(3)])
+    before = set(tmp_path.iterdir())
+    encode = depth_maps.depth_map_bytes
+    done = []
+
+    def second_fails(depth, suffix, **kw):
+        done.append(suffix)
+        if len(done) == 2:
+            raise InputError(f"{kw.get('name')}: cannot be encoded")
+        return encode(depth, suffix, **kw)
+
+    monkeypatch.setattr(depth_maps, "depth_map_bytes", second_fails)
+    out = tmp_path / "cap"
+    assert main(["import", "mvsnet", str(d), "--intrinsics-scale", "4", "--views", "2,0",
+                 "--depths", str(d / "Depths"), "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "cannot be encoded" in err[0], err
+    assert done == [".pfm", ".pfm"]
+    assert not out.exists() and set(tmp_path.iterdir()) == before
+
+
 def test_import_mvsnet_refuses_a_missing_depth_map_and_writes_nothing(tmp_path, capsys):
     d = write_mvsnet(tmp_path)
     _quarter_depths(d / "out_depths", ["00000000.pfm"])

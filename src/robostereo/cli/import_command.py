@@ -133,9 +133,9 @@ def run_import(args: argparse.Namespace) -> int:
     cap = views_capture_from_imported(imported, select=select, scale=args.scale,
                                       depth_range_mm=depth, notes=notes)
     depths = _mvsnet_depths(args, imported, select, cap)  # read before writing anything
-    write_views_capture(args.out, cap)
-    if depths:
-        _write_depths(args.out, cap, depths)
+    # the depth maps in the same all-or-nothing folder, where evaluate looks
+    maps = [depths[n] for n in cap.names] if depths else None
+    write_views_capture(args.out, cap, depth_maps=maps, depth_suffix=".pfm")
     near, far = cap.depth_range_mm
     w, h = cap.camera.image_size
     print(f"{args.out}: {len(cap)} views of {args.kind} {imported.source}, {w} x {h} px, "
@@ -157,10 +157,3 @@ def _mvsnet_depths(args: argparse.Namespace, imported: Any, select: list[int],
     return {name: maps[k] for name, k in zip(cap.names, keys, strict=True)}
 
 
-def _write_depths(out: Path, cap: Any, depths: dict[str, Any]) -> None:
-    """Each view's map as ``out/depth/<image stem>.pfm`` (where evaluate looks)."""
-    from robostereo.evaluation.depth_maps import DEPTH_FOLDER, write_depth_map
-
-    (out / DEPTH_FOLDER).mkdir()
-    for name, depth in depths.items():
-        write_depth_map(out / DEPTH_FOLDER / f"{Path(name).stem}.pfm", depth)

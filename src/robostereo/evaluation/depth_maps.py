@@ -205,12 +205,13 @@ def write_depth_map(path: str | os.PathLike[str], depth: ArrayLike, *,
     return p
 
 
-def depth_map_files(stems: Sequence[str], depths: Sequence[ArrayLike] | None
-                    ) -> dict[str, bytes]:
+def depth_map_files(stems: Sequence[str], depths: Sequence[ArrayLike] | None, *,
+                    suffix: str = ".npy") -> dict[str, bytes]:
     """Ground-truth depth maps as the files of a capture folder that
-    :func:`capture_depth_files` finds without a key: ``depth/<stem>.npy``, one per view
-    (none when `depths` is None); for the capture writers' all-or-nothing folder."""
-    return {f"{DEPTH_FOLDER}/{stem}.npy": depth_map_bytes(d, ".npy", name=f"{stem} depth")
+    :func:`capture_depth_files` finds without a key: ``depth/<stem><suffix>`` (``.npy``
+    or ``.pfm``), one per view (none when `depths` is None); for the capture writers'
+    all-or-nothing folder."""
+    return {f"{DEPTH_FOLDER}/{stem}{suffix}": depth_map_bytes(d, suffix, name=f"{stem} depth")
             for stem, d in zip(stems, depths or (), strict=False)}
 
 

@@ -138,7 +138,8 @@ def views_capture_to_dict(capture: ViewsCapture,
 
 
 def write_views_capture(directory: str | os.PathLike[str], capture: ViewsCapture, *,
-                        depth_maps: Sequence[Any] | None = None) -> Path:
+                        depth_maps: Sequence[Any] | None = None,
+                        depth_suffix: str = ".npy") -> Path:
     """Write an N-view capture folder: one PNG per view and ``capture.yaml``.
 
     The folder is assembled beside `directory` and renamed into place at the end, so a
@@ -152,7 +153,10 @@ def write_views_capture(directory: str | os.PathLike[str], capture: ViewsCapture
         name the images; without them ``view_00.png``, ``view_01.png``, ...
     depth_maps : sequence of ndarray, optional
         One (H, W) ground-truth depth map per view (mm along its optical axis), written
-        as ``depth/<image stem>.npy`` for ``robostereo evaluate``.
+        as ``depth/<image stem><depth_suffix>`` for ``robostereo evaluate``, in the same
+        all-or-nothing folder as the images.
+    depth_suffix : {'.npy', '.pfm'}
+        The depth maps' file type.
 
     Returns
     -------
@@ -195,7 +199,8 @@ def write_views_capture(directory: str | os.PathLike[str], capture: ViewsCapture
 
     text = folder_yaml_text(views_capture_to_dict(capture, names))
     return write_image_folder(directory, images, {CAPTURE_YAML: text},
-                              depth_map_files([Path(n).stem for n in names], depth_maps))
+                              depth_map_files([Path(n).stem for n in names], depth_maps,
+                                              suffix=depth_suffix))
 
 
 def is_views_folder(directory: str | os.PathLike[str]) -> bool:
