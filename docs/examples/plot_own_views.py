@@ -9,12 +9,12 @@ reference, searches each edge point's ray in the other views and writes each poi
 once, as ``robostereo locate docs/data/dtu_scan24/views -o views.csv`` does.
 
 Checked as the two-view example is, against a view none of them came from: the share
-of points that land within 1 px of an edge there.  On these views the N-view search
-finds several times the two-view folder's points but fewer of them land on an edge,
-and the same two views read as a ``views:`` pair do worst: for a pair, use the
-two-view folder today.  Left: the three views' points in the held-out view; right:
-points and the held-out share for the two-view folder, the same pair located as N = 2
-views, and the three views.
+of points that land within 1 px of an edge there.  The same two views read as a
+``views:`` pair go through the two-view path and give its points exactly; the three
+views' plane sweep finds 2.6 times as many, fewer of them on an edge (88 % against
+93 %).  Left: the three views' points in the held-out view; right: points and the
+held-out share for the two-view folder, the same pair located as N = 2 views, and the
+three views.
 """
 
 from pathlib import Path
