@@ -258,4 +258,5 @@ def test_an_interrupt_inside_llvms_callbacks_is_sent_again_later():
     finally:
         signal.signal(signal.SIGUSR1, before)
         signal.signal(signal.SIGINT, sigint)
+        signal.signal(signal.SIGTERM, sigterm)  # _on_interrupt ignored both
         signal.signal(signal.SIGTERM, sigterm)

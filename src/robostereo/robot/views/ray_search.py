@@ -204,7 +204,7 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
         near_k = k + d
         inside = (near_k >= 0) & (near_k < len(grid))
         comb[rows[inside], near_k[inside]] = np.inf
-    second = comb.min(axis=1) if len(grid) else np.full(m, np.inf)
+    second = comb.min(axis=1)  # the grid holds 1 / far at least
     rho = grid[k]
     if ratio > 1.0 and m:
         # -- then the fine steps within a coarse step either side of the coarse best
