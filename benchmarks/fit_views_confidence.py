@@ -1,13 +1,27 @@
-"""Fit the N-view confidence model (logistic) on simulated scenes, held out by seed.
+"""Fit the N-view confidence model (logistic) on simulated scenes and one family of
+renders, held out by seed.
 
-Run:  python benchmarks/fit_views_confidence.py [--seeds 0,1,2] [--cache FILE.npz]
+Run:  python benchmarks/fit_views_confidence.py [--seeds 0,1,2] [--renders dtu]
+          [--render-seeds 10,11] [--cache FILE.npz]
 
 Scenes (simulated, with ground truth): the hub-pulley from 5 views on a line, in a cross,
 from the six-axis arm on a line and in a cross (a third of its points seen by two views
 only) and from a pair of views (every point a two-view fit); the block from 5 views on a
 line and in a cross; a post before a printed plane (an occluder) from 5 views on a line;
 each for every noise seed of `--seeds`.  Each located point is right or wrong by
-:func:`robostereo.robot.simulated.views_truth.views_correct`; every point is kept
+:func:`robostereo.robot.simulated.views_truth.views_correct`.  Beside them, the render
+families of `--renders` (``tests/view_renders.py``'s textured box on a textured ground,
+:data:`bench_views.FAMILIES`; by default ``dtu``: printed textures at 700 mm, views turned
+30 degrees about their axes and tilted 20 degrees, a lens with k1 = -0.1, poses jittered)
+from 3 and 5 views on a line and 5 in a cross, for each seed of `--render-seeds`, right
+by the same rule (within one pixel of disparity over the span of the true depth at the
+point's pixel or one of the eight round it).  The simulator's scenes alone gave the
+window cost a weight that raised the confidence with the cost (its untextured scenes do
+not tell a right match by it) and left the real views' two-view fits over-confident; a
+textured family teaches that, and the other families and the real views are left to
+report on (``bench_views.py --renders``, ``bench_real_views.py --held-out``).  The
+render seeds are held out with the simulated seeds in order (the first render seed with
+the first seed).  Every point is kept
 (``min_confidence=0``) and the capture's whole depth range searched
 (``range_step_px=None``: the narrowing itself keeps points by this confidence) and the
 points placed by edge votes left out (``edge_votes=None``; their confidence is fitted by
@@ -16,11 +30,13 @@ points placed by edge votes left out (``edge_votes=None``; their confidence is f
 The features are those of :func:`robostereo.robot.views.located_points.views_confidence` (a two-view
 fit's residual is zero whatever its match, so the number of views enters as a feature,
 and whether views left out of the fit see the point and find an edge there); the
-weights are fitted by iteratively reweighted least squares (a logistic regression) on
-every seed but one and scored on the one left out (with one seed: every scene but one):
-the share of wrong points, the mean confidence, and the expected calibration error over
-ten bins (and that of the weights in the source).  The next line prints the weights
-fitted on every seed, which :data:`robostereo.robot.views.located_points.CONFIDENCE_WEIGHTS` holds.
+weights (of :func:`robostereo.robot.views.located_points.confidence_terms`: the features
+and the log of the distinctness) are fitted by iteratively reweighted least squares (a
+logistic regression) on every seed but one and scored on the one left out (with one
+seed: every scene but one): the share of wrong points, the mean confidence, and the
+expected calibration error over ten bins (and that of the weights in the source).  The
+next line prints the weights fitted on every seed, which
+:data:`robostereo.robot.views.located_points.CONFIDENCE_WEIGHTS` holds.
 
 Then the least confidence of a reported point (``ViewsParameters.min_confidence``): the
 least level, in steps of 0.01, at which each hub-pulley scene of 5 views (SCARA and
@@ -36,14 +52,31 @@ from __future__ import annotations
 
 import argparse
 import os
+import sys
+from pathlib import Path
 
 import numpy as np
 
 from robostereo.robot.simulated.grab_views import post_before_a_printed_plane, simulate_views
 from robostereo.robot.simulated.views_truth import views_correct
-from robostereo.robot.views.located_points import confidence_features, views_confidence
+from robostereo.robot.views.located_points import (
+    confidence_features,
+    confidence_terms,
+    views_confidence,
+)
 from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.views_parameters import ViewsParameters
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from bench_views import FAMILIES
+from view_renders import RenderSpec, render_views
+
+# every point the sweep offers (a pair too: `auto` gives two views to the pairs), over
+# the capture's whole depth range (the window fits only: edge-voted points have their
+# own confidence)
+EVERY_FIT = ViewsParameters(matcher="sweep", min_confidence=0.0, range_step_px=None,
+                            edge_votes=None)
+RENDER_PATTERNS = (("line", 3), ("line", 5), ("cross", 5))
 
 
 def _fit(x: np.ndarray, y: np.ndarray, iterations: int = 50) -> np.ndarray:
@@ -86,13 +119,30 @@ def _logistic(w: np.ndarray, x: np.ndarray) -> np.ndarray:
     return 1.0 / (1.0 + np.exp(-(w[0] + x @ w[1:])))
 
 
+def _render_features(family: str, pattern: str, count: int, seed: int
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """One render's features (window fits only) and whether each point is right."""
+    spec = RenderSpec(pattern=pattern, count=count, seed=seed, **FAMILIES[family])
+    capture, truth = render_views(spec)
+    loc = locate_views(capture, params=EVERY_FIT)
+    tolerance = loc.depth_mm**2 / (float(capture.camera.fx) * spec.span_mm)
+    right = truth.depth_errors(capture, loc) <= tolerance
+    return confidence_features(loc), right.astype(float)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     ap.add_argument("--seeds", default="0,1,2",
                     help="comma-separated noise seeds; held out one at a time if several")
+    ap.add_argument("--renders", default="dtu",
+                    help="comma-separated render families to fit on as well ('' for none)")
+    ap.add_argument("--render-seeds", default="10,11",
+                    help="their seeds, held out with --seeds' in order")
     ap.add_argument("--cache", help="an .npz file keeping each scene's features and truth")
     args = ap.parse_args()
     seeds = [int(v) for v in args.seeds.split(",")]
+    families = [f for f in args.renders.split(",") if f]
+    render_seeds = [int(v) for v in args.render_seeds.split(",") if v]
     scenes = {
         "pulley line": dict(kind="pulley", pattern="line"),
         "pulley cross": dict(kind="pulley", pattern="cross"),
@@ -115,21 +165,35 @@ def main() -> int:
             key = f"{name} {seed}"
             if key + " x" not in cache:
                 sim = simulate_views(**{"count": 5, "span_mm": 80.0, "seed": seed, **kw})
-                # every point the search offers, over the capture's whole depth range
-                # (the window fits only: edge-voted points have their own confidence)
-                loc = locate_views(sim.capture, params=ViewsParameters(
-                    min_confidence=0.0, range_step_px=None, edge_votes=None))
+                loc = locate_views(sim.capture, params=EVERY_FIT)
                 cache[key + " x"] = confidence_features(loc)
                 cache[key + " y"] = views_correct(sim, loc).astype(float)
             x, y = cache[key + " x"], cache[key + " y"]
-            data[name, seed] = (x, y)
+            data[name, seed] = (confidence_terms(x), y)
             print(f"{name} seed {seed}: {len(y)} points, {100 * (1 - y.mean()):.2f} % wrong",
                   flush=True)
+    renders = []
+    for seed in render_seeds:
+        for family in families:
+            for pattern, count in RENDER_PATTERNS:
+                name = f"render {family} {pattern} {count}"
+                key = f"{name} {seed}"
+                if key + " x" not in cache:
+                    cache[key + " x"], cache[key + " y"] = _render_features(
+                        family, pattern, count, seed)
+                x, y = cache[key + " x"], cache[key + " y"]
+                data[name, seed] = (confidence_terms(x), y)
+                renders.append((name, seed))
+                print(f"{name} seed {seed}: {len(y)} points, {100 * (1 - y.mean()):.2f} % wrong",
+                      flush=True)
     if args.cache:
         np.savez(args.cache, **cache)
-    # held out: one seed at a time (every scene of it), or with one seed one scene
+    # held out: one seed at a time (every scene of it, and the renders of the render
+    # seed in the same place), or with one seed one scene
     groups = ([[(n, s) for n in scenes] for s in seeds] if len(seeds) > 1
               else [[(n, seeds[0])] for n in scenes])
+    for k in renders:
+        groups[min(render_seeds.index(k[1]), len(groups) - 1)].append(k)
 
     def fitted(keys: list[tuple[str, int]]) -> np.ndarray:
         return _fit(np.concatenate([data[k][0] for k in keys]),
@@ -141,7 +205,7 @@ def main() -> int:
         for k in group:
             x, y = data[k]
             p = _logistic(w, x)
-            cur = views_confidence(*x.T)
+            cur = views_confidence(*x[:, :7].T)  # the features, not the log term
             print(f"{k[0]} | {k[1]} | {len(y)} | {100 * (1 - y.mean()):.2f} | {p.mean():.4f} | "
                   f"{_ece(p, y):.4f} | {_ece(cur, y):.4f}")
     w = fitted(list(data))

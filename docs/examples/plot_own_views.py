@@ -11,7 +11,7 @@ once, as ``robostereo locate docs/data/dtu_scan24/views -o views.csv`` does.
 Checked as the two-view example is, against a view none of them came from: the share
 of points that land within 1 px of an edge there.  The same two views read as a
 ``views:`` pair go through the two-view path and give its points exactly; the three
-views' plane sweep finds 2.6 times as many, fewer of them on an edge (88 % against
+views' plane sweep finds 2.4 times as many, fewer of them on an edge (89 % against
 93 %).  Left: the three views' points in the held-out view; right: points and the
 held-out share for the two-view folder, the same pair located as N = 2 views, and the
 three views.

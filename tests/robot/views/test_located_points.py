@@ -33,6 +33,21 @@ def test_views_left_out_against_a_point_or_none_to_check_it_lower_its_confidence
     assert two[0] > two[1]
 
 
+def test_a_worse_window_cost_or_a_less_distinct_depth_never_raises_the_confidence():
+    # fitted on the simulator alone, the cost's weight came out positive: its untextured
+    # views do not tell a right match by it, and real views' costly fits were sure
+    cost = np.linspace(0.0, 1.0, 21)
+    distinct = np.geomspace(1e-4, 1.0, 21)
+    for two, unchecked in ((0.0, 0.0), (1.0, 0.0), (1.0, 1.0)):
+        same = dict(residual_px=np.zeros(21), used_share=np.ones(21),
+                    two_view=np.full(21, two), against_share=np.zeros(21),
+                    unchecked=np.full(21, unchecked))
+        by_cost = views_confidence(combined=cost, distinct=np.full(21, 0.05), **same)
+        by_distinct = views_confidence(combined=np.full(21, 0.02), distinct=distinct, **same)
+        assert np.all(np.diff(by_cost) < 0) and np.all(np.diff(by_distinct) <= 0)
+        assert by_distinct[-1] < by_distinct[10] - 0.01
+
+
 @pytest.fixture(scope="module")
 def six_axis_cross(six_axis_pulley_cross):
     """The six-axis arm's hub-pulley from a cross of 5 views (a noise seed the confidence

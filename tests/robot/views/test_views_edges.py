@@ -95,11 +95,18 @@ def test_views_that_cannot_vote_turn_away_wrong_two_view_fits():
 
     sim = simulate_views("pulley", count=3, pattern="cross", span_mm=80.0, robot="six-axis")
     counts = {}
-    for check in (False, True):
-        loc = locate_views(sim.capture, params=ViewsParameters(
-        matcher="sweep", check_two_view_fits=check))
-        ok = views_correct(sim, loc)
-        counts[check] = (int(ok.sum()), int((~ok).sum()))
-    assert counts[False][1] > 100  # wrong two-view fits to turn away
-    assert counts[True][1] < 0.7 * counts[False][1]
-    assert counts[True][0] >= 0.99 * counts[False][0]
+    for level in (0.0, ViewsParameters().min_confidence):
+        for check in (False, True):
+            loc = locate_views(sim.capture, params=ViewsParameters(
+                matcher="sweep", check_two_view_fits=check, min_confidence=level))
+            ok = views_correct(sim, loc)
+            counts[level, check] = (int(ok.sum()), int((~ok).sum()))
+    # every fit (the check on its own): 1221 wrong without it, 530 with it
+    assert counts[0.0, False][1] > 100  # wrong two-view fits to turn away
+    assert counts[0.0, True][1] < 0.7 * counts[0.0, False][1]
+    assert counts[0.0, True][0] >= 0.99 * counts[0.0, False][0]
+    # the default level: the confidence doubts such fits too (459 wrong without the
+    # check, 403 with it); the check never adds wrong points or loses right ones
+    default = ViewsParameters().min_confidence
+    assert counts[default, True][1] <= counts[default, False][1]
+    assert counts[default, True][0] >= 0.99 * counts[default, False][0]

@@ -38,9 +38,11 @@ format); not the arms, hand-eye, planning or the simulators.
 
 from robostereo.robot.views.located_points import (
     CONFIDENCE_WEIGHTS,
+    DISTINCT_FLOOR,
     LocatedViews,
     confidence_features,
     confidence_features_from,
+    confidence_terms,
     views_bound,
     views_confidence,
 )
@@ -74,6 +76,7 @@ from robostereo.robot.views.views_parameters import ViewsParameters
 
 __all__ = [
     "CONFIDENCE_WEIGHTS",
+    "DISTINCT_FLOOR",
     "EPIPOLAR_TOLERANCE_DEG",
     "EPIPOLAR_TOLERANCE_PX",
     "MAX_SPAN_MM",
@@ -86,6 +89,7 @@ __all__ = [
     "ViewsParameters",
     "confidence_features",
     "confidence_features_from",
+    "confidence_terms",
     "corners_to_track",
     "epipolar_check",
     "fundamental_from_poses",

@@ -98,12 +98,12 @@ def warn_few_located(capture: ViewsCapture, ref: int, located: int, edges: int) 
 
     Notes
     -----
-    The first reference's own search (before edge votes) located 79-88 % of its edge
+    The first reference's own search (before edge votes) located 74-88 % of its edge
     points on the simulated arms' right poses (block and pulley, SCARA and six-axis,
     2-5 views) and 47-49 % on DTU scan 24's views 0, 1, 2 at half size; the same DTU
-    views with their world-to-camera extrinsics read as camera poses located 1.7 %
-    (135 of 8017; 268 points in all, where the right poses give 5115) with nothing
-    else said.  10 % lies five times below the worst right capture and six times above
+    views with their world-to-camera extrinsics read as camera poses located 1.0 %
+    (78 of 8017; 32 points in all, where the right poses give 4832) with nothing
+    else said.  10 % lies five times below the worst right capture and ten times above
     the mix-up; a scene of few or occluded edges can fall below it rightly, hence a
     warning.
     """
