@@ -33,7 +33,11 @@ def _with_view(cap, k, image):
 
 def test_sharp_views_of_the_simulator_and_the_renders_are_not_flagged(printed_line):
     sim = simulate_views("pulley", count=5, pattern="cross", span_mm=80.0).capture
-    for cap in (printed_line, sim):
+    # the six-axis arm's cross over the raised block sees its top partly outside one
+    # view: fewer edge pixels there, as sharp (0.43 with the 99.5th percentile, 0.90 now)
+    raised = simulate_views("block", count=5, pattern="cross", robot="six-axis",
+                            lift_mm=79.65).capture
+    for cap in (printed_line, sim, raised):
         s = frame_sharpness(cap)
         assert np.all(s > 0.8), s
         assert failed_frames(cap, ViewsParameters().min_frame_sharpness) == []

@@ -63,9 +63,9 @@ class ViewsParameters:
         (:func:`~robostereo.robot.views.frame_checks.frame_sharpness`: blurred, dark,
         blank, another bit depth) is named in a warning and left out, while two or more
         views remain (with two, it is warned about only).  None: every view is used.
-        0.7 lies below every view of nine captures of sharp views (0.87-1.06) and above
-        every view blurred by a Gaussian of sigma 4 px (0.30-0.63), darkened to a fifth
-        (0.19-0.22) or blank; of sigma 2 px it catches six of nine (0.55-0.94).
+        0.7 lies below every view of twenty captures of sharp views (0.90-1.21) and
+        above every view blurred by a Gaussian of sigma 4 px (0.31-0.50), darkened to a
+        fifth (0.19-0.25) or blank; of sigma 2 px it catches 15 of 20 (0.53-0.81).
     lone_view_factor : float or None
         With three or more views (both matchers) the reference's pairs are compared on
         depth (:mod:`~robostereo.robot.views.view_agreement`): a view whose pair disagrees
