@@ -81,8 +81,7 @@ def frame_sharpness(capture: ViewsCapture) -> NDArray[np.float64]:
     -------
     ndarray, shape (N,)
         The :data:`SHARPNESS_PERCENTILE` of each view's gradient magnitude over the
-        median of the
-        views' (1 for a view like the others; 0 for a blank frame).
+        median of the views' (1 for a view like the others; 0 for a blank frame).
 
     Notes
     -----

@@ -259,13 +259,32 @@ def views_confidence(combined: ArrayLike, distinct: ArrayLike, residual_px: Arra
 
 
 def confidence_terms(features: ArrayLike) -> _F:
-    """The logistic's terms from :func:`confidence_features`, shape (M, 7) to (M, 8): the
-    seven features and the log of the distinctness (floored at :data:`DISTINCT_FLOOR`).
+    """The logistic's terms: the seven features and the log of the distinctness.
 
-    The distinctness enters twice because its effect is not linear: a best depth a few
-    times better than the next (0.01-0.1) says little more than one ten times better,
-    while one barely better (0.3 and up: on a repeated structure, the wrong copy) says a
+    Parameters
+    ----------
+    features : array_like, shape (M, 7)
+        :func:`confidence_features`'s columns.
+
+    Returns
+    -------
+    ndarray, shape (M, 8)
+        The features, then ``log(distinct)`` with the distinctness clipped to
+        ``[DISTINCT_FLOOR, 1]`` (NaN stays NaN: a point placed by edge votes).
+
+    Notes
+    -----
+    The distinctness enters twice because its effect is not linear: a best depth ten or
+    a hundred times better than the next (0.1 or 0.01) says much the same, while one
+    barely better (0.3 and up: on a repeated structure, often the wrong copy) says a
     great deal.
+
+    Examples
+    --------
+    >>> t = confidence_terms([[0.02, 0.5, 0.03, 1.0, 0.0, 0.0, 0.0],
+    ...                       [0.02, 1e-6, 0.03, 1.0, 0.0, 0.0, 0.0]])
+    >>> t.shape, bool(np.isclose(t[0, 7], np.log(0.5))), bool(np.isclose(t[1, 7], np.log(1e-3)))
+    ((2, 8), True, True)
     """
     f = np.asarray(features, dtype=float)
     with np.errstate(invalid="ignore"):
