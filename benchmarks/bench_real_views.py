@@ -3,6 +3,7 @@
 Run:  python benchmarks/bench_real_views.py [--data ../shared/data/robot/dtu_scan24]
       [--counts 2,3,5,8] [--scale 0.5] [--repeat 3] [--matcher auto|pairs|sweep]
       python benchmarks/bench_real_views.py --held-out [--matcher ...] [--min-confidence C]
+      python benchmarks/bench_real_views.py --pose-agreement [--scale 1]
 
 The eight DTU views of scan 24 in ``--data`` (``cameras_sphere.npz`` and ``image/``),
 read by :func:`robostereo.robot.importers.idr.read_idr` and scaled by ``--scale`` (0.5:
@@ -32,6 +33,16 @@ point's, so a bin's share of right points is about ``(consistent - control) / (r
 control)``, printed beside it, and the expected calibration error over the bins from
 it (for ``--matcher pairs`` circular: the rate is their own).  ``--min-confidence``
 (default 0) reports the fits the default leaves out too.
+
+``--pose-agreement``: whether DTU's own poses agree on depth, by a matcher that is not
+ours.  With four or more of these views ``locate`` warns that the reference's pairs
+disagree on depth by 0.13-0.25 %; this asks the same of SIFT features (Lowe's ratio
+test at 0.75): view 2 is the reference, each other view's matches are triangulated with
+the poses and kept where both reprojections lie within 1 px, and for each two pairs
+the median of ``log(Z_q / Z_r)`` over the reference features both kept, with its
+standard error (``1.25 * 1.4826 MAD / sqrt(n)``, as
+:mod:`robostereo.robot.views.view_agreement` takes it).  ``--scale 1`` (full size) finds
+about three times the matches of 0.5.
 """
 
 from __future__ import annotations
@@ -136,6 +147,66 @@ def _held_out(data: Path, scale: float, matcher: str, min_confidence: float) -> 
     print(f"calibration error against the estimate: {ece:.3f}")
 
 
+AGREEMENT_REFERENCE = 2
+MIN_SHARED_FEATURES = 10
+
+
+def _pose_agreement(data: Path, scale: float) -> None:
+    """Print how the reference's pairs agree on depth by SIFT (``--pose-agreement``)."""
+    import cv2
+    import numpy as np
+
+    from robostereo.geometry.poses import as_se3
+
+    cap = _capture(data, tuple(range(8)), scale)
+    if cap.camera.distortion and any(cap.camera.distortion):
+        raise SystemExit("--pose-agreement: the views' camera has distortion")
+    sift = cv2.SIFT_create(nfeatures=40000, contrastThreshold=0.005)
+    found = [sift.detectAndCompute(np.asarray(img, np.uint8), None) for img in cap.images]
+    pixels = [np.array([k.pt for k in kps], dtype=np.float64) for kps, _ in found]
+    world_to_camera = [as_se3(p).inv() for p in cap.poses]
+    proj = [cap.camera.K @ np.hstack([t.rotation, t.translation[:, None]])
+            for t in world_to_camera]
+    ref = AGREEMENT_REFERENCE
+    ref_pose = as_se3(cap.poses[ref])
+    bf = cv2.BFMatcher(cv2.NORM_L2)
+    depth: dict[int, dict[int, float]] = {}
+    print(f"reference view {cap.view_name(ref)}: {len(pixels[ref])} features")
+    print("pair | matches | within 1 px | baseline mm")
+    print("--- | --- | --- | ---")
+    for other in range(len(cap)):  # a loop over views, not over features
+        if other == ref:
+            continue
+        knn = bf.knnMatch(found[ref][1], found[other][1], k=2)
+        good = [m[0] for m in knn if len(m) == 2 and m[0].distance < 0.75 * m[1].distance]
+        ia = np.array([g.queryIdx for g in good], dtype=np.intp)
+        ib = np.array([g.trainIdx for g in good], dtype=np.intp)
+        if len(ia) == 0:
+            continue
+        h = cv2.triangulatePoints(proj[ref], proj[other], pixels[ref][ia].T,
+                                  pixels[other][ib].T)
+        world = (h[:3] / h[3]).T
+        ok = np.ones(len(ia), bool)
+        for k, idx in ((ref, ia), (other, ib)):
+            x = proj[k] @ np.vstack([world.T, np.ones(len(world))])
+            ok &= np.linalg.norm((x[:2] / x[2]).T - pixels[k][idx], axis=1) <= 1.0
+        z = (world - ref_pose.translation) @ ref_pose.rotation[:, 2]
+        ok &= z > 0
+        depth[other] = dict(zip(ia[ok].tolist(), z[ok].tolist(), strict=True))
+        base = float(np.linalg.norm(cap.centres[other] - cap.centres[ref]))
+        print(f"{ref}-{cap.view_name(other)} | {len(ia)} | {int(ok.sum())} | {base:.0f}")
+    print("pairs | shared features | median log(Z_q / Z_r) | standard error")
+    print("--- | --- | --- | ---")
+    for q, r in itertools.combinations(sorted(depth), 2):
+        shared = sorted(set(depth[q]) & set(depth[r]))
+        if len(shared) < MIN_SHARED_FEATURES:
+            continue
+        ratio = np.log(np.array([depth[q][f] / depth[r][f] for f in shared]))
+        med = float(np.median(ratio))
+        err = 1.25 * 1.4826 * float(np.median(np.abs(ratio - med))) / np.sqrt(len(ratio))
+        print(f"{ref}-{q} / {ref}-{r} | {len(shared)} | {100 * med:+.3f} % | {100 * err:.3f} %")
+
+
 def _peak_child(data: Path, views: tuple[int, ...], scale: float, matcher: str,
                 out: Any) -> None:
     """Read and locate once in this (fresh) process; send its peak RSS in MB."""
@@ -184,12 +255,17 @@ def main(argv: list[str] | None = None) -> int:
                     help="the confidence against held-out views 3 and 4, not the times")
     ap.add_argument("--min-confidence", type=float, default=0.0,
                     help="--held-out: the sweep's min_confidence (default 0: every fit)")
+    ap.add_argument("--pose-agreement", action="store_true",
+                    help="how DTU's poses agree on depth by SIFT matches, not the times")
     args = ap.parse_args(argv)
     if not (args.data / "cameras_sphere.npz").is_file():
         print(f"no DTU views in {args.data}", file=sys.stderr)
         return 2
     if args.held_out:
         _held_out(args.data, args.scale, args.matcher, args.min_confidence)
+        return 0
+    if args.pose_agreement:
+        _pose_agreement(args.data, args.scale)
         return 0
     counts = [int(c) for c in args.counts.split(",")]
     pair_points, pair_cpu = _cpu(args.data, PAIR, args.scale, "auto", args.repeat)
