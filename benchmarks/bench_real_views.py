@@ -188,10 +188,9 @@ def _pose_agreement(data: Path, scale: float) -> None:
         world = (h[:3] / h[3]).T
         ok = np.ones(len(ia), bool)
         for k, idx in ((ref, ia), (other, ib)):
-            x = proj[k] @ np.vstack([world.T, np.ones(len(world))])
-            ok &= np.linalg.norm((x[:2] / x[2]).T - pixels[k][idx], axis=1) <= 1.0
+            seen, z = cap.camera.project(world, cap.poses[k])
+            ok &= (z > 0) & (np.linalg.norm(seen - pixels[k][idx], axis=1) <= 1.0)
         z = (world - ref_pose.translation) @ ref_pose.rotation[:, 2]
-        ok &= z > 0
         depth[other] = dict(zip(ia[ok].tolist(), z[ok].tolist(), strict=True))
         base = float(np.linalg.norm(cap.centres[other] - cap.centres[ref]))
         print(f"{ref}-{cap.view_name(other)} | {len(ia)} | {int(ok.sum())} | {base:.0f}")

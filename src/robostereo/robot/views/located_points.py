@@ -57,7 +57,7 @@ cross, seeds 10-11, right or wrong by the truth.  With one seed held out at a ti
 expected calibration error was 0.001-0.016 on the simulated scenes of 5 views, 0.034-0.040
 on the pair, 0.005-0.021 on the renders.  The simulated scenes alone gave the window cost
 a positive weight (their untextured views do not tell a right match by it), and on the
-real DTU views the two-view fits at 0.95-0.99 were right about 82 % of the time; with a
+real DTU views its points at 0.95-0.99 were right about 82 % of the time; with a
 textured family the cost weighs against a match, and held against two views left out
 (``benchmarks/bench_real_views.py --held-out``) the reported points' calibration error
 went from 0.054 to 0.034.  On render families not fitted (seeds 0-1, the reported
