@@ -187,8 +187,9 @@ def test_import_walkthrough_gives_the_shipped_views_folders_points_with_a_smalle
 
     d, _ = cKDTree(wb).query(wa)
     assert np.mean(d < 0.01) >= 0.98  # the guide: every point within 2 um
-    # no invented focal length in mm: the guide's 0.73 mm against 1.10 mm
-    assert np.median(a["bound_mm"]) < 0.8 * np.median(b["bound_mm"])
+    # no invented focal length in mm (its term, Z ds / s, is about 0.4 mm here): the
+    # guide's 2.63 mm against 3.06 mm
+    assert np.median(a["bound_mm"]) < np.median(b["bound_mm"]) - 0.2
 
 
 # -- the shipped files ----------------------------------------------------------------------

@@ -5,7 +5,13 @@ import numpy as np
 import pytest
 
 from robostereo.robot.simulated.views_truth import views_correct
-from robostereo.robot.views.located_points import views_bound, views_confidence
+from robostereo.robot.views.located_points import (
+    MIN_NOISE_FITS,
+    point_noise_px,
+    residual_noise_px,
+    views_bound,
+    views_confidence,
+)
 from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.views_parameters import ViewsParameters
 
@@ -20,6 +26,42 @@ def test_bound_of_views_on_a_line_shrinks_with_the_spread_of_the_baselines():
     b = np.array([-40.0, -20.0, 0.0, 20.0, 40.0])
     five = views_bound([1000.0], [1.0 / (f * np.sqrt(np.sum((b - b.mean())**2)))], **kw)[0]
     assert five == pytest.approx(1000.0**2 * 0.2 / np.sqrt(2) / (f * np.sqrt(4000.0)))
+
+
+def _fits(sigma, counts, seed=0):
+    """Residual RMS of least-squares fits of ``n`` positions with noise `sigma` and two
+    unknowns: the RMS of ``n - 2`` independent normal residuals spread over ``n``."""
+    rng = np.random.default_rng(seed)
+    counts = np.asarray(counts)
+    rss = np.array([np.sum(rng.normal(0.0, sigma, n - 2) ** 2) for n in counts])
+    return np.sqrt(rss / counts)
+
+
+def test_the_pooled_noise_recovers_the_edge_positions_sigma_from_fits_of_any_size():
+    counts = np.tile([3, 4, 5, 9], 500)
+    for sigma in (0.05, 0.2):
+        got = residual_noise_px(_fits(sigma, counts), counts)
+        assert got == pytest.approx(sigma, rel=0.05)
+
+
+def test_two_view_fits_and_too_few_fits_give_no_noise():
+    r = _fits(0.1, np.full(1000, 5))
+    counts = np.full(1000, 2)
+    assert residual_noise_px(r, counts) is None  # two views meet exactly: no evidence
+    few = np.full(MIN_NOISE_FITS - 1, 5)
+    assert residual_noise_px(r[: len(few)], few) is None
+    assert residual_noise_px(r[:MIN_NOISE_FITS], np.full(MIN_NOISE_FITS, 5)) is not None
+
+
+def test_a_fit_gets_at_least_the_captures_noise_and_more_where_its_views_disagree():
+    r = np.array([0.0, 0.05, 0.1, 0.3, 1.0, 0.3])
+    n = np.array([5, 5, 5, 5, 5, 2])
+    got = point_noise_px(r, n, 0.1, prior_dof=2.0)
+    assert np.all(got >= 0.1)
+    assert got[-1] == 0.1  # a two-view fit's zero residual says nothing
+    assert np.all(np.diff(got[:5]) >= 0) and got[4] > got[3] > got[2]
+    # the more the capture's noise counts, the closer each fit stays to it
+    assert np.all(point_noise_px(r, n, 0.1, prior_dof=20.0) <= got)
 
 
 def test_views_left_out_against_a_point_or_none_to_check_it_lower_its_confidence():

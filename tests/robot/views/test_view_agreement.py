@@ -153,10 +153,15 @@ def test_three_views_one_off_along_the_baseline_are_warned_about_and_bounds_carr
     assert len(loc) > 100
     sure = loc.confidence >= 0.9
     assert not np.any(sure & (err > 3 * loc.bound_mm))
-    # without the comparison the same views give confident points far beyond their bounds
-    blind, _ = _located(bad, matcher=matcher, lone_view_factor=None)
+    # without the comparison and the residuals' noise in the bounds the same views give
+    # confident points far beyond them; the sweep's residuals alone hold them
+    blind, _ = _located(bad, matcher=matcher, lone_view_factor=None, bound_sigmas=None)
     err = truth.depth_errors(bad, blind)
     assert np.sum((blind.confidence >= 0.9) & (err > 3 * blind.bound_mm)) > 50
+    if matcher == "sweep":
+        shown, _ = _located(bad, matcher=matcher, lone_view_factor=None)
+        err = truth.depth_errors(bad, shown)
+        assert not np.any((shown.confidence >= 0.9) & (err > 3 * shown.bound_mm))
 
 
 def test_correct_views_raise_no_disagreement(printed_cross):
@@ -172,7 +177,9 @@ def test_a_view_turned_under_the_pose_checks_reach_makes_no_point_sure():
     """The simulator's block from a cross of five, view 4's recorded pose turned 0.5 deg
     about its optical axis: the pairs along and across the cross disagree more than the
     sweep's bounds hold, no view can be named (the two arms share no edge), so it is
-    said and no point keeps a confidence over 0.5."""
+    said and no point keeps a confidence over 0.5.  Without the comparison the fits'
+    residuals still widen the bounds enough (2.2 -> 6.3 mm median); without either,
+    confident points lie far beyond them."""
     sim = simulate_views("block", count=5, pattern="cross", span_mm=80.0)
     cap = sim.capture
     pose = as_se3(cap.poses[4])
@@ -184,7 +191,10 @@ def test_a_view_turned_under_the_pose_checks_reach_makes_no_point_sure():
     assert len(loc) > 500 and loc.confidence.max() <= 0.5
     err = views_depth_errors(sim, loc)
     assert not np.any((loc.confidence >= 0.9) & (err > 3 * loc.bound_mm))
-    blind, _ = _located(turned, lone_view_factor=None)
+    shown, _ = _located(turned, lone_view_factor=None)
+    err = views_depth_errors(sim, shown)
+    assert not np.any((shown.confidence >= 0.9) & (err > 3 * shown.bound_mm))
+    blind, _ = _located(turned, lone_view_factor=None, bound_sigmas=None)
     err = views_depth_errors(sim, blind)
     assert np.sum((blind.confidence >= 0.9) & (err > 3 * blind.bound_mm)) > 20
 
@@ -205,3 +215,18 @@ def test_one_view_of_five_turned_under_the_pose_checks_tolerance_is_left_out():
                and m.endswith("it is left out") for m in said), said
     without, _ = _located(cap.subset([0, 1, 2, 3]))
     np.testing.assert_array_equal(loc.world, without.world)
+
+
+def test_the_sweeps_bounds_carry_the_noise_its_fits_residuals_show(printed_line3):
+    """Printed ground, three views with poses jittered as an arm's: bounds of the
+    capture's 0.2 px alone leave more points outside than three sigmas of the noise
+    the residuals show; those bounds are never narrower, and hold 99.5 %."""
+    cap, truth = printed_line3
+    shown, _ = _located(cap, matcher="sweep")
+    stated, _ = _located(cap, matcher="sweep", bound_sigmas=None)
+    np.testing.assert_array_equal(shown.world, stated.world)
+    assert np.all(shown.bound_mm >= stated.bound_mm)
+    err = truth.depth_errors(cap, shown)
+    inside = np.mean(err <= shown.bound_mm)
+    assert inside >= 0.995 > np.mean(err <= stated.bound_mm)
+    assert np.median(shown.bound_mm) < 1.5 * np.median(stated.bound_mm)

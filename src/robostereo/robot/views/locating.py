@@ -53,6 +53,8 @@ from robostereo.robot.views.frame_checks import usable_views
 from robostereo.robot.views.located_points import (
     LocatedViews,
     confidence_features_from,
+    point_noise_px,
+    residual_noise_px,
     views_bound,
     views_confidence,
 )
@@ -202,7 +204,6 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     h, w = views.smoothed.shape[1:]
     border = p.half_window + 2
     claimed = np.zeros((n, h, w), bool)
-    cam = capture.camera
     sine_min = np.sin(np.radians(p.min_epipolar_angle_deg))
     parts: list[dict[str, Any]] = []
     order = reference_order(capture)
@@ -257,35 +258,54 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     if not parts:
         return _empty(n)
     cat = {k: np.concatenate([q[k] for q in parts]) for k in parts[0]}
-    bound = views_bound(cat["depth"], cat["rho_std"], focal_px=float(views.K[0, 0]),
-                        pixel_pitch_mm=cam.pixel_pitch_mm[0],
-                        disparity_uncertainty_px=capture.disparity_uncertainty_px
-                        + rotation_disparity_px(float(views.K[0, 0]),
-                                                capture.rotation_uncertainty_deg),
-                        baseline_uncertainty_mm=capture.baseline_uncertainty_mm,
-                        focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm)
-    bound = bound + hand_eye_bound_mm(cat["depth"], capture.hand_eye_uncertainty_deg)
-    if agreed is not None:  # what the pairs disagree by beyond these bounds, carried
+    # -- the bound: eq. 9 over the fit's spread with what the capture says, and at
+    #    least the disparity noise the fits' residuals show (the views' disagreement,
+    #    pose errors included), then what the pairs disagree by beyond it
+    count = cat["views"].sum(axis=1)
+    stated = _bound(capture, views, cat, capture.disparity_uncertainty_px)
+    bound = stated
+    noise = residual_noise_px(cat["rms"], count)
+    if p.bound_sigmas is not None and noise is not None:
+        noise_px = point_noise_px(cat["rms"], count, noise, prior_dof=p.noise_prior_dof)
+        shown = p.bound_sigmas * math.sqrt(2.0) * noise_px
+        bound = _bound(capture, views, cat,
+                       np.maximum(capture.disparity_uncertainty_px, shown))
+    if agreed is not None:
         ref, others, agreement = agreed
-        own = float(np.median(bound))
-        carried = max(float(agreement.beyond_noise.max())
-                      - float(np.median(bound / cat["depth"])), 0.0)
-        bound = bound + carried * cat["depth"]
-        carried_mm = carried * float(np.median(cat["depth"]))
-        if carried_mm > own:  # more than doubled: said, and no point is sure
+        worst = float(agreement.beyond_noise.max())
+        bound = bound + max(worst - float(np.median(bound / cat["depth"])), 0.0) * cat["depth"]
+        # what the capture's own uncertainties miss, more than doubling their bound: said,
+        # and no point is sure (however much of it the residuals already show)
+        own = float(np.median(stated))
+        missed_mm = max(worst - float(np.median(stated / cat["depth"])), 0.0) \
+            * float(np.median(cat["depth"]))
+        if missed_mm > own:
             warn_disagreement(capture, ref, others, agreement,
                               int(np.argmax(agreement.beyond_noise)), source,
-                              carried_mm=carried_mm, typical_mm=own)
+                              carried_mm=missed_mm, typical_mm=own)
             doubtful = True
     if doubtful:  # the views disagree and none can be blamed: no point is sure
         cat["conf"] = np.minimum(cat["conf"], DOUBTFUL_CONFIDENCE)
-    count = cat["views"].sum(axis=1)
     return LocatedViews(world=cat["world"], bound_mm=bound, confidence=cat["conf"],
                         view_count=count.astype(np.intp), reference=cat["ref"],
                         pixel=cat["pixel"], depth_mm=cat["depth"], views=cat["views"],
                         residual_px=cat["rms"], window_cost=cat["combined"],
                         distinct=cat["distinct"], views_seen=cat["seen"].astype(np.intp),
                         views_checked=cat["looked"], views_against=cat["against"])
+
+
+def _bound(capture: ViewsCapture, views: Any, cat: dict[str, Any],
+           disparity_px: float | NDArray[np.float64]) -> NDArray[np.float64]:
+    """Each point's depth bound (:func:`views_bound`, the rotation's and the hand-eye's
+    terms added) with the disparity uncertainty `disparity_px`, mm, shape (M,)."""
+    f = float(views.K[0, 0])
+    bound = views_bound(cat["depth"], cat["rho_std"], focal_px=f,
+                        pixel_pitch_mm=capture.camera.pixel_pitch_mm[0],
+                        disparity_uncertainty_px=disparity_px
+                        + rotation_disparity_px(f, capture.rotation_uncertainty_deg),
+                        baseline_uncertainty_mm=capture.baseline_uncertainty_mm,
+                        focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm)
+    return bound + hand_eye_bound_mm(cat["depth"], capture.hand_eye_uncertainty_deg)
 
 
 def _pair_check(capture: ViewsCapture, p: ViewsParameters, source: str

@@ -194,6 +194,29 @@ class ViewsParameters:
         six-axis arm's pulley from a cross of 5 views went from 97.83-98.18 % matched at
         0.65-0.80 % false to 98.09-98.31 % at 0.67-0.81 % (seeds 0-7), its line of 5
         from 98.58-98.81 % to 98.69-98.93 % at 0.62-0.85 %.
+    bound_sigmas : float or None
+        The sweep's bounds take at least this many standard deviations of the edge
+        position noise the fits' residuals show
+        (:func:`~robostereo.robot.views.located_points.point_noise_px`), where it
+        exceeds the capture's ``disparity_uncertainty_px``: the views' disagreement, a
+        lens or pose error included, enters every bound.  None: the capture's figures alone.  3, the
+        normal's 99.7 %, was chosen before it was measured.  On issue 34's renders
+        (``tests/view_renders.py``, 13 families without recorded pose errors, a line and
+        a cross of 5, seeds 0 and 1) the points within their bound went from 71.7-100 %
+        to 96.5-100 %, below 99.5 % only on the untextured box at 700 and 1000 mm (57-142
+        points, one to three outside) and on the ``dtu`` line (99.2 %); the median bound
+        grew 1.0-2.1x.  The simulator's pulley went from 96.8-99.2 % to 99.0-99.8 %, its
+        block was unchanged; on three real DTU views the median bound went from 1.1 to
+        3.1 mm (their residuals show 0.20 px where the capture says 0.2 px of disparity,
+        0.14 px a view).  Errors every view shares (each pose 0.1 degrees off) leave no
+        residual and are not carried.
+    noise_prior_dof : float
+        How many residual degrees of freedom the capture's pooled noise counts for beside
+        a fit's own ``n - 2``
+        (:func:`~robostereo.robot.views.located_points.point_noise_px`).  Between 1 and
+        8 the renders' share within bound moved by at most 0.2 points (the pooled noise
+        alone left the ``dtu`` line at 98.5 %); 2 lets a fit of four views weigh its own
+        residuals as much as the capture's.
     """
 
     matcher: Literal["auto", "pairs", "sweep"] = "auto"
@@ -219,6 +242,8 @@ class ViewsParameters:
     range_step_px: float | None = 3.0
     opposite_edge_px: float | None = 4.0
     edge_votes: int | None = 3
+    bound_sigmas: float | None = 3.0
+    noise_prior_dof: float = 2.0
 
     def __post_init__(self) -> None:
         if self.matcher not in ("auto", "pairs", "sweep"):
@@ -258,6 +283,9 @@ class ViewsParameters:
         if self.range_step_px is not None:
             require_positive("range_step_px", self.range_step_px)
         check_edge_blur(self.edge_blur_px)
+        if self.bound_sigmas is not None:
+            require_positive("bound_sigmas", self.bound_sigmas)
+        require_positive("noise_prior_dof", self.noise_prior_dof)
         if self.opposite_edge_px is not None:
             require_positive("opposite_edge_px", self.opposite_edge_px)
         if self.edge_votes is not None:
