@@ -22,7 +22,11 @@ neighbouring views):
 5. the edge points the search left that enough views' edges agree on, placed by those
    edges (:func:`~robostereo.robot.views.edge_votes.vote_fits`, ``ViewsParameters.edge_votes``);
 6. the edge points those views used are marked as located, so the same 3-D point is
-   reported once, from the first reference that found it.
+   reported once, from the first reference that found it;
+7. every bound widened to at least ``ViewsParameters.bound_sigmas`` standard deviations
+   of the edge position noise the fits' residuals show
+   (:func:`~robostereo.robot.views.located_points.point_noise_px`), and by what the
+   reference's pairs disagree on beyond it.
 
 Its tuning is :class:`~robostereo.robot.views.views_parameters.ViewsParameters`, its
 result :class:`~robostereo.robot.views.located_points.LocatedViews`.
@@ -170,7 +174,7 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     -----
     ``'pairs'``: :mod:`~robostereo.robot.views.view_pairs`'s steps; two views give the
     two-view path's (:func:`robostereo.robot.capture.locate_pair.locate`) points exactly.
-    ``'sweep'``: the module's steps 1-6.
+    ``'sweep'``: the module's steps 1-7.
 
     References
     ----------

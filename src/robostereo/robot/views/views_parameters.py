@@ -45,9 +45,9 @@ class ViewsParameters:
         DTU views they report no more points than their widest pair (1978 against the
         sweep's 4832): the two-view matcher is sparse on real views (issue 35).  With 3
         and 5 views the pairs' points were within their bounds (at their pixel) 95.0-100 %
-        of the time on the render families, the sweep's 95.2-99.7 %, and on the
-        textured ones the pairs' confidence was calibrated within 0.002 (the sweep's
-        0.035), but on the untextured box they found 0.62-1.16x the outer pair's points
+        of the time on the render families, the sweep's 99.2-100 % (`bound_sigmas`), and
+        on the textured ones the pairs' confidence was calibrated within 0.002 (the
+        sweep's 0.011), but on the untextured box they found 0.62-1.16x the outer pair's points
         where the sweep found 4.5-5.7x.
     agree_px : float
         ``'pairs'``: a pair's point joins another pair's within this many pixels in the
