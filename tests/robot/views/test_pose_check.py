@@ -190,3 +190,29 @@ def test_real_views_turned_about_their_axes_pass_and_a_turned_pose_does_not():
     views = prepare_views(turned)
     checks = views_epipolar_checks(views, 1, cap.depth_range_mm)
     assert any(c.disagrees for c in checks), checks
+
+
+def test_of_three_views_the_one_off_both_others_lines_is_named_and_left_out(views):
+    """Three views, the last one's recorded pose turned 1 degree: the reference's check
+    of it and the first view's both disagree, so it alone is named and the other two
+    are located as without it; a turned reference puts both its checks off, and no
+    view is named."""
+    images, poses = views
+    sweep = ViewsParameters(matcher="sweep")
+    cap = _capture(images, (poses[0], poses[1], _turned(poses[2], 1.0)))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", PlausibilityWarning)
+        loc = locate_views(cap, params=sweep)
+    said = [str(w.message) for w in caught if issubclass(w.category, PlausibilityWarning)]
+    assert any(m.startswith("capture: view 2") and m.endswith("it is left out")
+               for m in said), said
+    assert len(loc) > 100 and not loc.views[:, 2].any()
+    without = locate_views(cap.subset([0, 1]), params=sweep)
+    np.testing.assert_array_equal(loc.world, without.world)
+    reference = _capture(images, (poses[0], _turned(poses[1], 1.0), poses[2]))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", PlausibilityWarning)
+        locate_views(reference, params=sweep)
+    said = [str(w.message) for w in caught if issubclass(w.category, PlausibilityWarning)]
+    assert any("off the epipolar lines" in m for m in said), said
+    assert not any("left out" in m for m in said), said

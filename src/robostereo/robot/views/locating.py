@@ -65,6 +65,7 @@ from robostereo.robot.views.located_points import (
 from robostereo.robot.views.point_refinement import refine_points
 from robostereo.robot.views.pose_check import (
     lone_check,
+    lone_of_three,
     views_epipolar_checks,
     warn_disagreeing,
 )
@@ -214,10 +215,14 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     depth_range = capture.depth_range_mm
     # -- the poses against the images: corners of the first reference tracked into the
     #    other views, their distance from the epipolar lines the poses give; one view
-    #    of four or more off them is left out, more (or of three) make no point sure
+    #    off them is left out (of three: off the other two's too), more make no point
+    #    sure
     checks = views_epipolar_checks(views, int(order[0]), depth_range)
     off = [c for c in checks if c.disagrees]
-    c = lone_check(checks, p.lone_view_factor) if p.lone_view_factor is not None else None
+    c = None
+    if p.lone_view_factor is not None:
+        c = lone_check(checks, p.lone_view_factor) or lone_of_three(views, checks,
+                                                                    depth_range)
     if c is not None:
         warn_input(f"{source}: view {capture.view_name(c.other)}: places tracked into it "
                    f"from view {capture.view_name(c.view)} lie {c.distance_px:.2f} px, "

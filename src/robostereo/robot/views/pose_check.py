@@ -45,6 +45,7 @@ __all__ = [
     "epipolar_check",
     "fundamental_from_poses",
     "lone_check",
+    "lone_of_three",
     "views_epipolar_checks",
     "warn_disagreeing",
 ]
@@ -381,6 +382,51 @@ def warn_disagreeing(checks: list[EpipolarCheck]) -> None:
                    f"at most {EPIPOLAR_TOLERANCE_PX} px or {EPIPOLAR_TOLERANCE_DEG} degrees "
                    "expected): the poses or the hand-eye are off, and the located points "
                    "may be wrong")
+
+
+def lone_of_three(views: PreparedViews, checks: list[EpipolarCheck],
+                  depth_range_mm: tuple[float, float]) -> EpipolarCheck | None:
+    """Of three views, the one off the epipolar lines of both others: the reference's
+    check of it disagrees, its check of the third view agrees, and the third view's of
+    it disagrees too.
+
+    Parameters
+    ----------
+    views : PreparedViews
+        Three views (:func:`~robostereo.robot.views.prepared_views.prepare_views`).
+    checks : list of EpipolarCheck
+        :func:`views_epipolar_checks` of the reference.
+    depth_range_mm : tuple of float
+        ``(near, far)``, the capture's.
+
+    Returns
+    -------
+    EpipolarCheck or None
+        The reference's check of the lone view; None unless exactly one of two checks
+        disagrees and the third pair's check (tracked from the view that agrees) does.
+
+    Notes
+    -----
+    :func:`lone_check` needs three checks to compare.  With three views the pair that
+    does not hold the reference decides: a reference whose pose is wrong puts both its
+    checks off, so where one agrees, the other view is wrong when it also disagrees
+    with the view that agrees.  An error that moves a view along its baselines shows
+    in no check (:mod:`~robostereo.robot.views.view_agreement` compares the pairs'
+    depths for that; with three views it cannot tell which view is off).
+    """
+    valid = [c for c in checks if c.n_places >= MIN_PLACES]
+    if views.smoothed.shape[0] != 3 or len(valid) != 2:
+        return None
+    off = [c for c in valid if c.disagrees]
+    if len(off) != 1:
+        return None
+    bad = off[0]
+    good = valid[0] if valid[1] is bad else valid[1]
+    a, b = good.other, bad.other
+    third = epipolar_check(views.smoothed[a], views.smoothed[b], views.K,
+                           (views.R[a], views.C[a]), (views.R[b], views.C[b]),
+                           depth_range_mm, view=a, other=b)
+    return bad if third is not None and third.disagrees else None
 
 
 def lone_check(checks: list[EpipolarCheck], factor: float) -> EpipolarCheck | None:
