@@ -4,6 +4,7 @@ Run:  python benchmarks/bench_real_views.py [--data ../shared/data/robot/dtu_sca
       [--counts 2,3,5,8] [--scale 0.5] [--repeat 3] [--matcher auto|pairs|sweep]
       python benchmarks/bench_real_views.py --held-out [--matcher ...] [--min-confidence C]
       python benchmarks/bench_real_views.py --pose-agreement [--scale 1]
+      python benchmarks/bench_real_views.py --bound-agreement
 
 The eight DTU views of scan 24 in ``--data`` (``cameras_sphere.npz`` and ``image/``),
 read by :func:`robostereo.robot.importers.idr.read_idr` and scaled by ``--scale`` (0.5:
@@ -43,6 +44,17 @@ the median of ``log(Z_q / Z_r)`` over the reference features both kept, with its
 standard error (``1.25 * 1.4826 MAD / sqrt(n)``, as
 :mod:`robostereo.robot.views.view_agreement` takes it).  ``--scale 1`` (full size) finds
 about three times the matches of 0.5.
+
+``--bound-agreement``: whether the sweep's bounds hold on real views, without ground
+truth.  View 2 is the reference of two captures that share no other view (views 1, 2, 3
+and views 0, 2, 4) and of all five; the points each locates from view 2 are paired by
+their pixel there (within 0.3 px), and a pair agrees where its two depths differ by at
+most ``sqrt(b1^2 + b2^2)`` (both bounds) and is far apart beyond three times that.  The
+two captures' depth errors are independent but for view 2's own edge position, so the
+share within is at most what the bounds promise.  Each row: with the capture's
+``disparity_px`` alone (``bound_sigmas`` None) and with the fits' residual noise (the
+default); the pose comparison is off (``lone_view_factor`` None) so that only the bounds
+differ.
 """
 
 from __future__ import annotations
@@ -206,6 +218,46 @@ def _pose_agreement(data: Path, scale: float) -> None:
         print(f"{ref}-{q} / {ref}-{r} | {len(shared)} | {100 * med:+.3f} % | {100 * err:.3f} %")
 
 
+BOUND_SETS = (((1, 2, 3), (0, 2, 4)), ((1, 2, 3), (0, 1, 2, 3, 4)))
+
+
+def _bound_agreement(data: Path, scale: float) -> None:
+    """Print how often two captures' depths of one reference pixel agree within their
+    bounds (``--bound-agreement``)."""
+    import numpy as np
+    from scipy.spatial import cKDTree
+
+    from robostereo.robot.views.locating import locate_views
+
+    cap = _capture(data, (0, 1, 2, 3, 4), scale)
+    print("views | views | bounds | pixels paired | within both bounds | of those both "
+          "at 0.9 | beyond 3x | median difference mm | median sqrt(b1^2 + b2^2) mm")
+    print("--- | --- | --- | --- | --- | --- | --- | --- | ---")
+    for sets in BOUND_SETS:
+        for sigmas in (None, 3.0):
+            got = []
+            for views in sets:
+                params = _params("sweep", bound_sigmas=sigmas, lone_view_factor=None)
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore")
+                    loc = locate_views(cap.subset(np.array(views)), params=params)
+                k = loc.reference == views.index(2)
+                got.append((loc.pixel[k], loc.depth_mm[k], loc.bound_mm[k],
+                            loc.confidence[k]))
+            (pa, da, ba, ca), (pb, db, bb, cb) = got
+            d, j = cKDTree(pb).query(pa, distance_upper_bound=0.3)
+            ok = np.isfinite(d)
+            diff = np.abs(da[ok] - db[j[ok]])
+            both = np.hypot(ba[ok], bb[j[ok]])
+            sure = (ca[ok] >= 0.9) & (cb[j[ok]] >= 0.9)
+            name = "capture's" if sigmas is None else f"{sigmas:g} sigmas of the residuals"
+            print(f"{','.join(map(str, sets[0]))} | {','.join(map(str, sets[1]))} | {name} | "
+                  f"{int(ok.sum())} | {100 * np.mean(diff <= both):.1f} % | "
+                  f"{100 * np.mean(diff[sure] <= both[sure]):.1f} % | "
+                  f"{100 * np.mean(diff > 3 * both):.2f} % | {np.median(diff):.2f} | "
+                  f"{np.median(both):.2f}", flush=True)
+
+
 def _peak_child(data: Path, views: tuple[int, ...], scale: float, matcher: str,
                 out: Any) -> None:
     """Read and locate once in this (fresh) process; send its peak RSS in MB."""
@@ -256,6 +308,9 @@ def main(argv: list[str] | None = None) -> int:
                     help="--held-out: the sweep's min_confidence (default 0: every fit)")
     ap.add_argument("--pose-agreement", action="store_true",
                     help="how DTU's poses agree on depth by SIFT matches, not the times")
+    ap.add_argument("--bound-agreement", action="store_true",
+                    help="whether the sweep's bounds hold between captures sharing "
+                         "view 2 only, not the times")
     args = ap.parse_args(argv)
     if not (args.data / "cameras_sphere.npz").is_file():
         print(f"no DTU views in {args.data}", file=sys.stderr)
@@ -265,6 +320,9 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if args.pose_agreement:
         _pose_agreement(args.data, args.scale)
+        return 0
+    if args.bound_agreement:
+        _bound_agreement(args.data, args.scale)
         return 0
     counts = [int(c) for c in args.counts.split(",")]
     pair_points, pair_cpu = _cpu(args.data, PAIR, args.scale, "auto", args.repeat)
