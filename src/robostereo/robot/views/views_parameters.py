@@ -47,8 +47,8 @@ class ViewsParameters:
         and 5 views the pairs' points were within their bounds (at their pixel) 95.0-100 %
         of the time on the render families, the sweep's 99.2-100 % (`bound_sigmas`), and
         on the textured ones the pairs' confidence was calibrated within 0.002 (the
-        sweep's 0.011), but on the untextured box they found 0.62-1.16x the outer pair's points
-        where the sweep found 4.5-5.7x.
+        sweep's 0.011), but on the untextured box they found 0.62-1.16x the outer pair's
+        points where the sweep found 4.5-5.7x.
     agree_px : float
         ``'pairs'``: a pair's point joins another pair's within this many pixels in the
         reference image (when their depths agree within their bounds).
@@ -195,21 +195,24 @@ class ViewsParameters:
         0.65-0.80 % false to 98.09-98.31 % at 0.67-0.81 % (seeds 0-7), its line of 5
         from 98.58-98.81 % to 98.69-98.93 % at 0.62-0.85 %.
     bound_sigmas : float or None
-        The sweep's bounds take at least this many standard deviations of the edge
-        position noise the fits' residuals show
-        (:func:`~robostereo.robot.views.located_points.point_noise_px`), where it
-        exceeds the capture's ``disparity_uncertainty_px``: the views' disagreement, a
-        lens or pose error included, enters every bound.  None: the capture's figures alone.  3, the
+        The sweep's bounds take at least this many standard deviations of the edge position
+        noise the fits' residuals show
+        (:func:`~robostereo.robot.views.located_points.point_noise_px`), where it exceeds
+        the capture's ``disparity_uncertainty_px``: the views' disagreement, a lens or pose
+        error included, enters every bound.  None: the capture's figures alone.  3, the
         normal's 99.7 %, was chosen before it was measured.  On issue 34's renders
-        (``tests/view_renders.py``, 13 families without recorded pose errors, a line and
-        a cross of 5, seeds 0 and 1) the points within their bound went from 71.7-100 %
-        to 96.5-100 %, below 99.5 % only on the untextured box at 700 and 1000 mm (57-142
+        (``tests/view_renders.py``, 13 families without recorded pose errors, a line and a
+        cross of 5, seeds 0 and 1) the points within their bound went from 71.7-100 % to
+        96.5-100 %, below 99.5 % only on the untextured box at 700 and 1000 mm (57-142
         points, one to three outside) and on the ``dtu`` line (99.2 %); the median bound
         grew 1.0-2.1x.  The simulator's pulley went from 96.8-99.2 % to 99.0-99.8 %, its
-        block was unchanged; on three real DTU views the median bound went from 1.1 to
-        3.1 mm (their residuals show 0.20 px where the capture says 0.2 px of disparity,
-        0.14 px a view).  Errors every view shares (each pose 0.1 degrees off) leave no
-        residual and are not carried.
+        block was unchanged.  On real DTU views located from views 1, 2, 3 and from 0, 2, 4,
+        the two depths of one pixel of view 2 lay within both bounds 89.3 % of the time,
+        53.7 % with the capture's figures alone (``benchmarks/bench_real_views.py
+        --bound-agreement``); on three DTU views the median bound went from 1.1 to 3.1 mm
+        (their residuals show 0.20 px where the capture's 0.2 px of disparity allows 0.14 px
+        a view).  Errors every view shares (each pose 0.1 degrees off) leave no residual and
+        are not carried.
     noise_prior_dof : float
         How many residual degrees of freedom the capture's pooled noise counts for beside
         a fit's own ``n - 2``
