@@ -9,13 +9,15 @@ from __future__ import annotations
 
 import math
 
+import cv2
+import numpy as np
 import pytest
-from board_renders import X_TRUE, render_views
+from board_renders import BASE_BOARD, K1, X_TRUE, _project, render_views
 
 from robostereo.errors import InputError
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
-from robostereo.robot.handeye import Chessboard, calibrate_eye_in_hand
+from robostereo.robot.handeye import Chessboard, calibrate_eye_in_hand, detect_chessboard
 
 TRUE_CAMERA = Camera(focal_length_mm=4.0, pixel_pitch_mm=(0.005, 0.005), image_size=(640, 480),
                      principal_point=(320.0, 240.0), distortion=(-0.1, 0.0, 0.0, 0.0, 0.0))
@@ -36,13 +38,36 @@ def _errors(X):
     return t, math.degrees(r)
 
 
+def test_chessboard_corners_share_no_offset_within_a_view(renders, board):
+    """Each view's corners against the render's truth: the sector detector's own
+    sub-pixel corners are off by one offset per view (a hand-eye fit cannot take it up:
+    it pulled the focal length 0.1 % low on some seeds); the refined ones are not."""
+    own, refined = [], []
+    for image, flange in zip(renders.images, renders.flange_poses, strict=True):
+        truth = _project((BASE_BOARD.inv() @ flange @ X_TRUE).inv().apply(board.object_points),
+                         K1)
+        found, sb = cv2.findChessboardCornersSB(image, board.inner_corners,
+                                                flags=cv2.CALIB_CB_ACCURACY)
+        assert found
+        sb = sb.reshape(-1, 2)
+        if np.linalg.norm(sb[0] - truth[0]) > np.linalg.norm(sb[-1] - truth[0]):
+            sb = sb[::-1]
+        got = detect_chessboard(image, board)
+        own.append(np.linalg.norm((sb - truth).mean(axis=0)))
+        refined.append(np.linalg.norm((got - truth).mean(axis=0)))
+        assert np.sqrt(np.mean((got - truth) ** 2)) < 0.06
+    # measured (seed 0): median offsets 0.020 px (the detector's), 0.003 px (refined)
+    assert np.median(refined) < 0.008 < np.median(own)
+    assert np.max(refined) < np.max(own)
+
+
 def test_joint_refinement_is_accurate_on_independent_renders(renders, board):
     cal = calibrate_eye_in_hand(renders.images, renders.flange_poses, board,
                                 pixel_pitch_mm=0.005)
     t, r = _errors(cal.hand_eye)
     t0, r0 = _errors(cal.closed_form)
-    # measured over seeds 0-2: refined 0.04-0.10 mm, 0.024-0.043 deg; the closed form
-    # alone 0.12-0.33 mm, 0.023-0.065 deg
+    # measured over seeds 0-2: refined 0.005-0.058 mm, 0.024-0.036 deg (seeds 0-11:
+    # 0.005-0.089 mm, 0.008-0.053 deg); the closed form alone 0.12-0.23 mm, 0.015-0.058 deg
     assert t < 0.25 and r < 0.07, (t, r)
     assert t0 < 0.6 and r0 < 0.12, (t0, r0)
     assert cal.camera.fx == pytest.approx(800.0, rel=2e-3)
@@ -97,7 +122,8 @@ def test_symmetric_chessboards_are_refused(corners):
 
 
 @pytest.mark.parametrize("wrong, named", [
-    ({"focal_length_mm": 4.08}, r"fx 816 px where the views put it at 79\d\.\d .*\+2\.\d %"),
+    ({"focal_length_mm": 4.08},
+     r"fx 816 px where the views put it at (79\d|80\d)\.\d .*\+[12]\.\d %"),
     ({"principal_point": (340.0, 240.0)}, r"cx 340 px where the views put it at 3[12]\d"),
     ({"distortion": (0.0,) * 5}, r"k1 0 where the views put it at -0\.1"),
 ])
@@ -123,7 +149,8 @@ def test_known_intrinsics_half_a_percent_off_are_warned_about(renders, board):
 
     camera = Camera(focal_length_mm=4.02, pixel_pitch_mm=(0.005, 0.005), image_size=(640, 480),
                     principal_point=(320.0, 240.0), distortion=(-0.1, 0.0, 0.0, 0.0, 0.0))
-    with pytest.warns(PlausibilityWarning, match=r"fx 804 px where the views put it at 79\d"):
+    with pytest.warns(PlausibilityWarning,
+                      match=r"fx 804 px where the views put it at (79\d|80\d)\.\d"):
         calibrate_eye_in_hand(renders.images, renders.flange_poses, board, camera=camera)
 
 

@@ -8,6 +8,9 @@ Modules
 :mod:`~robostereo.robot.handeye.charuco`
     ChArUco boards: dictionaries, detection with corner ids (partial views), sub-pixel
     corners that ignore the markers.
+:mod:`~robostereo.robot.handeye.corner_refinement`
+    Sub-pixel corners of either board by the gradients' orthogonality, weighted in each
+    corner's own squares.
 :mod:`~robostereo.robot.handeye.ax_xb`
     AX = XB: the motions of every pair of views and the closed forms (Tsai-Lenz,
     Park-Martin, Daniilidis) for ``T_flange_camera``; their residuals.
@@ -100,6 +103,7 @@ from robostereo.robot.handeye.checks import (
     robust_z,
     view_scores,
 )
+from robostereo.robot.handeye.corner_refinement import refine_board_corners
 from robostereo.robot.handeye.eye_to_hand import (
     EyeToHandCalibration,
     calibrate_eye_to_hand,
@@ -179,6 +183,7 @@ __all__ = [
     "predicted_pair_translation_mm",
     "project_board",
     "read_views",
+    "refine_board_corners",
     "refine_charuco_corners",
     "refine_eye_in_hand",
     "robust_z",

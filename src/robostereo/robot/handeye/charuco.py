@@ -26,6 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from robostereo.errors import InputError
+from robostereo.robot.handeye.corner_refinement import refine_board_corners
 
 __all__ = [
     "DICTIONARIES",
@@ -308,15 +309,9 @@ def refine_charuco_corners(image: ArrayLike, board: Charuco, ids: ArrayLike,
     in a window is orthogonal to (``g_q . (q - c) = 0``: at an edge through the corner
     the gradient is normal to it, elsewhere it is zero).  The markers' edges lie 0.1-0.2
     squares from a ChArUco corner and break that condition (seen: 0.074 px RMS against
-    the truth, 0.036 px without them).  Here:
-
-    1. A homography from the board points to the pixels gives, at each corner, the
-       local map from pixel offsets to board offsets (in squares).
-    2. Each pixel ``q`` of a window of half a square round the corner gets the weight
-       ``exp(-|a|^2 / 2 sigma^2)`` of its board offset ``a``, and 0 if it lies in a
-       light square within `guard_px` of that square's marker, or beyond half a square.
-    3. ``c = (sum w g g^T)^-1 sum w g g^T q`` (the least-squares solution of the
-       orthogonality condition), over all corners at once; repeated.
+    the truth, 0.036 px without them).  Here each corner's window is weighted in its
+    own squares' frame and the pixels of a light square within `guard_px` of its marker
+    are left out (:func:`~robostereo.robot.handeye.corner_refinement.refine_board_corners`).
 
     References
     ----------
@@ -324,56 +319,17 @@ def refine_charuco_corners(image: ArrayLike, board: Charuco, ids: ArrayLike,
     distinct points, corners and centres of circular features", ISPRS 1987 (the
     orthogonality condition ``cornerSubPix`` solves).
     """
-    img = np.asarray(image, dtype=np.float32)
     ids = np.asarray(ids, dtype=np.int64).ravel()
-    c = np.asarray(pixels, dtype=np.float64).reshape(-1, 2).copy()
-    obj = board.object_points[ids, :2]
-    sq = float(board.square_mm)
-    gx = cv2.Sobel(img, cv2.CV_32F, 1, 0, ksize=3) / 8.0
-    gy = cv2.Sobel(img, cv2.CV_32F, 0, 1, ksize=3) / 8.0
-    H, _ = cv2.findHomography(obj, c)
-    if H is None:
-        return c
-    # Jacobian d pixel / d board (mm) of the homography at each corner
-    p = np.column_stack([obj, np.ones(len(obj))]) @ H.T
-    s = p[:, 2:3]
-    J = (H[None, :2, :2] * s[:, :, None] - p[:, :2, None] * H[None, 2:3, :2]) / s[:, :, None]**2
-    det = np.linalg.det(J)
-    if not np.all(np.abs(det) > 1e-12):
-        return c
-    to_squares = np.linalg.inv(J) / sq                       # pixel offset -> squares
-    sq_px = np.sqrt(np.abs(det)) * sq
-    half = int(np.clip(np.round(0.5 * sq_px.min()), 3, 15))
-    off = np.stack(np.meshgrid(np.arange(-half, half + 1), np.arange(-half, half + 1)),
-                   axis=-1).reshape(-1, 2)
-    m = (1.0 - board.marker_mm / sq) / 2.0                   # marker's margin, squares
     # which of the corner's squares (-,-), (+,-), (-,+), (+,+) are light
     cols = board.squares[0]
     i, j = ids % (cols - 1), ids // (cols - 1)
     L = board.light_squares
     light = np.stack([L[j, i], L[j, i + 1], L[j + 1, i], L[j + 1, i + 1]], axis=1)
-    guard = guard_px / sq_px[:, None]
-    h, w = img.shape
-    start = c.copy()
-    for _ in range(iterations):
-        q = np.round(c).astype(np.int64)[:, None, :] + off[None]        # (K, P, 2)
-        qx, qy = np.clip(q[..., 0], 0, w - 1), np.clip(q[..., 1], 0, h - 1)
-        inside = (q[..., 0] == qx) & (q[..., 1] == qy)
-        g = np.stack([gx[qy, qx], gy[qy, qx]], axis=-1).astype(np.float64)
-        a = np.einsum("kij,kpj->kpi", to_squares, q - c[:, None, :])
-        quad = (a[..., 0] > 0).astype(np.int64) + 2 * (a[..., 1] > 0)
-        on_light = np.take_along_axis(light, quad, axis=1)
-        near_marker = on_light & (np.abs(a[..., 0]) > m - guard) & (np.abs(a[..., 1]) > m - guard)
-        far = np.abs(a).max(axis=-1) > 0.5 - guard
-        wt = np.exp(-0.5 * np.sum(a * a, axis=-1) / sigma_squares**2) * inside \
-            * ~near_marker * ~far
-        A = np.einsum("kp,kpi,kpj->kij", wt, g, g)
-        b = np.einsum("kp,kpi,kpj,kpj->ki", wt, g, g, q.astype(np.float64))
-        ok = np.linalg.det(A) > 1e-9 * np.maximum(np.einsum("kii->k", A), 1e-12) ** 2
-        A[~ok] = np.eye(2)
-        new = np.linalg.solve(A, b[..., None])[..., 0]
-        c = np.where((ok & (np.linalg.norm(new - start, axis=1) < 2.0))[:, None], new, c)
-    return c
+    return refine_board_corners(image, board.object_points[ids, :2], pixels,
+                                float(board.square_mm), light=light,
+                                marker_margin=(1.0 - board.marker_mm / board.square_mm) / 2.0,
+                                iterations=iterations, sigma_squares=sigma_squares,
+                                guard_px=guard_px)
 
 
 def charuco_view_problem(corners: CharucoCorners, board: Charuco) -> str | None:
