@@ -290,25 +290,19 @@ def refine_charuco_corners(image: ArrayLike, board: Charuco, ids: ArrayLike,
         Corner ids (K >= 4, not all on one line).
     pixels : array_like, shape (K, 2)
         Their approximate positions (OpenCV's).
-    iterations : int
-        Fixed-point iterations.
-    sigma_squares : float
-        Gaussian weight's standard deviation, in squares.
-    guard_px : float
-        Pixels this close to a marker (its edges' blur and the gradient kernel) or to
-        the square's far half are left out.
+    iterations, sigma_squares, guard_px
+        As :func:`~robostereo.robot.handeye.corner_refinement.refine_board_corners`.
 
     Returns
     -------
     ndarray, shape (K, 2)
-        Refined positions; a corner that would move more than 2 px keeps its start.
+        Refined positions (a corner that would move more than 2 px keeps its start).
 
     Notes
     -----
-    OpenCV's ``cornerSubPix`` finds the point ``c`` that every image gradient ``g_q``
-    in a window is orthogonal to (``g_q . (q - c) = 0``: at an edge through the corner
-    the gradient is normal to it, elsewhere it is zero).  The markers' edges lie 0.1-0.2
-    squares from a ChArUco corner and break that condition (seen: 0.074 px RMS against
+    ``cornerSubPix``'s condition, that every image gradient in a window is orthogonal
+    to the corner's offset from it, holds at a chessboard corner.  The markers' edges
+    lie 0.1-0.2 squares from a ChArUco corner and break it (seen: 0.074 px RMS against
     the truth, 0.036 px without them).  Here each corner's window is weighted in its
     own squares' frame and the pixels of a light square within `guard_px` of its marker
     are left out (:func:`~robostereo.robot.handeye.corner_refinement.refine_board_corners`).
