@@ -75,6 +75,10 @@ class ViewsParameters:
         warning.  None: no comparison (and for ``'sweep'``, no pair located).  4: on
         the real DTU views, correct, the largest pair disagrees 1.5-2x the others'
         (0.22 % against 0.11-0.16 %); a view 2 mm off along a 20 mm baseline, 300x.
+        Not None also lets the sweep's pose check leave out the one view whose tracked
+        places lie off its epipolar lines where the others' do not
+        (:func:`~robostereo.robot.views.pose_check.lone_check`; of three views,
+        :func:`~robostereo.robot.views.pose_check.lone_of_three`).
     threshold : float
         Least gradient magnitude of an edge point on the thesis's 0..127 grey scale
         (the matcher's, thesis 3.1: 8.0).
