@@ -51,8 +51,9 @@ calibration error of the confidence (ten bins) against being within the own boun
 (``ECE``); the process's CPU time (median of `--repeat`), the same over the pair's (``x
 pair``) and the peak memory traced by :mod:`tracemalloc` in a separate run (NumPy's
 allocations; numba's own are not traced).  ``--sweep`` adds the plane sweep's row,
-``--matcher`` chooses the ``views`` row's matcher.  Groups with the worst N-view share
-beyond 2 mm first.
+``--matcher`` chooses the ``views`` row's matcher, ``--bound-sigmas`` the N-view rows'
+``ViewsParameters.bound_sigmas`` (``none``: bounds of the capture's figures alone).
+Groups with the worst N-view share beyond 2 mm first.
 """
 
 from __future__ import annotations
@@ -213,11 +214,12 @@ def _views_pair(cap: ViewsCapture, i: int, j: int) -> ViewsCapture:
 
 def _render_rows(family: str, spec: RenderSpec, repeat: int,
                  views_pair: bool, sweep: bool = False,
-                 matcher: str = "auto") -> list[dict[str, Any]]:
+                 matcher: str = "auto", bound_sigmas: float | None = 3.0
+                 ) -> list[dict[str, Any]]:
     cap, truth = render_views(spec)
     i, j = _outer_pair(spec)
     poses = cap.poses
-    vp = ViewsParameters(matcher=matcher)  # type: ignore[arg-type]
+    vp = ViewsParameters(matcher=matcher, bound_sigmas=bound_sigmas)  # type: ignore[arg-type]
     lv, tv, mv = _run(lambda: locate_views(cap, params=vp), repeat)
     ref = lv.reference
     f = float(cap.camera.K[0, 0])
@@ -225,7 +227,7 @@ def _render_rows(family: str, spec: RenderSpec, repeat: int,
         truth, lv.world, lv.bound_mm, np.array([poses[r].translation for r in ref]),
         np.array([poses[r].rotation for r in ref]), f, lv.confidence)}]
     if sweep:
-        sp = ViewsParameters(matcher="sweep")
+        sp = ViewsParameters(matcher="sweep", bound_sigmas=bound_sigmas)
         ls, ts, ms = _run(lambda: locate_views(cap, params=sp), repeat)
         rows.append({"method": "sweep", "t": ts, "mem": ms, **_score(
             truth, ls.world, ls.bound_mm,
@@ -273,7 +275,7 @@ def renders_main(args: argparse.Namespace) -> int:
                             seed=seed, **FAMILIES[family])
                         groups.append(_render_rows(family, spec, args.repeat,
                                                    args.views_pair, args.sweep,
-                                                   args.matcher))
+                                                   args.matcher, args.bound_sigmas))
                         print(f"done {family} {pattern} {count} {span:g} seed {seed}",
                               flush=True)
     head = ("family", "pattern", "N", "span", "seed", "method", "points", "box pts",
@@ -319,6 +321,10 @@ def main() -> int:
                     help="renders: also the plane sweep (ViewsParameters(matcher='sweep'))")
     ap.add_argument("--views-pair", action="store_true",
                     help="renders: also the outer views as a views: capture of two")
+    ap.add_argument("--bound-sigmas", default="3",
+                    type=lambda v: None if v.lower() == "none" else float(v),
+                    help="renders: ViewsParameters.bound_sigmas of the N-view rows ('none': "
+                         "the capture's figures alone)")
     args = ap.parse_args()
     if args.renders:
         return renders_main(args)
