@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 __all__ = [
     "CONFIDENCE_WEIGHTS",
     "DISTINCT_FLOOR",
+    "MIN_NOISE_FITS",
     "LocatedViews",
     "confidence_features",
     "confidence_features_from",
@@ -286,7 +287,7 @@ def point_noise_px(residual_px: ArrayLike, view_count: ArrayLike, pooled_px: flo
     Notes
     -----
     The posterior of a normal variance under a scaled inverse chi-squared prior
-    ([1]_, 3.3): a fit whose views disagree more than the capture's do gets the wider
+    ([1]_, 2.6): a fit whose views disagree more than the capture's do gets the wider
     bound it shows.  The noise is not even over a capture: on a render of five views on
     a line with poses jittered as an arm's (``tests/view_renders.py``'s ``dtu``, seed
     0), the fits whose own residuals were above the capture's were outside their
@@ -297,7 +298,8 @@ def point_noise_px(residual_px: ArrayLike, view_count: ArrayLike, pooled_px: flo
     References
     ----------
     .. [1] Gelman, Carlin, Stern, Dunson, Vehtari & Rubin, *Bayesian Data Analysis*,
-       3rd ed., 2013, section 3.3.
+       3rd ed., 2013, section 2.6 (a normal variance, the mean known; here the fit's
+       ``n - 2`` degrees of freedom).
 
     Examples
     --------
