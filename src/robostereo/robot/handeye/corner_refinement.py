@@ -113,25 +113,32 @@ def refine_board_corners(image: ArrayLike, board_xy_mm: ArrayLike, pixels: Array
     guard = guard_px / sq_px[:, None]
     h, w = img.shape
     start = c.copy()
+    T = to_squares                                                  # (K, 2, 2)
     for _ in range(iterations):
         q = np.round(c).astype(np.int64)[:, None, :] + off[None]        # (K, P, 2)
         qx, qy = np.clip(q[..., 0], 0, w - 1), np.clip(q[..., 1], 0, h - 1)
         inside = (q[..., 0] == qx) & (q[..., 1] == qy)
-        g = np.stack([gx[qy, qx], gy[qy, qx]], axis=-1).astype(np.float64)
-        a = np.einsum("kij,kpj->kpi", to_squares, q - c[:, None, :])
-        far = np.abs(a).max(axis=-1) > 0.5 - guard
+        gxq = gx[qy, qx].astype(np.float64)                             # (K, P)
+        gyq = gy[qy, qx].astype(np.float64)
+        dx, dy = q[..., 0] - c[:, 0:1], q[..., 1] - c[:, 1:2]
+        ax = T[:, 0, 0, None] * dx + T[:, 0, 1, None] * dy              # board offsets,
+        ay = T[:, 1, 0, None] * dx + T[:, 1, 1, None] * dy              # squares
+        far = np.maximum(np.abs(ax), np.abs(ay)) > 0.5 - guard
         keep = inside & ~far
         if light is not None:
-            quad = (a[..., 0] > 0).astype(np.int64) + 2 * (a[..., 1] > 0)
+            quad = (ax > 0).astype(np.int64) + 2 * (ay > 0)
             on_light = np.take_along_axis(np.asarray(light, bool), quad, axis=1)
             m = marker_margin
-            keep &= ~(on_light & (np.abs(a[..., 0]) > m - guard)
-                      & (np.abs(a[..., 1]) > m - guard))
-        wt = np.exp(-0.5 * np.sum(a * a, axis=-1) / sigma_squares**2) * keep
-        A = np.einsum("kp,kpi,kpj->kij", wt, g, g)
-        b = np.einsum("kp,kpi,kpj,kpj->ki", wt, g, g, q.astype(np.float64))
-        ok = np.linalg.det(A) > 1e-9 * np.maximum(np.einsum("kii->k", A), 1e-12) ** 2
-        A[~ok] = np.eye(2)
-        new = np.linalg.solve(A, b[..., None])[..., 0]
+            keep &= ~(on_light & (np.abs(ax) > m - guard) & (np.abs(ay) > m - guard))
+        wt = np.exp(-0.5 * (ax * ax + ay * ay) / sigma_squares**2) * keep
+        # the normal equations sum w g g^T c = sum w g g^T q, per corner (2 x 2)
+        wx, wy = wt * gxq, wt * gyq
+        gq = gxq * q[..., 0] + gyq * q[..., 1]
+        axx, axy, ayy = (wx * gxq).sum(1), (wx * gyq).sum(1), (wy * gyq).sum(1)
+        bx, by = (wx * gq).sum(1), (wy * gq).sum(1)
+        det = axx * ayy - axy * axy
+        ok = det > 1e-9 * np.maximum(axx + ayy, 1e-12) ** 2
+        safe = np.where(ok, det, 1.0)
+        new = np.column_stack([(ayy * bx - axy * by) / safe, (axx * by - axy * bx) / safe])
         c = np.where((ok & (np.linalg.norm(new - start, axis=1) < 2.0))[:, None], new, c)
     return c
