@@ -105,7 +105,7 @@ def refine_board_corners(image: ArrayLike, board_xy_mm: ArrayLike, pixels: Array
     det = np.linalg.det(J)
     if not np.all(np.abs(det) > 1e-12):
         return c
-    to_squares = np.linalg.inv(J) / sq                       # pixel offset -> squares
+    T = np.linalg.inv(J) / sq                          # pixel offset -> squares, (K, 2, 2)
     sq_px = np.sqrt(np.abs(det)) * sq
     half = int(np.clip(np.round(0.5 * sq_px.min()), 3, 15))
     off = np.stack(np.meshgrid(np.arange(-half, half + 1), np.arange(-half, half + 1)),
@@ -113,7 +113,7 @@ def refine_board_corners(image: ArrayLike, board_xy_mm: ArrayLike, pixels: Array
     guard = guard_px / sq_px[:, None]
     h, w = img.shape
     start = c.copy()
-    T = to_squares                                                  # (K, 2, 2)
+    lit = None if light is None else np.asarray(light, bool)        # (K, 4)
     for _ in range(iterations):
         q = np.round(c).astype(np.int64)[:, None, :] + off[None]        # (K, P, 2)
         qx, qy = np.clip(q[..., 0], 0, w - 1), np.clip(q[..., 1], 0, h - 1)
@@ -125,9 +125,9 @@ def refine_board_corners(image: ArrayLike, board_xy_mm: ArrayLike, pixels: Array
         ay = T[:, 1, 0, None] * dx + T[:, 1, 1, None] * dy              # squares
         far = np.maximum(np.abs(ax), np.abs(ay)) > 0.5 - guard
         keep = inside & ~far
-        if light is not None:
+        if lit is not None:
             quad = (ax > 0).astype(np.int64) + 2 * (ay > 0)
-            on_light = np.take_along_axis(np.asarray(light, bool), quad, axis=1)
+            on_light = np.take_along_axis(lit, quad, axis=1)
             m = marker_margin
             keep &= ~(on_light & (np.abs(ax) > m - guard) & (np.abs(ay) > m - guard))
         wt = np.exp(-0.5 * (ax * ax + ay * ay) / sigma_squares**2) * keep

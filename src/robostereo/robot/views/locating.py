@@ -271,10 +271,11 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     #    least the disparity noise the fits' residuals show (the views' disagreement,
     #    pose errors included), then what the pairs disagree by beyond it
     count = cat["views"].sum(axis=1)
+    depth = cat["depth"]
     stated = _bound(capture, views, cat, capture.disparity_uncertainty_px)
     bound = stated
-    noise = residual_noise_px(cat["rms"], count)
-    if p.bound_sigmas is not None and noise is not None:
+    noise = residual_noise_px(cat["rms"], count) if p.bound_sigmas is not None else None
+    if noise is not None:
         noise_px = point_noise_px(cat["rms"], count, noise, prior_dof=p.noise_prior_dof)
         shown = p.bound_sigmas * math.sqrt(2.0) * noise_px
         bound = _bound(capture, views, cat,
@@ -282,12 +283,11 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     if agreed is not None:
         ref, others, agreement = agreed
         worst = float(agreement.beyond_noise.max())
-        bound = bound + max(worst - float(np.median(bound / cat["depth"])), 0.0) * cat["depth"]
+        bound = bound + _beyond(worst, bound, depth) * depth
         # what the capture's own uncertainties miss, more than doubling their bound: said,
         # and no point is sure (however much of it the residuals already show)
         own = float(np.median(stated))
-        missed_mm = max(worst - float(np.median(stated / cat["depth"])), 0.0) \
-            * float(np.median(cat["depth"]))
+        missed_mm = _beyond(worst, stated, depth) * float(np.median(depth))
         if missed_mm > own:
             warn_disagreement(capture, ref, others, agreement,
                               int(np.argmax(agreement.beyond_noise)), source,
@@ -315,6 +315,12 @@ def _bound(capture: ViewsCapture, views: Any, cat: dict[str, Any],
                         baseline_uncertainty_mm=capture.baseline_uncertainty_mm,
                         focal_length_uncertainty_mm=capture.focal_length_uncertainty_mm)
     return bound + hand_eye_bound_mm(cat["depth"], capture.hand_eye_uncertainty_deg)
+
+
+def _beyond(worst: float, bound: NDArray[np.float64], depth: NDArray[np.float64]) -> float:
+    """How far the pairs' worst relative disagreement `worst` exceeds the median
+    relative bound ``bound / depth`` (0 if it does not)."""
+    return max(worst - float(np.median(bound / depth)), 0.0)
 
 
 def _pair_check(capture: ViewsCapture, p: ViewsParameters, source: str
