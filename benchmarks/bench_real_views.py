@@ -32,7 +32,8 @@ the rate of the pairs' points of the same views (all within 3 mm of the truth on
 pair with ground truth), measured in the same run (about 94 %), stands for a right
 point's, so a bin's share of right points is about ``(consistent - control) / (rate -
 control)``, printed beside it, and the expected calibration error over the bins from
-it (for ``--matcher pairs`` circular: the rate is their own).  ``--min-confidence``
+it (for ``--matcher pairs`` circular: the rate is their own), with its 5-95 % range
+over 200 resamplings of the points (and of the pairs' points for the rate).  ``--min-confidence``
 (default 0) reports the fits the default leaves out too.
 
 ``--pose-agreement``: whether DTU's own poses agree on depth, by a matcher that is not
@@ -146,7 +147,32 @@ def _held_out(data: Path, scale: float, matcher: str, min_confidence: float) -> 
           f"the pairs' points {100 * right_rate:.1f} %")
     print("confidence | points | mean confidence | consistent | control | right (est.)")
     print("--- | --- | --- | --- | --- | ---")
+    ece, rows = _ece_estimate(conf, hit, moved, right_rate)
+    for lo, hi, n, c, h, m, right in rows:
+        print(f"{lo:.2f}-{min(hi, 1.0):.2f} | {n} | {c:.3f} | "
+              f"{100 * h:.1f} % | {100 * m:.1f} % | {right:.2f}")
+    # how far the figure moves with the points drawn: resampled with replacement (the
+    # pairs' rate too), a fixed seed
+    rng = np.random.default_rng(0)
+    boot = []
+    for _ in range(BOOTSTRAP_DRAWS):
+        k = rng.integers(0, len(conf), len(conf))
+        rate = float(pairs_hit[rng.integers(0, len(pairs_hit), len(pairs_hit))].mean())
+        boot.append(_ece_estimate(conf[k], hit[k], moved[k], rate)[0])
+    lo, hi = np.percentile(boot, [5, 95])
+    print(f"calibration error against the estimate: {ece:.3f} "
+          f"(resampled, 5-95 %: {lo:.3f}-{hi:.3f})")
+
+
+BOOTSTRAP_DRAWS = 200
+
+
+def _ece_estimate(conf: Any, hit: Any, moved: Any, right_rate: float
+                  ) -> tuple[float, list[tuple[Any, ...]]]:
+    """The calibration error against each bin's estimated share of right points
+    ``(consistent - control) / (right_rate - control)``, and the bins' rows."""
     ece = 0.0
+    rows = []
     for lo, hi in itertools.pairwise(BINS):
         k = (conf >= lo) & (conf < hi)
         if not k.any():
@@ -154,9 +180,9 @@ def _held_out(data: Path, scale: float, matcher: str, min_confidence: float) -> 
         right = (hit[k].mean() - moved[k].mean()) / (right_rate - moved[k].mean())
         right = min(max(right, 0.0), 1.0)
         ece += k.mean() * abs(right - conf[k].mean())
-        print(f"{lo:.2f}-{min(hi, 1.0):.2f} | {k.sum()} | {conf[k].mean():.3f} | "
-              f"{100 * hit[k].mean():.1f} % | {100 * moved[k].mean():.1f} % | {right:.2f}")
-    print(f"calibration error against the estimate: {ece:.3f}")
+        rows.append((lo, hi, int(k.sum()), float(conf[k].mean()), float(hit[k].mean()),
+                     float(moved[k].mean()), right))
+    return ece, rows
 
 
 AGREEMENT_REFERENCE = 2

@@ -48,12 +48,18 @@ the share within it on the exact ray alone (``in bound, ray``); the p95 of the 3
 of the box points that every view sees (``p95 every``); the outline coverage (the box's
 top outline, sampled every mm, with a located point within 2 mm); the expected
 calibration error of the confidence (ten bins) against being within the own bound
-(``ECE``); the process's CPU time (median of `--repeat`), the same over the pair's (``x
+(``ECE``) and against the rule the confidences were fitted on (``ECE 1px``: the depth
+error at the pixel, as above, within one pixel of disparity over the span,
+``depth^2 / (f span)``, as ``fit_views_confidence.py`` takes it); the process's CPU time (median of `--repeat`), the same over the pair's (``x
 pair``) and the peak memory traced by :mod:`tracemalloc` in a separate run (NumPy's
 allocations; numba's own are not traced).  ``--sweep`` adds the plane sweep's row,
 ``--matcher`` chooses the ``views`` row's matcher, ``--bound-sigmas`` the N-view rows'
 ``ViewsParameters.bound_sigmas`` (``none``: bounds of the capture's figures alone).
-Groups with the worst N-view share beyond 2 mm first.
+Groups with the worst N-view share beyond 2 mm first.  A second table pools each
+family's rows of one method (every pattern, count and seed): its points, both
+calibration errors, and the floor, the median calibration error over 200 draws of a
+calibrated confidence on the same points (each right with the probability it says):
+ten bins of a hundred points show a few hundredths by chance alone.
 """
 
 from __future__ import annotations
@@ -146,8 +152,19 @@ def _ece(confidence: np.ndarray, right: np.ndarray, bins: int = 10) -> float:
     return float(np.sum(np.abs(c[used] - r[used])) / len(confidence))
 
 
+def _ece_floor(confidence: np.ndarray, draws: int = 200) -> float:
+    """The median ECE of a calibrated confidence over the same points: each point right
+    with the probability its confidence says (`draws` draws, a fixed seed).  Ten bins of
+    a few hundred points show an ECE of a few hundredths by chance alone."""
+    if not len(confidence):
+        return float("nan")
+    rng = np.random.default_rng(0)
+    c = np.asarray(confidence, dtype=float)
+    return float(np.median([_ece(c, rng.random(len(c)) < c) for _ in range(draws)]))
+
+
 def _score(truth: ViewsTruth, world: np.ndarray, bound: np.ndarray, origins: np.ndarray,
-           rotations: np.ndarray, focal_px: float,
+           rotations: np.ndarray, focal_px: float, span_mm: float,
            confidence: np.ndarray | None = None) -> dict[str, Any]:
     """The quality columns of one method's points (see the module's docstring)."""
     m = len(world)
@@ -156,6 +173,7 @@ def _score(truth: ViewsTruth, world: np.ndarray, bound: np.ndarray, origins: np.
     within = np.zeros(m, bool)
     within3 = np.zeros(m, bool)
     within_ray = np.zeros(m, bool)
+    right_px = np.zeros(m, bool)
     for o in np.unique(origins, axis=0):
         k = np.nonzero((origins == o).all(axis=1))[0]
         R = rotations[k[0]]
@@ -165,6 +183,8 @@ def _score(truth: ViewsTruth, world: np.ndarray, bound: np.ndarray, origins: np.
         within[k] = off <= bound[k]
         within3[k] = off <= 3 * bound[k]
         within_ray[k] = on_ray <= bound[k]
+        # the confidences' own rule: within one pixel of disparity over the span
+        right_px[k] = off <= depth**2 / (focal_px * span_mm)
     outline = truth.outline()
     cover = 0.0
     if m:
@@ -182,7 +202,10 @@ def _score(truth: ViewsTruth, world: np.ndarray, bound: np.ndarray, origins: np.
             "within": float(within.mean()) if m else float("nan"),
             "within_ray": float(within_ray.mean()) if m else float("nan"),
             "beyond3b": float((~within3).mean()) if m else float("nan"), "outline": cover,
-            "ece": _ece(confidence, within) if confidence is not None else float("nan")}
+            "ece": _ece(confidence, within) if confidence is not None else float("nan"),
+            "ece_px": _ece(confidence, right_px) if confidence is not None else float("nan"),
+            "confidence": confidence if confidence is not None else np.zeros(0),
+            "right_px": right_px, "within_bound": within}
 
 
 def _run(fn: Callable[[], Any], repeat: int) -> tuple[Any, float, float]:
@@ -225,7 +248,7 @@ def _render_rows(family: str, spec: RenderSpec, repeat: int,
     f = float(cap.camera.K[0, 0])
     rows = [{"method": f"views ({matcher})", "t": tv, "mem": mv, **_score(
         truth, lv.world, lv.bound_mm, np.array([poses[r].translation for r in ref]),
-        np.array([poses[r].rotation for r in ref]), f, lv.confidence)}]
+        np.array([poses[r].rotation for r in ref]), f, spec.span_mm, lv.confidence)}]
     if sweep:
         sp = ViewsParameters(matcher="sweep", bound_sigmas=bound_sigmas)
         ls, ts, ms = _run(lambda: locate_views(cap, params=sp), repeat)
@@ -233,13 +256,13 @@ def _render_rows(family: str, spec: RenderSpec, repeat: int,
             truth, ls.world, ls.bound_mm,
             np.array([poses[r].translation for r in ls.reference]).reshape(-1, 3),
             np.array([poses[r].rotation for r in ls.reference]).reshape(-1, 3, 3), f,
-            ls.confidence)})
+            spec.span_mm, ls.confidence)})
     pair = cap.pair(i, j)
     lp, tp, mp = _run(lambda: locate(pair), repeat)
     m = len(lp.world)
     rows.append({"method": f"pair {i}-{j}", "t": tp, "mem": mp, **_score(
         truth, lp.world, lp.z_bound, np.tile(poses[i].translation, (m, 1)),
-        np.tile(poses[i].rotation, (m, 1, 1)), f, lp.probability)})
+        np.tile(poses[i].rotation, (m, 1, 1)), f, spec.span_mm, lp.probability)})
     if views_pair and spec.count > 2:
         two = _views_pair(cap, i, j)
         l2, t2, m2 = _run(lambda: locate_views(two), repeat)
@@ -247,7 +270,7 @@ def _render_rows(family: str, spec: RenderSpec, repeat: int,
             truth, l2.world, l2.bound_mm,
             np.array([two.poses[r].translation for r in l2.reference]).reshape(-1, 3),
             np.array([two.poses[r].rotation for r in l2.reference]).reshape(-1, 3, 3), f,
-            l2.confidence)})
+            spec.span_mm, l2.confidence)})
     for r in rows:
         r.update(family=family, pattern=spec.pattern, N=spec.count, span=spec.span_mm,
                  seed=spec.seed)
@@ -281,7 +304,7 @@ def renders_main(args: argparse.Namespace) -> int:
     head = ("family", "pattern", "N", "span", "seed", "method", "points", "box pts",
             "median", "p95", "max", "p95 every", ">2mm", "in bound", "in bound, ray",
             ">3 bounds", "outline",
-            "ECE", "cpu s", "x pair", "peak MB")
+            "ECE", "ECE 1px", "cpu s", "x pair", "peak MB")
     print(" | ".join(head))
     print(" | ".join("---" for _ in head))
     groups.sort(key=lambda g: -np.nan_to_num(g[0]["beyond2"], nan=1.0))
@@ -294,8 +317,30 @@ def renders_main(args: argparse.Namespace) -> int:
                 f"{r['max']:.2f}", f"{r['p95_every']:.2f}", _percent(r["beyond2"], 2),
                 _percent(r["within"]), _percent(r["within_ray"]), _percent(r["beyond3b"], 2),
                 _percent(r["outline"]),
-                f"{r['ece']:.3f}", f"{r['t']:.2f}", f"{r['t'] / t_pair:.1f}", f"{r['mem']:.0f}")))
+                f"{r['ece']:.3f}", f"{r['ece_px']:.3f}", f"{r['t']:.2f}",
+                f"{r['t'] / t_pair:.1f}", f"{r['mem']:.0f}")))
+    _pooled_calibration([r for g in groups for r in g])
     return 0
+
+
+def _pooled_calibration(rows: list[dict[str, Any]]) -> None:
+    """Each family's calibration error over all its rows of a method, beside the floor a
+    calibrated confidence would show on the same points (:func:`_ece_floor`)."""
+    print()
+    head = ("family", "method", "points", "ECE 1px", "ECE bound", "floor")
+    print(" | ".join(head))
+    print(" | ".join("---" for _ in head))
+    kinds: dict[tuple[str, str], list[dict[str, Any]]] = {}
+    for r in rows:
+        kinds.setdefault((r["family"], r["method"].split(" ")[0]), []).append(r)
+    for (family, method), rs in kinds.items():
+        c = np.concatenate([r["confidence"] for r in rs])
+        if not len(c):
+            continue
+        right = np.concatenate([r["right_px"] for r in rs])
+        within = np.concatenate([r["within_bound"] for r in rs])
+        print(" | ".join((family, method, str(len(c)), f"{_ece(c, right):.3f}",
+                          f"{_ece(c, within):.3f}", f"{_ece_floor(c):.3f}")))
 
 
 def main() -> int:
