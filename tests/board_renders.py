@@ -1,6 +1,7 @@
 """A small chessboard renderer of the tests' own, independent of robostereo.simulation.
 
-Pinhole camera with one radial distortion term ``k1`` (OpenCV's model), each output
+Pinhole camera with one radial distortion term ``k1`` (OpenCV's model; `k1` may also be
+``(k1, p1, p2)``, a lens with decentering too), each output
 pixel antialiased by supersampling: every sub-sample's distorted position is
 undistorted (fixed-point iteration), its ray cast into the board plane and coloured by
 the parity of the square it hits.  Flange poses come from camera poses spread round the
@@ -43,19 +44,40 @@ class Renders:
     square_mm: float
 
 
-def _undistort(xd: np.ndarray, yd: np.ndarray, k1: float) -> tuple[np.ndarray, np.ndarray]:
+Lens = float | tuple[float, float, float]
+"""``k1``, or ``(k1, p1, p2)``: OpenCV's radial and decentering terms."""
+
+
+def _terms(lens: Lens) -> tuple[float, float, float]:
+    return (float(lens), 0.0, 0.0) if np.isscalar(lens) else tuple(lens)  # type: ignore[arg-type,return-value]
+
+
+def _distorted(x: np.ndarray, y: np.ndarray, lens: Lens) -> tuple[np.ndarray, np.ndarray]:
+    k1, p1, p2 = _terms(lens)
+    r2 = x * x + y * y
+    f = 1.0 + k1 * r2
+    return (x * f + 2 * p1 * x * y + p2 * (r2 + 2 * x * x),
+            y * f + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y)
+
+
+def _undistort(xd: np.ndarray, yd: np.ndarray, lens: Lens) -> tuple[np.ndarray, np.ndarray]:
+    k1, p1, p2 = _terms(lens)
     x, y = xd.copy(), yd.copy()
-    for _ in range(6):
-        f = 1.0 + k1 * (x * x + y * y)
-        x, y = xd / f, yd / f
+    if p1 == p2 == 0.0:
+        for _ in range(6):
+            f = 1.0 + k1 * (x * x + y * y)
+            x, y = xd / f, yd / f
+        return x, y
+    for _ in range(10):  # fixed point: x = xd - (distorted(x) - x)
+        u, v = _distorted(x, y, lens)
+        x, y = xd - (u - x), yd - (v - y)
     return x, y
 
 
-def _project(points_cam: np.ndarray, k1: float) -> np.ndarray:
-    x = points_cam[:, 0] / points_cam[:, 2]
-    y = points_cam[:, 1] / points_cam[:, 2]
-    f = 1.0 + k1 * (x * x + y * y)
-    return np.column_stack([FOCAL_PX * x * f + WIDTH / 2, FOCAL_PX * y * f + HEIGHT / 2])
+def _project(points_cam: np.ndarray, lens: Lens) -> np.ndarray:
+    x, y = _distorted(points_cam[:, 0] / points_cam[:, 2], points_cam[:, 1] / points_cam[:, 2],
+                      lens)
+    return np.column_stack([FOCAL_PX * x + WIDTH / 2, FOCAL_PX * y + HEIGHT / 2])
 
 
 def rook_offsets(n: int = 9, step: int = 4) -> np.ndarray:
@@ -67,7 +89,7 @@ def rook_offsets(n: int = 9, step: int = 4) -> np.ndarray:
     return np.column_stack([(k + 0.5) / n - 0.5, ((step * k) % n + 0.5) / n - 0.5])
 
 
-def _board_plane(cam_in_board: SE3, outline: np.ndarray, k1: float, supersample: int,
+def _board_plane(cam_in_board: SE3, outline: np.ndarray, k1: Lens, supersample: int,
                  offsets: np.ndarray | None = None
                  ) -> tuple[tuple[int, int, int, int], np.ndarray, np.ndarray, np.ndarray]:
     """Pixel box ``(u0, v0, u1, v1)`` round the board `outline` (board frame, (4, 3)) and,
@@ -107,7 +129,7 @@ def _finish(val: np.ndarray, box: tuple[int, int, int, int], samples: int, noise
 
 
 def render_board(cam_in_board: SE3, inner_corners: tuple[int, int], square_mm: float, *,
-                 k1: float = K1, supersample: int = 3, noise: float = 1.5,
+                 k1: Lens = K1, supersample: int = 3, noise: float = 1.5,
                  rng: np.random.Generator | None = None) -> np.ndarray:
     """A grey uint8 view (HEIGHT, WIDTH) of the board from ``T_board_camera``."""
     cols, rows = inner_corners
@@ -129,9 +151,9 @@ def render_board(cam_in_board: SE3, inner_corners: tuple[int, int], square_mm: f
 def render_views(seed: int, *, views: int = 14, inner_corners: tuple[int, int] = (8, 5),
                  square_mm: float = 20.0, hand_eye: SE3 = X_TRUE,
                  base_board: SE3 = BASE_BOARD,
-                 tilt_deg: tuple[float, float] = (12.0, 38.0)) -> Renders:
+                 tilt_deg: tuple[float, float] = (12.0, 38.0), lens: Lens = K1) -> Renders:
     """`views` renders of the board from a wrist camera on a six-axis-like arm, tilted
-    `tilt_deg` from the board's normal."""
+    `tilt_deg` from the board's normal, through `lens`."""
     rng = np.random.default_rng([seed, 77])
     cols, rows = inner_corners
     centre = np.array([(cols - 1) * square_mm / 2, (rows - 1) * square_mm / 2, 0.0])
@@ -154,11 +176,11 @@ def render_views(seed: int, *, views: int = 14, inner_corners: tuple[int, int] =
         y = np.cross(z, x)
         roll = Rotation.from_rotvec([0, 0, math.radians(rng.uniform(-30, 30))]).as_matrix()
         cam_in_board = SE3(np.column_stack([x, y, z]) @ roll, eye)
-        uv = _project(cam_in_board.inv().apply(outline), K1)
+        uv = _project(cam_in_board.inv().apply(outline), lens)
         if not ((uv[:, 0] > 4) & (uv[:, 0] < WIDTH - 5) & (uv[:, 1] > 4)
                 & (uv[:, 1] < HEIGHT - 5)).all():
             continue
-        images.append(render_board(cam_in_board, inner_corners, square_mm, rng=rng))
+        images.append(render_board(cam_in_board, inner_corners, square_mm, k1=lens, rng=rng))
         flanges.append(base_board @ cam_in_board @ hand_eye.inv())
     return Renders(tuple(images), tuple(flanges), inner_corners, square_mm)
 

@@ -64,6 +64,11 @@ def add_handeye_parser(sub: Any) -> None:
                    help="known intrinsics and distortion (a camera YAML or a handeye "
                         "output), held fixed: only the hand-eye transform and the board "
                         "pose are refined")
+    p.add_argument("--tangential", choices=("test", "fit", "zero"), default="test",
+                   help="the lens's decentering terms p1, p2: held at 0 unless the views "
+                        "show them (test, Wald's test at 1 %%), always fitted (fit), or "
+                        "held at 0 (zero); unknown ones trade with the principal point and "
+                        "so with the hand-eye rotation")
     p.add_argument("--reject-outliers", action="store_true",
                    help="drop the views whose residuals stand out (robust z-score > 3.5 "
                         "of the reprojection RMS or of the AX = XB residuals of their "
@@ -108,7 +113,8 @@ def run_handeye(args: argparse.Namespace) -> int:
     solve = calibrate_eye_to_hand if mode == "eye-to-hand" else calibrate_eye_in_hand
     cal = solve(v.images, v.flange_poses, v.board, pixel_pitch_mm=v.pixel_pitch_mm,
                 grey_levels=v.grey_levels, method=args.method, names=v.names, camera=camera,
-                reject_outliers=args.reject_outliers, source=str(args.views / VIEWS_YAML))
+                reject_outliers=args.reject_outliers, source=str(args.views / VIEWS_YAML),
+                tangential=args.tangential)
     texts = {"-o": handeye_yaml_text(cal)}
     if args.advise is not None:
         texts["--advise"] = view_advice_text(cal.advice)
@@ -159,6 +165,10 @@ def _print_handeye(args: argparse.Namespace, v: Any, cal: Any, board: str, mode:
           f"{cam.principal_point[1]:.2f}), distortion "
           f"[{', '.join(f'{d:.5f}' for d in cam.distortion)}], "
           f"RMS {cal.reprojection_rms_px:.3f} px (corner noise {cal.corner_noise_px:.3f} px)")
+    if cal.tangential in ("held", "kept") and math.isfinite(cal.tangential_chi2):
+        print(f"  decentering p1, p2 {'held at 0' if cal.tangential == 'held' else 'kept'}: "
+              f"the views show them at chi-square {cal.tangential_chi2:.2f} (2 dof; "
+              f"{'under' if cal.tangential == 'held' else 'over'} 9.21, the 1 % level)")
     eth = mode == "eye-to-hand"
     T = cal.base_camera if eth else cal.hand_eye
     t, rv = T.translation, T.rotvec

@@ -41,6 +41,8 @@ def test_calibration_from_simulated_views(views):
     assert unrefined.hand_eye.distance_to(cal.closed_form)[0] < 1e-6
     with pytest.raises(InputError, match="at least 3 usable views"):
         calibrate_eye_in_hand(v.images[:2], v.flange_poses[:2], v.board)
+    with pytest.raises(InputError, match="tangential must be one of test, fit, zero"):
+        calibrate_eye_in_hand(v.images, v.flange_poses, v.board, tangential="maybe")
     blank = np.full_like(v.images[0], 90)
     with pytest.raises(InputError, match="view 3: chessboard 9 x 6 not found"):
         calibrate_eye_in_hand([*v.images[:3], blank], v.flange_poses[:4], v.board)
@@ -57,6 +59,8 @@ def test_views_folder_and_commands(views, tmp_path, capsys):
     assert main(["handeye", str(d), "-o", str(out), "--method", "tsai"]) == 0
     text = capsys.readouterr().out
     assert "reprojection RMS px" in text and "AX = XB residuals over 45" in text
+    # the simulator's lens has p1 = 5e-4, p2 = -3e-4: the views show them, they stay
+    assert "decentering p1, p2 kept: the views show them at chi-square" in text
     assert "  view_09.png  " in text and "view_00.png - " in text  # views and pairs tables
     data = yaml.safe_load(out.read_text())
     assert set(data) >= {"camera", "hand_eye", "per_view_rms_px", "handeye_residuals",
@@ -64,6 +68,11 @@ def test_views_folder_and_commands(views, tmp_path, capsys):
     assert len(data["pairs"]) == 45 and data["views"][9]["image"] == "view_09.png"
     assert data["pairs"][0]["views"] == ["view_00.png", "view_01.png"]
     assert np.allclose(data["hand_eye"]["position"], [32.0, -58.0, 41.0], atol=1.0)
+    assert data["tangential"]["terms"] == "kept" and data["tangential"]["chi2"] > 9.21
+    fitted = tmp_path / "fitted.yaml"
+    assert main(["handeye", str(d), "-o", str(fitted), "--tangential", "fit"]) == 0
+    assert "decentering" not in capsys.readouterr().out
+    assert yaml.safe_load(fitted.read_text())["tangential"] == {"terms": "fitted"}
     # a SCARA-like views folder (flange turning about the vertical only) is refused
     spec = yaml.safe_load((d / "views.yaml").read_text())
     for i, view in enumerate(spec["views"]):

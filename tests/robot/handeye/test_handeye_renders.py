@@ -78,6 +78,38 @@ def test_joint_refinement_is_accurate_on_independent_renders(renders, board):
     assert not cal.rejected
 
 
+def test_decentering_the_lens_lacks_is_held_at_zero_and_the_rotation_tightens(renders, board):
+    """The renders' lens is radial only: ``p1, p2`` fitted there free the principal point
+    and with it the rotation; the views do not show them, so they are held at 0."""
+    kw = {"pixel_pitch_mm": 0.005}
+    tested = calibrate_eye_in_hand(renders.images, renders.flange_poses, board, **kw)
+    fitted = calibrate_eye_in_hand(renders.images, renders.flange_poses, board,
+                                   tangential="fit", **kw)
+    assert tested.tangential == "held" and tested.tangential_chi2 < 9.21
+    assert tested.camera.distortion[2:4] == (0.0, 0.0)
+    assert fitted.tangential == "fitted" and math.isnan(fitted.tangential_chi2)
+    assert fitted.camera.distortion[2:4] != (0.0, 0.0)
+    # measured (seeds 0-11): held 0.007-0.022 deg, fitted 0.008-0.053 deg; the views'
+    # own spread of the rotation shrinks the same way (seed 0: 0.028 -> 0.011 deg)
+    assert _errors(tested.hand_eye)[1] < 0.04
+    assert tested.hand_eye_sigma_deg < 0.7 * fitted.hand_eye_sigma_deg
+    assert tested.to_dict()["tangential"]["terms"] == "held"
+
+
+def test_decentering_the_lens_has_is_kept():
+    """A lens with ``p1 = 1e-3, p2 = -8e-4``: the views show them, so they stay fitted
+    (held at 0 they would turn the hand-eye by about 0.25 deg)."""
+    lens = (K1, 1e-3, -8e-4)
+    views = render_views(0, lens=lens)
+    board = Chessboard(views.inner_corners, views.square_mm)
+    cal = calibrate_eye_in_hand(views.images, views.flange_poses, board, pixel_pitch_mm=0.005)
+    # measured (seeds 0-2): chi-square 127-280, the fitted terms within 30 % of the lens's
+    assert cal.tangential == "kept" and cal.tangential_chi2 > 30
+    assert cal.camera.distortion[2] == pytest.approx(1e-3, rel=0.4)
+    assert cal.camera.distortion[3] == pytest.approx(-8e-4, rel=0.4)
+    assert _errors(cal.hand_eye)[1] < 0.1  # measured 0.022-0.049 deg (held: 0.24-0.25)
+
+
 def test_known_intrinsics_are_held_and_help(renders, board):
     cal = calibrate_eye_in_hand(renders.images, renders.flange_poses, board,
                                 camera=TRUE_CAMERA)

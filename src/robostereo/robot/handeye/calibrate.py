@@ -64,12 +64,15 @@ __all__ = [
     "EyeInHandCalibration",
     "HandEyeMode",
     "SolveMethod",
+    "Tangential",
     "calibrate_eye_in_hand",
     "solve_views",
 ]
 
 HandEyeMode = Literal["eye-in-hand", "eye-to-hand"]
 SolveMethod = Literal["tsai", "park", "daniilidis", "shah", "li"]
+Tangential = Literal["test", "fit", "zero"]
+TANGENTIAL_CHOICES: tuple[str, ...] = ("test", "fit", "zero")
 ALL_METHODS: tuple[str, ...] = ("park", "tsai", "daniilidis", *ROBOT_WORLD_METHODS)
 """The closed forms that can start the refinement: the AX = XB ones of
 :mod:`~robostereo.robot.handeye.ax_xb` and OpenCV's AX = ZB ones of
@@ -124,6 +127,15 @@ class EyeInHandCalibration:
         What four more views at larger tilts would pin it to, and the flange poses that
         place them (:func:`~robostereo.robot.handeye.view_advice.advise_views`); None
         unrefined.
+    tangential : str
+        What the refinement did with the decentering terms ``p1, p2``: ``'held'`` at 0
+        (the test found them insignificant, or ``tangential='zero'``), ``'kept'`` (the
+        test found them significant), ``'fitted'`` (``tangential='fit'``), or ``''``
+        (known intrinsics, or unrefined).
+    tangential_chi2 : float
+        The Wald statistic of ``p1, p2`` in the refinement with them free
+        (:func:`~robostereo.robot.handeye.refine.tangential_chi2`); NaN where not
+        tested.
     """
 
     camera: Camera
@@ -145,6 +157,8 @@ class EyeInHandCalibration:
     hand_eye_sigma_mm: float = math.nan
     hand_eye_sigma_deg: float = math.nan
     advice: ViewAdvice | None = None
+    tangential: str = ""
+    tangential_chi2: float = math.nan
 
     def __post_init__(self) -> None:
         n = len(self.board_poses)
@@ -202,6 +216,10 @@ class EyeInHandCalibration:
         if math.isfinite(self.hand_eye_sigma_mm):  # how well the views pin it
             out["hand_eye_sigma"] = {"translation_mm": round(self.hand_eye_sigma_mm, 6),
                                      "rotation_deg": round(self.hand_eye_sigma_deg, 6)}
+        if self.tangential:  # what became of p1, p2 in the refinement
+            out["tangential"] = {"terms": self.tangential}
+            if math.isfinite(self.tangential_chi2):
+                out["tangential"]["chi2"] = round(self.tangential_chi2, 6)
         return out
 
 
@@ -304,6 +322,7 @@ def calibrate_eye_in_hand(
     refine: bool = True,
     reject_outliers: bool = False,
     source: str = "hand-eye views",
+    tangential: Tangential = "test",
 ) -> EyeInHandCalibration:
     """Intrinsics, distortion and ``T_flange_camera`` from views of a calibration board.
 
@@ -341,6 +360,12 @@ def calibrate_eye_in_hand(
         again, one view at a time while one stands out, at most a third of the views.
     source : str
         The input's name for messages (e.g. the views.yaml path).
+    tangential : {'test', 'fit', 'zero'}
+        The decentering terms ``p1, p2`` in the refinement: fitted, then held at 0 unless
+        the views show them (``'test'``, the default: Wald's test at 1 %,
+        :func:`~robostereo.robot.handeye.refine.tangential_chi2`), always fitted, or held
+        at 0 throughout (OpenCV's ``CALIB_ZERO_TANGENT_DIST``).  Freed where the lens has
+        none, they trade with the principal point and so with the hand-eye rotation.
 
     Returns
     -------
@@ -373,7 +398,9 @@ def calibrate_eye_in_hand(
        beyond the bounds is refused.
     5. Joint refinement of the intrinsics (unless known), ``X`` and ``T_base_board`` on
        all corners, flange poses fixed (Strobl and Hirzinger 2006; Koide and Menegatti
-       2019); a reprojection RMS above 1 px is refused.
+       2019); a reprojection RMS above 1 px is refused.  With ``tangential='test'``,
+       refined again with ``p1 = p2 = 0`` where their chi-square is below the 1 %
+       quantile.
     6. Final board poses by :func:`cv2.solvePnP` with the final intrinsics, the pair
        residuals with the final ``X``, checked again as in 4 (with known intrinsics,
        against the noise of the views' own :func:`cv2.calibrateCamera` fit, which wrong
@@ -382,7 +409,8 @@ def calibrate_eye_in_hand(
     return solve_views(images, flange_poses, board, mode="eye-in-hand",
                        pixel_pitch_mm=pixel_pitch_mm, grey_levels=grey_levels, method=method,
                        names=names, fix_k3=fix_k3, camera=camera, refine=refine,
-                       reject_outliers=reject_outliers, source=source)
+                       reject_outliers=reject_outliers, source=source,
+                       tangential=tangential)
 
 
 def solve_views(
@@ -400,6 +428,7 @@ def solve_views(
     refine: bool = True,
     reject_outliers: bool = False,
     source: str = "hand-eye views",
+    tangential: Tangential = "test",
 ) -> EyeInHandCalibration:
     """The solve both hand-eye modes share (:func:`calibrate_eye_in_hand`'s steps).
 
@@ -417,6 +446,7 @@ def solve_views(
         ``T_base_flange``, in both modes).
     mode : {'eye-in-hand', 'eye-to-hand'}
     pixel_pitch_mm, grey_levels, method, names, fix_k3, camera, refine, reject_outliers, source
+    tangential
         As :func:`calibrate_eye_in_hand`.
 
     Returns
@@ -430,10 +460,17 @@ def solve_views(
         As :func:`calibrate_eye_in_hand`, and views whose rotations fit the other mode
         but not `mode` (naming the mode they look like).
     """
-    from robostereo.robot.handeye.refine import refine_eye_in_hand
+    from robostereo.robot.handeye.refine import (
+        refine_eye_in_hand,
+        tangential_chi2,
+        tangential_threshold,
+    )
 
     if mode not in VIEW_MODES:
         raise InputError(f"mode must be one of {', '.join(VIEW_MODES)}, got {mode!r}")
+    if tangential not in TANGENTIAL_CHOICES:
+        raise InputError(f"tangential must be one of {', '.join(TANGENTIAL_CHOICES)}, got "
+                         f"{tangential!r}")
     n = len(images)
     if len(flange_poses) != n:
         raise InputError(f"images and flange_poses must be as many, got {n} and "
@@ -494,11 +531,23 @@ def solve_views(
                     predicted_translation_rms_mm=st.predicted, reprojection_rms_px=None,
                     source=source, worst=_worst(labels, z), known_intrinsics=camera is not None)
     K, dist, X, W = st.K, st.dist, st.X, st.base_board
+    terms, chi2 = "", math.nan
     if refine:
-        ref = refine_eye_in_hand([o.reshape(-1, 3) for o in obj],
-                                 [p.reshape(-1, 2) for p in img_pts], F, K, dist, X, W,
-                                 fix_intrinsics=camera is not None, fix_k3=fix_k3,
-                                 noise_px=st.noise)
+        corners = ([o.reshape(-1, 3) for o in obj], [p.reshape(-1, 2) for p in img_pts], F)
+        held = camera is None and tangential == "zero"
+        ref = refine_eye_in_hand(*corners, K, dist, X, W, fix_intrinsics=camera is not None,
+                                 fix_k3=fix_k3, fix_tangential=held, noise_px=st.noise)
+        if camera is None:
+            terms = "held" if held else "fitted"
+        if camera is None and tangential == "test":
+            # p1, p2 where the views show them; else they only free the principal point
+            chi2 = tangential_chi2(ref, fix_k3=fix_k3)
+            terms = "kept"
+            if chi2 < tangential_threshold():
+                terms = "held"
+                ref = refine_eye_in_hand(*corners, ref.K, ref.dist, ref.hand_eye,
+                                         ref.base_board, fix_k3=fix_k3, fix_tangential=True,
+                                         noise_px=st.noise)
         check_plausible(rotation_rms_deg=0.0, translation_rms_mm=0.0,
                         predicted_translation_rms_mm=st.predicted,
                         reprojection_rms_px=ref.rms_px, source=source,
@@ -511,7 +560,8 @@ def solve_views(
         sigma = (ref.hand_eye_sigma_mm, ref.hand_eye_sigma_deg)
         advice = advise_views([o.reshape(-1, 3) for o in obj], F, K, dist, X, W,
                               board.object_points, (w, h), ref.variance_px2,
-                              fix_intrinsics=camera is not None, fix_k3=fix_k3, mode=mode,
+                              fix_intrinsics=camera is not None, fix_k3=fix_k3,
+                              fix_tangential=terms == "held", mode=mode,
                               information=ref.information)
     else:
         st_final, per_view = st, st.per_view
@@ -545,5 +595,5 @@ def solve_views(
         corners_per_view=None if isinstance(board, Chessboard) else np.array(
             [len(o) for o in obj], dtype=np.int64),
         left_out=tuple(left_out), hand_eye_sigma_mm=sigma[0], hand_eye_sigma_deg=sigma[1],
-        advice=advice,
+        advice=advice, tangential=terms, tangential_chi2=chi2,
     )

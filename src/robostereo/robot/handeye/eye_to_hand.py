@@ -27,7 +27,12 @@ from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
 from robostereo.robot.handeye.ax_xb import DEFAULT_METHOD
 from robostereo.robot.handeye.boards import Board
-from robostereo.robot.handeye.calibrate import EyeInHandCalibration, SolveMethod, solve_views
+from robostereo.robot.handeye.calibrate import (
+    EyeInHandCalibration,
+    SolveMethod,
+    Tangential,
+    solve_views,
+)
 
 __all__ = [
     "EyeToHandCalibration",
@@ -97,6 +102,7 @@ def calibrate_eye_to_hand(
     refine: bool = True,
     reject_outliers: bool = False,
     source: str = "hand-eye views",
+    tangential: Tangential = "test",
 ) -> EyeToHandCalibration:
     """Intrinsics, ``T_base_camera`` and ``T_flange_board`` from views of a carried board.
 
@@ -109,6 +115,7 @@ def calibrate_eye_to_hand(
     board : Chessboard or Charuco
         The board on the flange.
     pixel_pitch_mm, grey_levels, method, names, fix_k3, camera, refine, reject_outliers, source
+    tangential
         As :func:`~robostereo.robot.handeye.calibrate.calibrate_eye_in_hand` (`method`:
         ``'park'``, ``'tsai'``, ``'daniilidis'``, ``'shah'`` or ``'li'``).
 
@@ -134,7 +141,8 @@ def calibrate_eye_to_hand(
        calibration, on these motions.
     4. Joint refinement of the intrinsics (unless known), ``Z`` and ``Y`` over every
        corner's reprojection ``u_ik = pi(K, d; Z^-1 F_i Y p_k)`` (:func:`~robostereo.
-       robot.handeye.refine.refine_eye_in_hand` with ``G_i``).
+       robot.handeye.refine.refine_eye_in_hand` with ``G_i``), ``p1, p2`` held at 0
+       where the views do not show them (`tangential`).
 
     References
     ----------
@@ -147,5 +155,6 @@ def calibrate_eye_to_hand(
     cal = solve_views(images, flange_poses, board, mode="eye-to-hand",
                       pixel_pitch_mm=pixel_pitch_mm, grey_levels=grey_levels, method=method,
                       names=names, fix_k3=fix_k3, camera=camera, refine=refine,
-                      reject_outliers=reject_outliers, source=source)
+                      reject_outliers=reject_outliers, source=source,
+                      tangential=tangential)
     return EyeToHandCalibration.from_solve(cal)

@@ -32,7 +32,12 @@ from numpy.typing import NDArray
 
 from robostereo.errors import InputError
 from robostereo.geometry.poses import SE3, pose_to_dict
-from robostereo.robot.handeye.refine import CornerModel, hand_eye_sigma, project_board
+from robostereo.robot.handeye.refine import (
+    CornerModel,
+    free_intrinsics,
+    hand_eye_sigma,
+    project_board,
+)
 
 __all__ = [
     "ADVICE_TILTS_DEG",
@@ -169,6 +174,7 @@ def advise_views(
     *,
     fix_intrinsics: bool = False,
     fix_k3: bool = True,
+    fix_tangential: bool = False,
     mode: str = "eye-in-hand",
     tilts_deg: Sequence[float] = ADVICE_TILTS_DEG,
     information: NDArray[np.float64] | None = None,
@@ -190,7 +196,7 @@ def advise_views(
         ``(width, height)``, pixels.
     variance_px2 : float
         The corners' residual variance (one coordinate, px^2).
-    fix_intrinsics, fix_k3 : bool
+    fix_intrinsics, fix_k3, fix_tangential : bool
         As the refinement held them.
     mode : {'eye-in-hand', 'eye-to-hand'}
         The robot's form of the flange poses returned.
@@ -245,12 +251,13 @@ def advise_views(
     if mode not in ("eye-in-hand", "eye-to-hand"):
         raise InputError(f"mode must be eye-in-hand or eye-to-hand, got {mode!r}")
     board_points = np.asarray(board_points, dtype=np.float64).reshape(-1, 3)
-    n_intr = 0 if fix_intrinsics else (8 if fix_k3 else 9)
+    held = {"fix_intrinsics": fix_intrinsics, "fix_k3": fix_k3,
+            "fix_tangential": fix_tangential}
+    n_intr = int(free_intrinsics(**held).sum())
 
     # the views taken: their information, tilts and distance
     info = information if information is not None else CornerModel(
-        object_points, flange_poses).information(K, dist, hand_eye, base_board,
-                                                 fix_intrinsics=fix_intrinsics, fix_k3=fix_k3)
+        object_points, flange_poses).information(K, dist, hand_eye, base_board, **held)
     current = hand_eye_sigma(info, variance_px2, n_intr)
     W_inv = base_board.inv()
     cams = [W_inv @ f @ hand_eye for f in flange_poses]      # T_board_camera
@@ -273,7 +280,7 @@ def advise_views(
             return math.nan, math.nan, ()
         F = [base_board @ c @ hand_eye.inv() for c in cand]
         more = CornerModel([board_points] * 4, F).information(
-            K, dist, hand_eye, base_board, fix_intrinsics=fix_intrinsics, fix_k3=fix_k3)
+            K, dist, hand_eye, base_board, **held)
         mm, deg = hand_eye_sigma(info + more, variance_px2, n_intr)
         return mm, deg, tuple(f.inv() if mode == "eye-to-hand" else f for f in F)
 
