@@ -50,8 +50,9 @@ top outline, sampled every mm, with a located point within 2 mm); the expected
 calibration error of the confidence (ten bins) against being within the own bound
 (``ECE``) and against the rule the confidences were fitted on (``ECE 1px``: the depth
 error at the pixel, as above, within one pixel of disparity over the span,
-``depth^2 / (f span)``, as ``fit_views_confidence.py`` takes it); the process's CPU time (median of `--repeat`), the same over the pair's (``x
-pair``) and the peak memory traced by :mod:`tracemalloc` in a separate run (NumPy's
+``depth^2 / (f span)``, as ``fit_views_confidence.py`` takes it); the process's CPU
+time (median of `--repeat`), the same over the pair's (``x pair``) and the peak memory
+traced by :mod:`tracemalloc` in a separate run (NumPy's
 allocations; numba's own are not traced).  ``--sweep`` adds the plane sweep's row,
 ``--matcher`` chooses the ``views`` row's matcher, ``--bound-sigmas`` the N-view rows'
 ``ViewsParameters.bound_sigmas`` (``none``: bounds of the capture's figures alone).

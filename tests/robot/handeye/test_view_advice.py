@@ -25,6 +25,7 @@ from robostereo.robot.handeye import (
     calibrate_eye_in_hand,
     calibrate_eye_to_hand,
 )
+from robostereo.robot.handeye.refine import CornerModel, hand_eye_sigma
 
 
 def _with_advised(renders, poses, cam_in_board, seed):
@@ -93,6 +94,20 @@ def test_the_two_modes_give_one_advice_in_their_own_pose_forms():
     np.testing.assert_allclose(fixed.sigma_deg, hand.sigma_deg)
     for a, b in zip(hand.flange_poses[hand.best], fixed.flange_poses[fixed.best], strict=True):
         assert max(a.distance_to(b.inv())) < 1e-9
+
+
+def test_the_advice_frees_only_the_intrinsics_the_refinement_freed():
+    """Decentering held at 0 (the calibration's test found none): the advice's spreads are
+    those of the refinement's covariance without ``p1, p2``, and tighter than with them."""
+    K, X, W, board, F = _frontal_views()
+    args = ([board] * 8, F, K, np.zeros(5), X, W, board, (640, 480), 0.01)
+    free = advise_views(*args)
+    held = advise_views(*args, fix_tangential=True)
+    info = CornerModel([board] * 8, F).information(K, np.zeros(5), X, W, fix_tangential=True)
+    assert info.shape == (18, 18)  # fx, fy, cx, cy, k1, k2 and the two poses
+    assert held.current_deg == pytest.approx(hand_eye_sigma(info, 0.01, 6)[1])
+    assert held.current_deg < free.current_deg
+    assert (held.sigma_deg <= free.sigma_deg * (1 + 1e-9)).all()
 
 
 def test_a_board_that_cannot_fit_leaves_the_tilt_out_and_bad_tilts_are_refused():

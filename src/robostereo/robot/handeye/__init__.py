@@ -73,6 +73,7 @@ from robostereo.robot.handeye.calibrate import (
     EyeInHandCalibration,
     HandEyeMode,
     SolveMethod,
+    Tangential,
     calibrate_eye_in_hand,
     solve_views,
 )
@@ -117,11 +118,16 @@ from robostereo.robot.handeye.handeye_yaml import (
     view_advice_text,
 )
 from robostereo.robot.handeye.refine import (
+    INTRINSICS,
+    TANGENTIAL_LEVEL,
     CornerModel,
     RefinedHandEye,
+    free_intrinsics,
     hand_eye_sigma,
     project_board,
     refine_eye_in_hand,
+    tangential_chi2,
+    tangential_threshold,
 )
 from robostereo.robot.handeye.view_advice import ADVICE_TILTS_DEG, ViewAdvice, advise_views
 
@@ -130,6 +136,7 @@ __all__ = [
     "ALL_METHODS",
     "DEFAULT_METHOD",
     "DICTIONARIES",
+    "INTRINSICS",
     "INTRINSICS_FLOORS",
     "INTRINSICS_SIGMAS",
     "MAX_REPROJECTION_RMS_PX",
@@ -139,6 +146,7 @@ __all__ = [
     "MIN_VIEWS",
     "OUTLIER_Z",
     "ROBOT_WORLD_METHODS",
+    "TANGENTIAL_LEVEL",
     "TRANSLATION_FACTOR",
     "TRANSLATION_FLOOR_MM",
     "VIEWS_YAML",
@@ -157,6 +165,7 @@ __all__ = [
     "RefinedHandEye",
     "RobotWorldMethod",
     "SolveMethod",
+    "Tangential",
     "ViewAdvice",
     "advise_views",
     "calibrate_eye_in_hand",
@@ -171,6 +180,7 @@ __all__ = [
     "detect_charuco",
     "detect_chessboard",
     "dictionary_name",
+    "free_intrinsics",
     "hand_eye_sigma",
     "handeye_residuals",
     "handeye_yaml_text",
@@ -191,6 +201,8 @@ __all__ = [
     "solve_ax_xb",
     "solve_ax_zb",
     "solve_views",
+    "tangential_chi2",
+    "tangential_threshold",
     "view_advice_text",
     "view_corners",
     "view_scores",
