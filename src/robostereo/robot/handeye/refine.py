@@ -27,6 +27,7 @@ and the calibration holds them at 0 where they do not.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -474,9 +475,12 @@ def tangential_chi2(refined: RefinedHandEye, *, fix_k3: bool = True) -> float:
     free = free_intrinsics(fix_k3=fix_k3)
     if refined.information.shape != (int(free.sum()) + 12,) * 2:
         raise InputError("tangential_chi2 needs a refinement with p1 and p2 free")
-    cov = np.linalg.pinv(refined.information) * refined.variance_px2
     p = refined.dist[2:4]
-    return float(p @ np.linalg.solve(cov[6:8, 6:8], p))
+    if not refined.variance_px2 > 0:  # corners fitted exactly: any p is shown
+        return math.inf if np.any(p != 0) else 0.0
+    cov = np.linalg.pinv(refined.information) * refined.variance_px2
+    # pinv: a direction of (p1, p2) the views do not constrain counts for nothing
+    return float(p @ np.linalg.pinv(cov[6:8, 6:8]) @ p)
 
 
 def tangential_threshold(level: float = TANGENTIAL_LEVEL) -> float:
