@@ -100,14 +100,16 @@ def test_decentering_the_lens_has_is_kept():
     """A lens with ``p1 = 1e-3, p2 = -8e-4``: the views show them, so they stay fitted
     (held at 0 they would turn the hand-eye by about 0.25 deg)."""
     lens = (K1, 1e-3, -8e-4)
-    views = render_views(0, lens=lens)
+    views = render_views(0, views=10, lens=lens)
     board = Chessboard(views.inner_corners, views.square_mm)
     cal = calibrate_eye_in_hand(views.images, views.flange_poses, board, pixel_pitch_mm=0.005)
-    # measured (seeds 0-2): chi-square 127-280, the fitted terms within 30 % of the lens's
+    # measured (10 views, seeds 0-2): chi-square 95-191, the fitted terms within 25 % of
+    # the lens's, the rotation 0.039-0.055 deg off (14 views: 127-280, 0.022-0.049 deg;
+    # held at 0, 0.24-0.25 deg)
     assert cal.tangential == "kept" and cal.tangential_chi2 > 30
     assert cal.camera.distortion[2] == pytest.approx(1e-3, rel=0.4)
     assert cal.camera.distortion[3] == pytest.approx(-8e-4, rel=0.4)
-    assert _errors(cal.hand_eye)[1] < 0.1  # measured 0.022-0.049 deg (held: 0.24-0.25)
+    assert _errors(cal.hand_eye)[1] < 0.1
 
 
 def test_known_intrinsics_are_held_and_help(renders, board):
