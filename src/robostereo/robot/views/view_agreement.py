@@ -109,12 +109,13 @@ def _disagreements(centre: _F, axis: _F, parts: list[dict[str, Any]],
     allowed = np.zeros((n, n))
     shared = np.zeros((n, n), np.intp)
     depth = [(p["world"] - centre) @ axis for p in parts]
+    trees = [cKDTree(p["pixel"]) if len(p["pixel"]) else None for p in parts]
     for q in range(n):  # a loop over pairs (a handful), not over points
         for r in range(q + 1, n):
-            if not len(parts[q]["pixel"]) or not len(parts[r]["pixel"]):
+            tree = trees[r]
+            if not len(parts[q]["pixel"]) or tree is None:
                 continue
-            dist, idx = cKDTree(parts[r]["pixel"]).query(parts[q]["pixel"],
-                                                         distance_upper_bound=agree_px)
+            dist, idx = tree.query(parts[q]["pixel"], distance_upper_bound=agree_px)
             hit = np.isfinite(dist)
             zq, zr = depth[q][hit], depth[r][idx[hit]]
             ok = (zq > 0) & (zr > 0)
