@@ -94,6 +94,10 @@ def test_decentering_the_lens_lacks_is_held_at_zero_and_the_rotation_tightens(re
     assert _errors(tested.hand_eye)[1] < 0.04
     assert tested.hand_eye_sigma_deg < 0.7 * fitted.hand_eye_sigma_deg
     assert tested.to_dict()["tangential"]["terms"] == "held"
+    # held throughout: OpenCV's closed-form stage too
+    zero = calibrate_eye_in_hand(renders.images, renders.flange_poses, board,
+                                 tangential="zero", refine=False, **kw)
+    assert zero.camera.distortion[2:4] == (0.0, 0.0) and zero.tangential == ""
 
 
 def test_decentering_the_lens_has_is_kept():

@@ -241,10 +241,12 @@ class _Stage:
 
 def _board_poses(obj: list, pts: list, size: tuple[int, int], flanges: Sequence[SE3],
                  camera: Camera | None, fix_k3: bool, method: SolveMethod,
-                 guess: tuple[NDArray, NDArray, list, list] | None = None) -> _Stage:
+                 guess: tuple[NDArray, NDArray, list, list] | None = None, *,
+                 zero_tangent: bool = False) -> _Stage:
     if camera is None and guess is None:
-        _, K, dist, rv, tv = cv2.calibrateCamera(obj, pts, size, None, None,
-                                                 flags=cv2.CALIB_FIX_K3 if fix_k3 else 0)
+        flags = ((cv2.CALIB_FIX_K3 if fix_k3 else 0)
+                 | (cv2.CALIB_ZERO_TANGENT_DIST if zero_tangent else 0))
+        _, K, dist, rv, tv = cv2.calibrateCamera(obj, pts, size, None, None, flags=flags)
         rvecs, tvecs = [r.ravel() for r in rv], [t.ravel() for t in tv]
     else:
         K, dist, r0, t0 = guess or (camera.K, camera.dist_coeffs, None, None)  # type: ignore[union-attr]
@@ -513,7 +515,8 @@ def solve_views(
     if camera is not None:
         check_intrinsics(obj32, pts32, (w, h), camera.K, camera.dist_coeffs,
                          source=f"{source}: the known intrinsics")
-    st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method)
+    zero = tangential == "zero"
+    st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method, zero_tangent=zero)
     _check_mode(F, st, mode, source)
     z = view_scores(st.per_view, st.residuals.translation_mm, st.residuals.rotation_deg, n)
     rejected: list[str] = []
@@ -523,7 +526,8 @@ def solve_views(
         rejected.append(labels[int(np.argmax(z))])
         obj, img_pts, obj32, pts32, F, labels = (
             [seq[i] for i in keep] for seq in (obj, img_pts, obj32, pts32, F, labels))
-        st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method)
+        st = _board_poses(obj32, pts32, (w, h), F, camera, fix_k3, method,
+                          zero_tangent=zero)
         z = view_scores(st.per_view, st.residuals.translation_mm, st.residuals.rotation_deg,
                         len(F))
     check_plausible(rotation_rms_deg=st.residuals.rms_rotation_deg,
@@ -534,7 +538,7 @@ def solve_views(
     terms, chi2 = "", math.nan
     if refine:
         corners = ([o.reshape(-1, 3) for o in obj], [p.reshape(-1, 2) for p in img_pts], F)
-        held = camera is None and tangential == "zero"
+        held = camera is None and zero
         ref = refine_eye_in_hand(*corners, K, dist, X, W, fix_intrinsics=camera is not None,
                                  fix_k3=fix_k3, fix_tangential=held, noise_px=st.noise)
         if camera is None:
