@@ -448,10 +448,11 @@ def tangential_chi2(refined: RefinedHandEye, *, fix_k3: bool = True) -> float:
 
     Notes
     -----
-    Brown-Conrady's ``p1, p2`` move the image much as a principal point shift does (the
-    first-order terms ``p2 (r^2 + 2 x^2)`` and ``2 p2 x y`` against ``cx``), so where the
-    lens has none, freeing them leaves the principal point, and with it the hand-eye
-    rotation, less well pinned.  On the tests' renders (radial distortion only) holding
+    Brown-Conrady's ``p1, p2`` push the image towards one side much as a principal
+    point shift does (``p2 (r^2 + 2 x^2)`` and ``2 p2 x y`` against ``cx``: on the tests'
+    renders ``p2`` correlates 0.92-0.96 with ``cx`` and ``p1`` 0.74-0.80 with ``cy``), so
+    where the lens has none, freeing them leaves the principal point, and with it the
+    hand-eye rotation, less well pinned.  On the tests' renders (radial distortion only) holding
     them where this test finds them insignificant took the worst eye-in-hand rotation
     error of twelve seeds from 0.053 to 0.022 deg.  A model term is dropped where the
     data do not reject its absence, at a fixed level: Wald's test [1]_.
