@@ -126,6 +126,7 @@ from robostereo.robot.handeye.refine import (
     hand_eye_sigma,
     project_board,
     refine_eye_in_hand,
+    refine_with_decentering,
     tangential_chi2,
     tangential_threshold,
 )
@@ -196,6 +197,7 @@ __all__ = [
     "refine_board_corners",
     "refine_charuco_corners",
     "refine_eye_in_hand",
+    "refine_with_decentering",
     "robust_z",
     "save_handeye_yaml",
     "solve_ax_xb",

@@ -462,11 +462,7 @@ def solve_views(
         As :func:`calibrate_eye_in_hand`, and views whose rotations fit the other mode
         but not `mode` (naming the mode they look like).
     """
-    from robostereo.robot.handeye.refine import (
-        refine_eye_in_hand,
-        tangential_chi2,
-        tangential_threshold,
-    )
+    from robostereo.robot.handeye.refine import refine_with_decentering
 
     if mode not in VIEW_MODES:
         raise InputError(f"mode must be one of {', '.join(VIEW_MODES)}, got {mode!r}")
@@ -537,21 +533,10 @@ def solve_views(
     K, dist, X, W = st.K, st.dist, st.X, st.base_board
     terms, chi2 = "", math.nan
     if refine:
-        corners = ([o.reshape(-1, 3) for o in obj], [p.reshape(-1, 2) for p in img_pts], F)
-        held = camera is None and zero
-        ref = refine_eye_in_hand(*corners, K, dist, X, W, fix_intrinsics=camera is not None,
-                                 fix_k3=fix_k3, fix_tangential=held, noise_px=st.noise)
-        if camera is None:
-            terms = "held" if held else "fitted"
-        if camera is None and tangential == "test":
-            # p1, p2 where the views show them; else they only free the principal point
-            chi2 = tangential_chi2(ref, fix_k3=fix_k3)
-            terms = "kept"
-            if chi2 < tangential_threshold():
-                terms = "held"
-                ref = refine_eye_in_hand(*corners, ref.K, ref.dist, ref.hand_eye,
-                                         ref.base_board, fix_k3=fix_k3, fix_tangential=True,
-                                         noise_px=st.noise)
+        ref, terms, chi2 = refine_with_decentering(
+            [o.reshape(-1, 3) for o in obj], [p.reshape(-1, 2) for p in img_pts], F, K, dist,
+            X, W, tangential=tangential, fix_intrinsics=camera is not None, fix_k3=fix_k3,
+            noise_px=st.noise)
         check_plausible(rotation_rms_deg=0.0, translation_rms_mm=0.0,
                         predicted_translation_rms_mm=st.predicted,
                         reprojection_rms_px=ref.rms_px, source=source,

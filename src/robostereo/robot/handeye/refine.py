@@ -49,6 +49,7 @@ __all__ = [
     "hand_eye_sigma",
     "project_board",
     "refine_eye_in_hand",
+    "refine_with_decentering",
     "tangential_chi2",
     "tangential_threshold",
 ]
@@ -488,3 +489,59 @@ def tangential_threshold(level: float = TANGENTIAL_LEVEL) -> float:
     """The chi-square quantile (2 degrees of freedom) :func:`tangential_chi2` is held
     against: 9.21 at the default level."""
     return float(chi2.ppf(1.0 - level, 2))
+
+
+def refine_with_decentering(
+    object_points: Sequence[NDArray[np.float64]],
+    image_points: Sequence[NDArray[np.float64]],
+    flange_poses: Sequence[SE3],
+    K: NDArray[np.float64],
+    dist: NDArray[np.float64],
+    hand_eye: SE3,
+    base_board: SE3,
+    *,
+    tangential: str = "test",
+    fix_intrinsics: bool = False,
+    fix_k3: bool = True,
+    noise_px: float = 0.05,
+) -> tuple[RefinedHandEye, str, float]:
+    """:func:`refine_eye_in_hand` with the decentering terms as `tangential` says.
+
+    Parameters
+    ----------
+    object_points, image_points, flange_poses, K, dist, hand_eye, base_board
+        As :func:`refine_eye_in_hand`.
+    tangential : {'test', 'fit', 'zero'}
+        ``p1, p2`` fitted and kept only where :func:`tangential_chi2` reaches
+        :func:`tangential_threshold` (else refined again with them held at 0), always
+        fitted, or held at 0.
+    fix_intrinsics, fix_k3, noise_px
+        As :func:`refine_eye_in_hand` (with `fix_intrinsics` the terms are the known
+        camera's and nothing is tested).
+
+    Returns
+    -------
+    refined : RefinedHandEye
+    terms : str
+        ``'held'``, ``'kept'``, ``'fitted'``, or ``''`` with `fix_intrinsics`.
+    chi2 : float
+        :func:`tangential_chi2` of the refinement with them free; NaN where not tested.
+    """
+    if tangential not in ("test", "fit", "zero"):
+        raise InputError(f"tangential must be one of test, fit, zero, got {tangential!r}")
+    held = not fix_intrinsics and tangential == "zero"
+    ref = refine_eye_in_hand(object_points, image_points, flange_poses, K, dist, hand_eye,
+                             base_board, fix_intrinsics=fix_intrinsics, fix_tangential=held,
+                             fix_k3=fix_k3, noise_px=noise_px)
+    if fix_intrinsics:
+        return ref, "", math.nan
+    if tangential != "test":
+        return ref, "held" if held else "fitted", math.nan
+    # p1, p2 where the views show them; else they only free the principal point
+    chi2_p = tangential_chi2(ref, fix_k3=fix_k3)
+    if chi2_p >= tangential_threshold():
+        return ref, "kept", chi2_p
+    ref = refine_eye_in_hand(object_points, image_points, flange_poses, ref.K, ref.dist,
+                             ref.hand_eye, ref.base_board, fix_tangential=True, fix_k3=fix_k3,
+                             noise_px=noise_px)
+    return ref, "held", chi2_p
