@@ -15,8 +15,8 @@ of the joint refinement, and of the refinement with the true intrinsics held
 (``--intrinsics``); the AX = XB translation RMS and the RMS the corner noise explains;
 what became of the decentering terms ``p1, p2`` (held at 0, kept or fitted, with the
 test's chi-square; ``--tangential`` as ``handeye``'s).  ``--decentering P1,P2``: the
-eye-in-hand renders through a lens with those terms too (the true intrinsics held with
-them), and no simulated views.
+chessboard renders (either mode) through a lens with those terms too (the true
+intrinsics held with them), and no simulated views.
 ``--write-results PATH`` also writes the errors as the results page's data file
 (``docs/results/handeye.json``; eye-in-hand only).
 
@@ -141,14 +141,18 @@ def simulated(seed: int, tangential: Tangential = "test") -> dict[str, object]:
             "intrinsics_held": _errors(X, as_se3(pose_from_dict(data_known["hand_eye"])))}
 
 
-def cell_renders(seed: int, tangential: Tangential = "test") -> None:
-    r = render_eye_to_hand_views(seed)
+def cell_renders(seed: int, tangential: Tangential = "test",
+                 decentering: tuple[float, float] = (0.0, 0.0)) -> None:
+    p1, p2 = decentering
+    r = (render_eye_to_hand_views(seed, lens=(K1, p1, p2)) if p1 or p2
+         else render_eye_to_hand_views(seed))
     board = Chessboard(r.inner_corners, r.square_mm)
     cal = calibrate_eye_to_hand(r.images, r.flange_poses, board, pixel_pitch_mm=0.005,
                                 tangential=tangential)
     shah = calibrate_eye_to_hand(r.images, r.flange_poses, board, pixel_pitch_mm=0.005,
                                  method="shah", refine=False)
-    known = calibrate_eye_to_hand(r.images, r.flange_poses, board, camera=RENDER_CAMERA)
+    camera = dataclasses.replace(RENDER_CAMERA, distortion=(K1, 0.0, p1, p2, 0.0))
+    known = calibrate_eye_to_hand(r.images, r.flange_poses, board, camera=camera)
     print(f"renders   seed {seed}: T_base_camera closed form {_err(BASE_CAMERA, cal.closed_form)}"
           f" (OpenCV shah {_err(BASE_CAMERA, shah.base_camera)}); refined "
           f"{_err(BASE_CAMERA, cal.base_camera)}; true intrinsics held "
@@ -233,15 +237,13 @@ if __name__ == "__main__":
                    help="the calibrations' decentering terms p1, p2 (handeye --tangential)")
     p.add_argument("--decentering", metavar="P1,P2",
                    type=lambda v: tuple(float(x) for x in v.split(",")),
-                   help="eye-in-hand renders only: a lens with these decentering terms too")
+                   help="chessboard renders only: a lens with these decentering terms too")
     args = p.parse_args()
     tg = args.tangential
     if args.decentering and len(args.decentering) != 2:
         p.error("--decentering takes two numbers, P1,P2")
-    if args.decentering and (args.board != "chessboard" or args.mode != "eye-in-hand"
-                             or args.write_results):
-        p.error("--decentering renders the eye-in-hand chessboard views only (no "
-                "--write-results)")
+    if args.decentering and (args.board != "chessboard" or args.write_results):
+        p.error("--decentering renders the chessboard views only (no --write-results)")
     if args.board == "charuco":
         if args.write_results:
             p.error("--write-results writes the chessboard results page's data only")
@@ -252,9 +254,10 @@ if __name__ == "__main__":
         if args.write_results:
             p.error("--write-results writes the eye-in-hand results page's data only")
         for s in args.seeds:
-            cell_renders(s, tg)
-        for s in args.seeds:
-            cell_simulated(s, tg)
+            cell_renders(s, tg, args.decentering or (0.0, 0.0))
+        if not args.decentering:
+            for s in args.seeds:
+                cell_simulated(s, tg)
         sys.exit(0)
     if args.decentering:
         for s in args.seeds:

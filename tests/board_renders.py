@@ -198,8 +198,10 @@ into the board, about -flange z), its first corner off the flange centre."""
 def render_eye_to_hand_views(seed: int, *, views: int = 14,
                              inner_corners: tuple[int, int] = (9, 6), square_mm: float = 30.0,
                              base_camera: SE3 = BASE_CAMERA, flange_board: SE3 = FLANGE_BOARD,
-                             tilt_deg: tuple[float, float] = (15.0, 45.0)) -> Renders:
-    """`views` renders of a board carried by the flange, seen by a fixed camera.
+                             tilt_deg: tuple[float, float] = (15.0, 45.0),
+                             lens: Lens = K1) -> Renders:
+    """`views` renders of a board carried by the flange, seen by a fixed camera through
+    `lens`.
 
     The board centre moves within +-150 mm across and +-110 mm up and down the image of
     a point on the optical axis, 650-750 mm from the camera; its face is turned
@@ -228,11 +230,12 @@ def render_eye_to_hand_views(seed: int, *, views: int = 14,
         roll = Rotation.from_rotvec([0, 0, math.radians(rng.uniform(-30, 30))]).as_matrix()
         R = np.column_stack([x, y, z]) @ roll
         board_in_cam = SE3(R, c - R @ centre_b)
-        uv = _project(board_in_cam.apply(outline), K1)
+        uv = _project(board_in_cam.apply(outline), lens)
         if not ((uv[:, 0] > 4) & (uv[:, 0] < WIDTH - 5) & (uv[:, 1] > 4)
                 & (uv[:, 1] < HEIGHT - 5)).all():
             continue
-        images.append(render_board(board_in_cam.inv(), inner_corners, square_mm, rng=rng))
+        images.append(render_board(board_in_cam.inv(), inner_corners, square_mm, k1=lens,
+                                   rng=rng))
         flanges.append(base_camera @ board_in_cam @ flange_board.inv())
     return Renders(tuple(images), tuple(flanges), inner_corners, square_mm)
 
