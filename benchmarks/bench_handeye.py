@@ -58,6 +58,7 @@ from robostereo.cli import main
 from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3, as_se3, pose_from_dict
 from robostereo.robot.handeye import (
+    TANGENTIAL_CHOICES,
     Chessboard,
     Tangential,
     calibrate_eye_in_hand,
@@ -233,7 +234,7 @@ if __name__ == "__main__":
     p.add_argument("--hide", choices=("patch", "frame", "none"), default="patch",
                    help="ChArUco renders: a quarter of each board under a grey patch, out "
                         "of the frame, or none hidden")
-    p.add_argument("--tangential", choices=("test", "fit", "zero"), default="test",
+    p.add_argument("--tangential", choices=TANGENTIAL_CHOICES, default="test",
                    help="the calibrations' decentering terms p1, p2 (handeye --tangential)")
     p.add_argument("--decentering", metavar="P1,P2",
                    type=lambda v: tuple(float(x) for x in v.split(",")),

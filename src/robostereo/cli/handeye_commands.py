@@ -37,7 +37,12 @@ __all__ = [
 
 
 def add_handeye_parser(sub: Any) -> None:
-    from robostereo.robot.handeye import ALL_METHODS, DEFAULT_METHOD, VIEW_MODES
+    from robostereo.robot.handeye import (
+        ALL_METHODS,
+        DEFAULT_METHOD,
+        TANGENTIAL_CHOICES,
+        VIEW_MODES,
+    )
 
     p = sub.add_parser(
         "handeye", help="hand-eye calibration (eye-in-hand or eye-to-hand) from board views",
@@ -64,7 +69,7 @@ def add_handeye_parser(sub: Any) -> None:
                    help="known intrinsics and distortion (a camera YAML or a handeye "
                         "output), held fixed: only the hand-eye transform and the board "
                         "pose are refined")
-    p.add_argument("--tangential", choices=("test", "fit", "zero"), default="test",
+    p.add_argument("--tangential", choices=TANGENTIAL_CHOICES, default="test",
                    help="the lens's decentering terms p1, p2: held at 0 unless the views "
                         "show them (test, Wald's test at 1 %%), always fitted (fit), or "
                         "held at 0 (zero); unknown ones trade with the principal point and "

@@ -73,7 +73,6 @@ from robostereo.robot.handeye.calibrate import (
     EyeInHandCalibration,
     HandEyeMode,
     SolveMethod,
-    Tangential,
     calibrate_eye_in_hand,
     solve_views,
 )
@@ -119,14 +118,15 @@ from robostereo.robot.handeye.handeye_yaml import (
 )
 from robostereo.robot.handeye.refine import (
     INTRINSICS,
+    TANGENTIAL_CHOICES,
     TANGENTIAL_LEVEL,
     CornerModel,
     RefinedHandEye,
+    Tangential,
     free_intrinsics,
     hand_eye_sigma,
     project_board,
     refine_eye_in_hand,
-    refine_with_decentering,
     tangential_chi2,
     tangential_threshold,
 )
@@ -147,6 +147,7 @@ __all__ = [
     "MIN_VIEWS",
     "OUTLIER_Z",
     "ROBOT_WORLD_METHODS",
+    "TANGENTIAL_CHOICES",
     "TANGENTIAL_LEVEL",
     "TRANSLATION_FACTOR",
     "TRANSLATION_FLOOR_MM",
@@ -197,7 +198,6 @@ __all__ = [
     "refine_board_corners",
     "refine_charuco_corners",
     "refine_eye_in_hand",
-    "refine_with_decentering",
     "robust_z",
     "save_handeye_yaml",
     "solve_ax_xb",

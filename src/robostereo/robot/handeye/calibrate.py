@@ -57,6 +57,7 @@ from robostereo.robot.handeye.checks import (
     predicted_pair_translation_mm,
     view_scores,
 )
+from robostereo.robot.handeye.refine import TANGENTIAL_CHOICES, Tangential, refine_eye_in_hand
 from robostereo.robot.handeye.view_advice import ViewAdvice, advise_views
 
 __all__ = [
@@ -64,15 +65,12 @@ __all__ = [
     "EyeInHandCalibration",
     "HandEyeMode",
     "SolveMethod",
-    "Tangential",
     "calibrate_eye_in_hand",
     "solve_views",
 ]
 
 HandEyeMode = Literal["eye-in-hand", "eye-to-hand"]
 SolveMethod = Literal["tsai", "park", "daniilidis", "shah", "li"]
-Tangential = Literal["test", "fit", "zero"]
-TANGENTIAL_CHOICES: tuple[str, ...] = ("test", "fit", "zero")
 ALL_METHODS: tuple[str, ...] = ("park", "tsai", "daniilidis", *ROBOT_WORLD_METHODS)
 """The closed forms that can start the refinement: the AX = XB ones of
 :mod:`~robostereo.robot.handeye.ax_xb` and OpenCV's AX = ZB ones of
@@ -462,8 +460,6 @@ def solve_views(
         As :func:`calibrate_eye_in_hand`, and views whose rotations fit the other mode
         but not `mode` (naming the mode they look like).
     """
-    from robostereo.robot.handeye.refine import refine_with_decentering
-
     if mode not in VIEW_MODES:
         raise InputError(f"mode must be one of {', '.join(VIEW_MODES)}, got {mode!r}")
     if tangential not in TANGENTIAL_CHOICES:
@@ -533,10 +529,11 @@ def solve_views(
     K, dist, X, W = st.K, st.dist, st.X, st.base_board
     terms, chi2 = "", math.nan
     if refine:
-        ref, terms, chi2 = refine_with_decentering(
-            [o.reshape(-1, 3) for o in obj], [p.reshape(-1, 2) for p in img_pts], F, K, dist,
-            X, W, tangential=tangential, fix_intrinsics=camera is not None, fix_k3=fix_k3,
-            noise_px=st.noise)
+        ref = refine_eye_in_hand([o.reshape(-1, 3) for o in obj],
+                                 [p.reshape(-1, 2) for p in img_pts], F, K, dist, X, W,
+                                 fix_intrinsics=camera is not None, fix_k3=fix_k3,
+                                 tangential=tangential, noise_px=st.noise)
+        terms, chi2 = ref.tangential, ref.tangential_chi2
         check_plausible(rotation_rms_deg=0.0, translation_rms_mm=0.0,
                         predicted_translation_rms_mm=st.predicted,
                         reprojection_rms_px=ref.rms_px, source=source,

@@ -27,12 +27,8 @@ from robostereo.geometry.camera import Camera
 from robostereo.geometry.poses import SE3
 from robostereo.robot.handeye.ax_xb import DEFAULT_METHOD
 from robostereo.robot.handeye.boards import Board
-from robostereo.robot.handeye.calibrate import (
-    EyeInHandCalibration,
-    SolveMethod,
-    Tangential,
-    solve_views,
-)
+from robostereo.robot.handeye.calibrate import EyeInHandCalibration, SolveMethod, solve_views
+from robostereo.robot.handeye.refine import Tangential
 
 __all__ = [
     "EyeToHandCalibration",

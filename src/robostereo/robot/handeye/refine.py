@@ -29,7 +29,8 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,20 +43,25 @@ from robostereo.geometry.poses import SE3
 
 __all__ = [
     "INTRINSICS",
+    "TANGENTIAL_CHOICES",
     "TANGENTIAL_LEVEL",
     "CornerModel",
     "RefinedHandEye",
+    "Tangential",
     "free_intrinsics",
     "hand_eye_sigma",
     "project_board",
     "refine_eye_in_hand",
-    "refine_with_decentering",
     "tangential_chi2",
     "tangential_threshold",
 ]
 
 INTRINSICS = ("fx", "fy", "cx", "cy", "k1", "k2", "p1", "p2", "k3")
 """The intrinsics the refinement may free, in the order of its parameters."""
+
+Tangential = Literal["test", "fit", "zero"]
+TANGENTIAL_CHOICES: tuple[str, ...] = ("test", "fit", "zero")
+"""What :func:`refine_eye_in_hand` does with the decentering terms ``p1, p2``."""
 
 TANGENTIAL_LEVEL = 0.01
 """Significance level of :func:`tangential_chi2`'s test: ``p1, p2`` are kept where a
@@ -269,6 +275,11 @@ class RefinedHandEye:
         ``J^T J`` at the solution in :meth:`CornerModel.information`'s parameters (what
         the sigmas come from; :func:`~robostereo.robot.handeye.view_advice.advise_views`
         adds candidate views to it).
+    tangential : str
+        What became of ``p1, p2``: ``'held'`` at 0, ``'kept'`` (the test found them),
+        ``'fitted'`` (untested), or ``''`` (known intrinsics).
+    tangential_chi2 : float
+        :func:`tangential_chi2` of the fit with them free; NaN where not tested.
 
     References
     ----------
@@ -286,6 +297,8 @@ class RefinedHandEye:
     hand_eye_sigma_deg: float = float("nan")
     variance_px2: float = float("nan")
     information: NDArray[np.float64] | None = None
+    tangential: str = ""
+    tangential_chi2: float = float("nan")
 
     def __post_init__(self) -> None:
         if self.K.shape != (3, 3) or self.dist.shape != (5,):
@@ -308,7 +321,7 @@ def refine_eye_in_hand(
     *,
     fix_intrinsics: bool = False,
     fix_k3: bool = True,
-    fix_tangential: bool = False,
+    tangential: Tangential = "test",
     noise_px: float = 0.05,
 ) -> RefinedHandEye:
     """Refine intrinsics, ``X`` and ``W`` together on every view's corners.
@@ -329,9 +342,11 @@ def refine_eye_in_hand(
         Hold `K` and `dist` (known intrinsics): only ``X`` and ``W`` move.
     fix_k3 : bool
         Hold ``k3`` (as :func:`cv2.calibrateCamera` did with ``CALIB_FIX_K3``).
-    fix_tangential : bool
-        Hold ``p1 = p2 = 0`` (as ``CALIB_ZERO_TANGENT_DIST``; :func:`tangential_chi2`
-        tells whether the views show them).
+    tangential : {'test', 'fit', 'zero'}
+        The decentering terms ``p1, p2`` (unless `fix_intrinsics`): fitted, and fitted
+        again held at 0 unless the views show them (:func:`tangential_chi2` at least
+        :func:`tangential_threshold`); always fitted; or held at 0 (as OpenCV's
+        ``CALIB_ZERO_TANGENT_DIST``).
     noise_px : float
         The corner noise (one coordinate, pixels); the robust loss's scale is 3 times
         it, so that corners up to 3 sigma off count fully and gross ones are tamed.
@@ -349,6 +364,8 @@ def refine_eye_in_hand(
        view (2 per corner).
     3. :func:`scipy.optimize.least_squares` (trust region reflective, Jacobian scaling,
        ``soft_l1`` loss with scale ``3 noise_px``).
+    4. With `tangential` ``'test'``, 1-3 again from that solution with ``p1 = p2 = 0``
+       where :func:`tangential_chi2` is below :func:`tangential_threshold`.
 
     References
     ----------
@@ -379,12 +396,36 @@ def refine_eye_in_hand(
                          f"got {len(object_points)}, {len(image_points)} and {n}")
     if not (np.isfinite(noise_px) and noise_px > 0):
         raise InputError(f"noise_px must be a finite number > 0, got {noise_px}")
+    if tangential not in TANGENTIAL_CHOICES:
+        raise InputError(f"tangential must be one of {', '.join(TANGENTIAL_CHOICES)}, got "
+                         f"{tangential!r}")
     model = CornerModel(object_points, flange_poses)
     uv = np.concatenate([np.asarray(p, dtype=np.float64).reshape(-1, 2)
                          for p in image_points])
     if len(uv) != len(model.obj):
         raise InputError(f"object_points and image_points must match, got {len(model.obj)} "
                          f"corners and {len(uv)} pixels")
+    ref = _refine(model, uv, K, dist, hand_eye, base_board, fix_intrinsics=fix_intrinsics,
+                  fix_k3=fix_k3, fix_tangential=tangential == "zero", noise_px=noise_px)
+    if fix_intrinsics:
+        return ref
+    if tangential != "test":
+        return replace(ref, tangential="held" if tangential == "zero" else "fitted")
+    # p1, p2 where the views show them; else they only free the principal point
+    chi2_p = tangential_chi2(ref, fix_k3=fix_k3)
+    if chi2_p >= tangential_threshold():
+        return replace(ref, tangential="kept", tangential_chi2=chi2_p)
+    held = _refine(model, uv, ref.K, ref.dist, ref.hand_eye, ref.base_board,
+                   fix_intrinsics=False, fix_k3=fix_k3, fix_tangential=True, noise_px=noise_px)
+    return replace(held, tangential="held", tangential_chi2=chi2_p)
+
+
+def _refine(model: CornerModel, uv: NDArray[np.float64], K: NDArray[np.float64],
+            dist: NDArray[np.float64], hand_eye: SE3, base_board: SE3, *,
+            fix_intrinsics: bool, fix_k3: bool, fix_tangential: bool,
+            noise_px: float) -> RefinedHandEye:
+    """:func:`refine_eye_in_hand`'s steps 1-3 on the corners ``uv`` ``(M, 2)``."""
+    n = len(model.counts)
     intr0 = _all_intrinsics(K, dist)
     free = free_intrinsics(fix_intrinsics=fix_intrinsics, fix_k3=fix_k3,
                            fix_tangential=fix_tangential)
@@ -490,58 +531,3 @@ def tangential_threshold(level: float = TANGENTIAL_LEVEL) -> float:
     against: 9.21 at the default level."""
     return float(chi2.ppf(1.0 - level, 2))
 
-
-def refine_with_decentering(
-    object_points: Sequence[NDArray[np.float64]],
-    image_points: Sequence[NDArray[np.float64]],
-    flange_poses: Sequence[SE3],
-    K: NDArray[np.float64],
-    dist: NDArray[np.float64],
-    hand_eye: SE3,
-    base_board: SE3,
-    *,
-    tangential: str = "test",
-    fix_intrinsics: bool = False,
-    fix_k3: bool = True,
-    noise_px: float = 0.05,
-) -> tuple[RefinedHandEye, str, float]:
-    """:func:`refine_eye_in_hand` with the decentering terms as `tangential` says.
-
-    Parameters
-    ----------
-    object_points, image_points, flange_poses, K, dist, hand_eye, base_board
-        As :func:`refine_eye_in_hand`.
-    tangential : {'test', 'fit', 'zero'}
-        ``p1, p2`` fitted and kept only where :func:`tangential_chi2` reaches
-        :func:`tangential_threshold` (else refined again with them held at 0), always
-        fitted, or held at 0.
-    fix_intrinsics, fix_k3, noise_px
-        As :func:`refine_eye_in_hand` (with `fix_intrinsics` the terms are the known
-        camera's and nothing is tested).
-
-    Returns
-    -------
-    refined : RefinedHandEye
-    terms : str
-        ``'held'``, ``'kept'``, ``'fitted'``, or ``''`` with `fix_intrinsics`.
-    chi2 : float
-        :func:`tangential_chi2` of the refinement with them free; NaN where not tested.
-    """
-    if tangential not in ("test", "fit", "zero"):
-        raise InputError(f"tangential must be one of test, fit, zero, got {tangential!r}")
-    held = not fix_intrinsics and tangential == "zero"
-    ref = refine_eye_in_hand(object_points, image_points, flange_poses, K, dist, hand_eye,
-                             base_board, fix_intrinsics=fix_intrinsics, fix_tangential=held,
-                             fix_k3=fix_k3, noise_px=noise_px)
-    if fix_intrinsics:
-        return ref, "", math.nan
-    if tangential != "test":
-        return ref, "held" if held else "fitted", math.nan
-    # p1, p2 where the views show them; else they only free the principal point
-    chi2_p = tangential_chi2(ref, fix_k3=fix_k3)
-    if chi2_p >= tangential_threshold():
-        return ref, "kept", chi2_p
-    ref = refine_eye_in_hand(object_points, image_points, flange_poses, ref.K, ref.dist,
-                             ref.hand_eye, ref.base_board, fix_tangential=True, fix_k3=fix_k3,
-                             noise_px=noise_px)
-    return ref, "held", chi2_p
