@@ -21,6 +21,7 @@ from robostereo.robot.views.pose_check import (
     EpipolarCheck,
     epipolar_check,
     fundamental_from_poses,
+    pose_offset_px,
     views_epipolar_checks,
 )
 from robostereo.robot.views.prepared_views import prepare_views
@@ -120,6 +121,32 @@ def test_a_hand_eye_turned_about_the_optical_axis_shows_as_its_angle(table, view
             assert 0.7 < c.angle_deg < 1.3 and c.disagrees == far
 
 
+def _tilted(pose: SE3, degrees: float) -> SE3:
+    """`pose` with the camera turned about its own x axis (its image moves along y)."""
+    return pose @ SE3.from_rotvec([0.0, 0.0, 0.0], [np.radians(degrees), 0.0, 0.0])
+
+
+def test_a_pose_off_across_the_lines_shows_as_an_offset_every_place_shares(views):
+    """A view tilted 0.1 degree moves its image f tan(0.1 deg) = 1.4 px across the
+    (horizontal) epipolar lines: every place one way; right poses leave the places
+    either side of their lines, their median near 0."""
+    images, poses = views
+    right = prepare_views(_capture(images, poses), None)
+    checks = views_epipolar_checks(right, 1, (500.0, 700.0))
+    assert all(abs(c.offset_px) < 0.05 for c in checks)
+    assert pose_offset_px(right, checks, (500.0, 700.0)) < 0.05
+    shift = CAMERA.fx * np.tan(np.radians(0.1))
+    claimed = (poses[0], poses[1], _tilted(poses[2], 0.1))
+    off = prepare_views(_capture(images, claimed), None)
+    by_view = {c.other: c for c in views_epipolar_checks(off, 1, (500.0, 700.0))}
+    assert abs(by_view[0].offset_px) < 0.05
+    assert abs(abs(by_view[2].offset_px) - shift) < 0.2
+    assert by_view[2].distance_px == pytest.approx(abs(by_view[2].offset_px), abs=0.1)
+    # the pair of views 0 and 2, which the reference's checks do not hold, counts too
+    rms = pose_offset_px(off, list(by_view.values()), (500.0, 700.0))
+    assert shift * np.sqrt(2 / 3) - 0.2 < rms < shift * np.sqrt(2 / 3) + 0.2
+
+
 def test_an_untextured_view_gives_no_verdict():
     flat = np.full((240, 320), 90.0)
     K = CAMERA.K
@@ -148,6 +175,8 @@ def test_epipolar_check_validates_itself():
         EpipolarCheck(0, 1, 0.1, float("nan"), 50)
     with pytest.raises(InputError, match="n_places"):
         EpipolarCheck(0, 1, 0.1, 0.1, 2.5)
+    with pytest.raises(InputError, match="offset_px"):
+        EpipolarCheck(0, 1, 0.1, 0.1, 50, float("inf"))
 
 
 def test_locating_warns_when_the_poses_disagree_with_the_images(views):

@@ -15,6 +15,7 @@ from robostereo.errors import InputError, PlausibilityWarning
 from robostereo.geometry.poses import SE3, as_se3
 from robostereo.robot.simulated.grab_views import simulate_views
 from robostereo.robot.simulated.views_truth import views_depth_errors
+from robostereo.robot.views import locating
 from robostereo.robot.views.locating import locate_views
 from robostereo.robot.views.view_agreement import DOUBTFUL_CONFIDENCE, pair_agreement
 from robostereo.robot.views.views_parameters import ViewsParameters
@@ -162,6 +163,23 @@ def test_three_views_one_off_along_the_baseline_are_warned_about_and_bounds_carr
         shown, _ = _located(bad, matcher=matcher, lone_view_factor=None)
         err = truth.depth_errors(bad, shown)
         assert not np.any((shown.confidence >= 0.9) & (err > 3 * shown.bound_mm))
+
+
+def test_pose_errors_the_fits_absorb_are_carried_by_the_offsets_the_views_show(monkeypatch):
+    """Every recorded pose 0.1 degree and 0.2 mm off, as an arm's are: the error along
+    the epipolar lines is shared by a fit's views and its residuals do not show it,
+    but across the lines the tracked places show one of the same size."""
+    cap, truth = render_views(RenderSpec(pattern="cross", count=5, seed=1, jitter_deg=0.0,
+                                         jitter_mm=0.0, error_deg=0.1, error_mm=0.2))
+    loc, _ = _located(cap)
+    err = truth.depth_errors(cap, loc)
+    assert len(loc) > 30
+    assert np.mean(err <= loc.bound_mm) >= 0.85
+    assert not np.any((loc.confidence >= 0.9) & (err > 3 * loc.bound_mm))
+    # the same views with the offsets left out of the bounds: most points beyond them
+    monkeypatch.setattr(locating, "pose_offset_px", lambda *args: 0.0)
+    blind, _ = _located(cap)
+    assert np.mean(truth.depth_errors(cap, blind) <= blind.bound_mm) < 0.5
 
 
 def test_correct_views_raise_no_disagreement(printed_cross):

@@ -57,6 +57,7 @@ from robostereo.robot.views.pose_check import (
     corners_to_track,
     epipolar_check,
     fundamental_from_poses,
+    pose_offset_px,
     views_epipolar_checks,
     warn_disagreeing,
 )
@@ -98,6 +99,7 @@ __all__ = [
     "is_views_folder",
     "locate_views",
     "point_noise_px",
+    "pose_offset_px",
     "read_views_capture",
     "reference_order",
     "residual_noise_px",

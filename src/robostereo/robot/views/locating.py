@@ -66,6 +66,7 @@ from robostereo.robot.views.point_refinement import refine_points
 from robostereo.robot.views.pose_check import (
     lone_check,
     lone_of_three,
+    pose_offset_px,
     views_epipolar_checks,
     warn_disagreeing,
 )
@@ -277,7 +278,12 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     noise = residual_noise_px(cat["rms"], count) if p.bound_sigmas is not None else None
     if noise is not None:
         noise_px = point_noise_px(cat["rms"], count, noise, prior_dof=p.noise_prior_dof)
-        shown = p.bound_sigmas * math.sqrt(2.0) * noise_px
+        # what the residuals show, and what the poses' offsets across the epipolar
+        # lines say they may be off along them by (a fit absorbs a pose error its
+        # views share, and its residuals do not show it)
+        shown = np.maximum(p.bound_sigmas * math.sqrt(2.0) * noise_px,
+                           p.bound_sigmas * pose_offset_px(views, checks,
+                                                            capture.depth_range_mm))
         bound = _bound(capture, views, cat,
                        np.maximum(capture.disparity_uncertainty_px, shown))
     if agreed is not None:

@@ -12,7 +12,9 @@ What the poses cannot fake is where the views see the same texture.  Well-struct
 places of one view (Shi-Tomasi corners [1]_) are tracked into another by pyramidal
 Lucas-Kanade [2]_, free in both directions; their distance from the epipolar line
 that the two poses predict, perpendicular to the line, is a fraction of a pixel where
-the poses are right and grows with the disparity where they are not.
+the poses are right and grows with the disparity where they are not.  The part of it
+that every place of a pair shares (:func:`pose_offset_px`) is a pose error of the size
+the search meets along the lines, and the N-view bounds carry it.
 
 References
 ----------
@@ -30,6 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from robostereo.errors import (
+    require_finite,
     require_int,
     require_nonnegative,
     warn_input,
@@ -46,6 +49,7 @@ __all__ = [
     "fundamental_from_poses",
     "lone_check",
     "lone_of_three",
+    "pose_offset_px",
     "views_epipolar_checks",
     "warn_disagreeing",
 ]
@@ -87,6 +91,10 @@ class EpipolarCheck:
         with the motion, and a roughly constant angle.
     n_places : int
         Places tracked.
+    offset_px : float
+        Median signed distance, pixels: the part of `distance_px` that all places share
+        (a pose off across the lines moves every place one way; the tracking's noise
+        leaves the median near 0).
 
     Examples
     --------
@@ -103,6 +111,7 @@ class EpipolarCheck:
     distance_px: float
     angle_deg: float
     n_places: int
+    offset_px: float = 0.0
 
     def __post_init__(self) -> None:
         require_int("view", self.view, minimum=0)
@@ -110,6 +119,7 @@ class EpipolarCheck:
         require_nonnegative("distance_px", self.distance_px)
         require_nonnegative("angle_deg", self.angle_deg)
         require_int("n_places", self.n_places, minimum=0)
+        require_finite("offset_px", self.offset_px)
 
     @property
     def disagrees(self) -> bool:
@@ -326,14 +336,16 @@ def epipolar_check(image: NDArray[np.floating], other_image: NDArray[np.floating
         np.float64)
     lines = pa @ F.T  # (n, 3): the epipolar line of each corner in the other view
     with np.errstate(divide="ignore", invalid="ignore"):
-        dist = np.abs(np.sum(lines * pb, axis=1)) / np.hypot(lines[:, 0], lines[:, 1])
+        signed = np.sum(lines * pb, axis=1) / np.hypot(lines[:, 0], lines[:, 1])
+    dist = np.abs(signed)
     moved = np.linalg.norm(pb[:, :2] - pa[:, :2], axis=1)
     keep = np.isfinite(dist) & (moved > 0)
     if keep.sum() < MIN_PLACES:
         return None
     angle = np.degrees(np.arctan2(dist[keep], moved[keep]))
     return EpipolarCheck(int(view), int(other), float(np.median(dist[keep])),
-                         float(np.median(angle)), int(keep.sum()))
+                         float(np.median(angle)), int(keep.sum()),
+                         float(np.median(signed[keep])))
 
 
 def views_epipolar_checks(views: PreparedViews, ref: int,
@@ -457,3 +469,60 @@ def lone_check(checks: list[EpipolarCheck], factor: float) -> EpipolarCheck | No
             and worst.distance_px > EPIPOLAR_TOLERANCE_PX / 2):
         return worst
     return None
+
+
+
+def pose_offset_px(views: PreparedViews, checks: list[EpipolarCheck],
+                   depth_range_mm: tuple[float, float]) -> float:
+    """The poses' error across the epipolar lines that every tracked place of a pair
+    shares: the root mean square of :attr:`EpipolarCheck.offset_px` over every pair of
+    views, pixels (0 with no pair checked).
+
+    Parameters
+    ----------
+    views : PreparedViews
+        The capture's prepared views.
+    checks : list of EpipolarCheck
+        :func:`views_epipolar_checks` of one reference, already made; the pairs of the
+        other views are checked here.
+    depth_range_mm : tuple of float
+        ``(near, far)``, the capture's.
+
+    Returns
+    -------
+    float
+
+    Notes
+    -----
+    A view's pose off by a small turn moves its image as a whole, along the epipolar
+    lines as much as across them (a turn of 0.1 degree: 1.4 px at f = 800 px).  Across
+    them the tracked places show it; along them it is a disparity error that a fit's
+    views share and its residuals do not show.  Taken as the spread of that error, it
+    enters the N-view bounds (:func:`~robostereo.robot.views.locating.locate_views`)
+    beside the residuals' noise.  Every pair counts, not only the reference's: a
+    pair's offset shows the component of the two images' relative shift across its
+    lines, and the pairs of a cross see it in two directions.  The tracking's own
+    noise moves places either way and leaves the medians near 0 (0.00-0.04 px on the
+    simulator's and our renders' right poses, where the unsigned distances are
+    0.01-0.18 px; 0.9-1.7 px where every recorded pose is 0.1 degree and 0.2 mm off).
+    """
+    offsets = [c.offset_px for c in checks]
+    done = {frozenset((c.view, c.other)) for c in checks}
+    n = views.smoothed.shape[0]
+    corners: dict[int, NDArray[np.float64] | None] = {}
+    for a in range(n):
+        for b in range(a + 1, n):
+            if frozenset((a, b)) in done:
+                continue
+            if a not in corners:
+                corners[a] = corners_to_track(views.smoothed[a])
+            if corners[a] is None:
+                continue
+            c = epipolar_check(views.smoothed[a], views.smoothed[b], views.K,
+                               (views.R[a], views.C[a]), (views.R[b], views.C[b]),
+                               depth_range_mm, view=a, other=b, corners=corners[a])
+            if c is not None:
+                offsets.append(c.offset_px)
+    if not offsets:
+        return 0.0
+    return float(np.sqrt(np.mean(np.square(offsets))))
