@@ -471,7 +471,6 @@ def lone_check(checks: list[EpipolarCheck], factor: float) -> EpipolarCheck | No
     return None
 
 
-
 def pose_offset_px(views: PreparedViews, checks: list[EpipolarCheck],
                    depth_range_mm: tuple[float, float]) -> float:
     """The poses' error across the epipolar lines that every tracked place of a pair
