@@ -245,3 +245,40 @@ def test_of_three_views_the_one_off_both_others_lines_is_named_and_left_out(view
     said = [str(w.message) for w in caught if issubclass(w.category, PlausibilityWarning)]
     assert any("off the epipolar lines" in m for m in said), said
     assert not any("left out" in m for m in said), said
+
+
+def test_a_pair_left_after_a_view_is_named_carries_the_offset_its_places_share(
+        views, monkeypatch):
+    """Every recorded pose turned 0.1 degree about its own axis (an arm's errors): the
+    first view is named and left out, and the two left go to the pairs matcher.  Their
+    pose error along the lines, which the two-view bounds knew nothing of, is carried by
+    the offset their places share across them."""
+    from robostereo.robot.views import locating
+
+    images, poses = views
+    rng = np.random.default_rng(3)
+    claimed = []
+    for p in poses:
+        axis = rng.normal(size=3)
+        claimed.append(p @ SE3.from_rotvec([0.0, 0.0, 0.0],
+                                           np.radians(0.1) * axis / np.linalg.norm(axis)))
+    cap = _capture(images, tuple(claimed))
+
+    def located():
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", PlausibilityWarning)
+            loc = locate_views(cap)
+        said = [str(w.message) for w in caught]
+        assert any(m.startswith("capture: view 0") and m.endswith("it is left out")
+                   for m in said), said
+        assert len(loc) > 500 and not loc.views[:, 0].any()
+        far = np.abs(loc.world[:, 2]) > 3 * loc.bound_mm  # the table is the plane z = 0
+        return loc, far
+
+    loc, far = located()
+    assert np.mean(np.abs(loc.world[:, 2]) <= loc.bound_mm) > 0.8
+    assert not np.any(far & (loc.confidence >= 0.9))
+    # the pair's own bounds: its sure points far beyond them (measured: 334)
+    monkeypatch.setattr(locating, "pose_offset_px", lambda *args: 0.0)
+    blind, far = located()
+    assert np.sum(far & (blind.confidence >= 0.9)) > 100

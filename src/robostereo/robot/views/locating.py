@@ -202,9 +202,7 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     if len(capture) >= 3 and p.lone_view_factor is not None:
         lone, agreed = _pair_check(capture, p, source)
         if lone is not None:
-            keep = np.array([k for k in range(len(capture)) if k != lone])
-            return locate_views(capture.subset(keep), params=p, progress=progress,
-                                source=source).in_views(keep, len(capture))
+            return _without(capture, lone, p, progress, source)
     n = len(capture)
     views = prepare_views(capture, p.edge_blur_px, p.opposite_edge_px)
     h, w = views.smoothed.shape[1:]
@@ -229,9 +227,7 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                    f"from view {capture.view_name(c.view)} lie {c.distance_px:.2f} px, "
                    f"{c.angle_deg:.2f} degrees off the epipolar lines its pose gives, where "
                    "the other views agree: it is left out")
-        keep = np.array([k for k in range(n) if k != c.other])
-        return locate_views(capture.subset(keep), params=p, progress=progress,
-                            source=source).in_views(keep, n)
+        return _without(capture, c.other, p, progress, source)
     warn_disagreeing(checks)
     doubtful = doubtful or bool(off)
     # the first reference's edge points serve the narrowing pass too
@@ -307,6 +303,30 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
                         residual_px=cat["rms"], window_cost=cat["combined"],
                         distinct=cat["distinct"], views_seen=cat["seen"].astype(np.intp),
                         views_checked=cat["looked"], views_against=cat["against"])
+
+
+def _without(capture: ViewsCapture, view: int, p: ViewsParameters,
+             progress: Callable[[int, int], None] | None, source: str) -> LocatedViews:
+    """The capture located without `view` (named in a warning), in the whole capture's
+    view indices.
+
+    Two views left go to the pairs matcher, whose bounds are the two-view path's: the
+    offset their tracked places share across the epipolar lines
+    (:func:`~robostereo.robot.views.pose_check.pose_offset_px`) enters its disparity
+    uncertainty, as it enters the sweep's bounds (the named view is seldom the only
+    one off: on a line of 3 with every pose turned 0.1 degree, the pair left put 334
+    points at confidence 0.9 or more beyond three bounds, none with it)."""
+    keep = np.array([k for k in range(len(capture)) if k != view])
+    rest = capture.subset(keep)
+    if len(rest) == 2 and p.bound_sigmas is not None:
+        views = prepare_views(rest, p.edge_blur_px, p.opposite_edge_px)
+        near_far = rest.depth_range_mm
+        offset_px = p.bound_sigmas * pose_offset_px(
+            views, views_epipolar_checks(views, 0, near_far), near_far)
+        if offset_px > rest.disparity_uncertainty_px:
+            rest = replace(rest, disparity_uncertainty_px=offset_px)
+    return locate_views(rest, params=p, progress=progress,
+                        source=source).in_views(keep, len(capture))
 
 
 def _bound(capture: ViewsCapture, views: Any, cat: dict[str, Any],
