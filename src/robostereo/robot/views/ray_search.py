@@ -116,6 +116,8 @@ class RayMatches:
     distinct : (M,)
         Combined cost at the best depth over that of the best depth at least three
         steps away (1: ambiguous, small: distinct).
+    rho_second : (M,)
+        That next best inverse depth, 1/mm (NaN: none searched).
     affine : (M, V, 2, 2)
         The depth plane's local map of reference pixel offsets to each view's.
     """
@@ -127,6 +129,7 @@ class RayMatches:
     kept: _F
     distinct: _F
     affine: _F
+    rho_second: _F
 
 
 def epipolar_sines(a: _F, b: _F, aff: _F, normal: _F, rho: float) -> _F:
@@ -205,6 +208,7 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
         inside = (near_k >= 0) & (near_k < len(grid))
         comb[rows[inside], near_k[inside]] = np.inf
     second = comb.min(axis=1)  # the grid holds 1 / far at least
+    rho_second = grid[np.argmin(comb, axis=1)] if m else np.zeros(0)
     rho = grid[k]
     if ratio > 1.0 and m:
         # -- then the fine steps within a coarse step either side of the coarse best
@@ -218,7 +222,8 @@ def search_rays(views: PreparedViews, ref: int, edges: ReferenceEdges,
     with np.errstate(divide="ignore", invalid="ignore"):
         distinct = np.where(np.isfinite(second) & (second > 0), best / second, 1.0)
     return RayMatches(others=others, rho=rho, costs=costs, combined=best, kept=kept,
-                      distinct=np.clip(distinct, 0.0, 1.0), affine=aff)
+                      distinct=np.clip(distinct, 0.0, 1.0), affine=aff,
+                      rho_second=rho_second)
 
 
 SWEEP_CHUNK_COSTS = 1 << 21
