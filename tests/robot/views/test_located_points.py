@@ -117,14 +117,16 @@ def test_confidence_follows_what_the_views_left_out_of_a_fit_see(six_axis_cross)
 
 def test_a_view_that_cannot_tell_the_depth_does_not_confirm_a_two_view_fit(six_axis_cross):
     # a view along whose epipolar line the edge runs finds the edge wherever the point
-    # falls on it: such a view refutes a fit (no edge there) but cannot confirm it.
-    # Seeds 5-6: the two-view fits no view left out can check were 28-32 (35-46 % right)
-    # while such views counted; now 907-934, 95-96 % right at a mean confidence of
-    # 0.91-0.93, and those checked 99.6 % right
+    # falls on it, and on repeated rings another ring lies where a wrong depth falls:
+    # such a view refutes a fit (no edge there) but cannot confirm it.  Seeds 5-6: the
+    # two-view fits no view left out can check were 28-32 (35-46 % right) while such
+    # views counted, and those checked 99.1 % right; with the next best depth off the
+    # edge 907-934 and 99.6 %; with no edge there either 1055-1073 (94-95 % right at a
+    # mean confidence of 0.91-0.92) and 99.9 %
     sim, every = six_axis_cross
     right = views_correct(sim, every)
     two = every.view_count == 2
     checked, unchecked = two & (every.views_checked > 0), two & (every.views_checked == 0)
     assert unchecked.sum() > 300 and checked.sum() > 2000
-    assert right[checked].mean() > 0.99 > right[unchecked].mean()
+    assert right[checked].mean() > 0.9975 and right[unchecked].mean() < 0.99
     assert abs(every.confidence[unchecked].mean() - right[unchecked].mean()) < 0.05

@@ -252,8 +252,8 @@ def left_out_views(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: 
                    reject_px: float, border: int, lines: int = 2
                    ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """``(looked, against)``: for the points in `check`, the other views left out of a
-    point's fit that could tell it wrong, and those of them that have no edge where
-    they see it; int, shape (M,) each (0 outside `check`).
+    point's fit that tell it from the next best depth, and those of them that have no
+    edge where they see it; int, shape (M,) each (0 outside `check`).
 
     Notes
     -----
@@ -269,14 +269,17 @@ def left_out_views(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: 
     projection; the view is against the point if there is none or it lies more than
     `reject_px` away along the normal.
 
-    Such a view refutes a point but cannot confirm it: where the edge runs within
-    ``asin(min_sine)`` of its epipolar line (the search's rule for a view that cannot
-    tell depths apart), a wrong depth leaves the point on the edge too.  It counts
-    among the views that looked only when it is against the point.  On the six-axis
-    arm's cross of 5 views of the hub-pulley, 42 of the 50 points of confidence 0.9 or
-    more beyond three bounds were two-view fits at the image's side that two such
-    views "confirmed": a vertical edge seen by the views above and below, each
-    finding it wherever the point fell.
+    Finding the edge confirms the point only where a wrong depth would not have found
+    one: the view counts among those that looked when it is against the point, or
+    when it tells the fitted depth from the search's next best one
+    (``rays.rho_second``, the depth the distinctness is measured against): that depth
+    falls more than `reject_px` off the edge in it and on no edge of its own there.
+    Where the edge runs along the view's epipolar line, a wrong depth slides along the
+    edge and finds it too; on repeated rings, another ring is there.  On the six-axis
+    arm's cross of 5 views of the hub-pulley (noise seed 0), 42 of the 50 points of
+    confidence 0.9 or more beyond three bounds were two-view fits at the image's side
+    that two views "confirmed": a vertical edge seen by the views above and below,
+    each finding it wherever the point fell.
     """
     m = len(edges)
     looked, against = np.zeros(m, np.intp), np.zeros(m, np.intp)
@@ -295,18 +298,31 @@ def left_out_views(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: 
         ii = np.nonzero(look)[0]
         if not len(ii):
             continue
-        ex, ey, _, _, found = edge_near(views.fine_gx[j], views.fine_gy[j], uv[ii, 0],
-                                        uv[ii, 1], nj[ii, 0], nj[ii, 1], 2, threshold / 2.0,
-                                        border, lines)
-        with np.errstate(invalid="ignore"):
-            off = np.abs((ex - uv[ii, 0]) * nj[ii, 0] + (ey - uv[ii, 1]) * nj[ii, 1])
-        bad = ~found | ~(off <= reject_px)
+        bad = ~_on_edge(views, int(j), uv[ii], nj[ii], threshold=threshold,
+                        reject_px=reject_px, border=border, lines=lines)
         # the search's next best depth seen in this view: off the edge, or on it too
         alt, _ = views.project(views.C[ref] + (fit.world[idx[ii]] - views.C[ref])
                                * scale[ii, None], int(j))
         with np.errstate(invalid="ignore"):
             apart = np.abs(((alt - uv[ii]) * nj[ii]).sum(axis=1))
         tells = ~(apart <= reject_px)  # NaN (no next best depth): it tells
+        seen = tells & np.isfinite(alt).all(axis=1) & _inside(alt, h, w, border)
+        if seen.any():  # an edge where the next best depth falls too: no telling
+            tells[seen] &= ~_on_edge(views, int(j), alt[seen], nj[ii][seen],
+                                     threshold=threshold, reject_px=reject_px,
+                                     border=border, lines=lines)
         looked[idx[ii]] += bad | tells
         against[idx[ii]] += bad
     return looked, against
+
+
+def _on_edge(views: PreparedViews, j: int, uv: _F, normal: _F, *, threshold: float,
+             reject_px: float, border: int, lines: int) -> NDArray[np.bool_]:
+    """Whether an edge of view `j` with the carried `normal` (K, 2) lies within
+    `reject_px` along it of each of the pixels `uv` (K, 2) (searched within 2 px)."""
+    ex, ey, _, _, found = edge_near(views.fine_gx[j], views.fine_gy[j], uv[:, 0], uv[:, 1],
+                                    normal[:, 0], normal[:, 1], 2, threshold / 2.0, border,
+                                    lines)
+    with np.errstate(invalid="ignore"):
+        off = np.abs((ex - uv[:, 0]) * normal[:, 0] + (ey - uv[:, 1]) * normal[:, 1])
+    return found & (off <= reject_px)

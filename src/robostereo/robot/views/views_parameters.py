@@ -43,7 +43,7 @@ class ViewsParameters:
         put 0.04-5.0 % there against the sweep's 0.24-30 %, but on the simulator's
         hub-pulley they matched 78 % of the edge points against 99.96 % and on the real
         DTU views they report no more points than their widest pair (1978 against the
-        sweep's 4886): the two-view matcher is sparse on real views (issue 35).  With 3
+        sweep's 4875): the two-view matcher is sparse on real views (issue 35).  With 3
         and 5 views the pairs' points were within their bounds (at their pixel) 95.0-100 %
         of the time on the render families, the sweep's 99.2-100 % (`bound_sigmas`), and
         on the textured ones the pairs' confidence was calibrated within 0.002 (the
