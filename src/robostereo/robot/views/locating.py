@@ -220,8 +220,8 @@ def locate_views(capture: ViewsCapture, *, params: ViewsParameters | None = None
     off = [c for c in checks if c.disagrees]
     c = None
     if p.lone_view_factor is not None:
-        c = lone_check(checks, p.lone_view_factor) or lone_of_three(views, checks,
-                                                                    depth_range)
+        c = lone_check(checks, p.lone_view_factor) or lone_of_three(
+            views, checks, depth_range, p.lone_view_factor)
     if c is not None:
         warn_input(f"{source}: view {capture.view_name(c.other)}: places tracked into it "
                    f"from view {capture.view_name(c.view)} lie {c.distance_px:.2f} px, "

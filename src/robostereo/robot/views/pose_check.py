@@ -403,10 +403,12 @@ def warn_disagreeing(checks: list[EpipolarCheck]) -> None:
 
 
 def lone_of_three(views: PreparedViews, checks: list[EpipolarCheck],
-                  depth_range_mm: tuple[float, float]) -> EpipolarCheck | None:
+                  depth_range_mm: tuple[float, float],
+                  factor: float | None = None) -> EpipolarCheck | None:
     """Of three views, the one off the epipolar lines of both others: the reference's
     check of it disagrees, its check of the third view agrees, and the third view's of
-    it disagrees too.
+    it disagrees too (or, with `factor`, stands out from the check that agrees as
+    :func:`lone_check` asks).
 
     Parameters
     ----------
@@ -416,6 +418,14 @@ def lone_of_three(views: PreparedViews, checks: list[EpipolarCheck],
         :func:`views_epipolar_checks` of the reference.
     depth_range_mm : tuple of float
         ``(near, far)``, the capture's.
+    factor : float, optional
+        ``ViewsParameters.lone_view_factor``: the third pair's check names the view too
+        where its angle is more than `factor` times that of the check that agrees and
+        it is over half the tolerances.  A view turned about its optical axis moves
+        less across the lines of the longer baseline: of a line of 3 on a printed
+        ground with the last view turned 0.5 degree, the middle view's check of it was
+        1.28 px, 1.03 degrees off, the first view's 1.16 px, 0.47 degree (under the
+        tolerance), the check that agrees 0.02 px, 0.01 degree.
 
     Returns
     -------
@@ -444,7 +454,20 @@ def lone_of_three(views: PreparedViews, checks: list[EpipolarCheck],
     third = epipolar_check(views.smoothed[a], views.smoothed[b], views.K,
                            (views.R[a], views.C[a]), (views.R[b], views.C[b]),
                            depth_range_mm, view=a, other=b)
-    return bad if third is not None and third.disagrees else None
+    if third is None:
+        return None
+    if third.disagrees or (factor is not None and _stands_out(third, good.angle_deg,
+                                                              factor)):
+        return bad
+    return None
+
+
+def _stands_out(check: EpipolarCheck, rest_deg: float, factor: float) -> bool:
+    """Whether `check`'s angle is more than `factor` times `rest_deg` (the other checks'
+    largest) and it is over half the tolerances: the leave-one-out rule."""
+    return (check.angle_deg > factor * rest_deg
+            and check.angle_deg > EPIPOLAR_TOLERANCE_DEG / 2
+            and check.distance_px > EPIPOLAR_TOLERANCE_PX / 2)
 
 
 def lone_check(checks: list[EpipolarCheck], factor: float) -> EpipolarCheck | None:
@@ -471,10 +494,7 @@ def lone_check(checks: list[EpipolarCheck], factor: float) -> EpipolarCheck | No
         return None
     worst = max(valid, key=lambda c: c.angle_deg)
     rest = max(c.angle_deg for c in valid if c is not worst)
-    if (worst.angle_deg > factor * rest and worst.angle_deg > EPIPOLAR_TOLERANCE_DEG / 2
-            and worst.distance_px > EPIPOLAR_TOLERANCE_PX / 2):
-        return worst
-    return None
+    return worst if _stands_out(worst, rest, factor) else None
 
 
 def pose_offset_px(views: PreparedViews, checks: list[EpipolarCheck],
