@@ -252,8 +252,9 @@ def left_out_views(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: 
                    reject_px: float, border: int, lines: int = 2
                    ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """``(looked, against)``: for the points in `check`, the other views left out of a
-    point's fit that tell it from the next best depth, and those of them that have no
-    edge where they see it; int, shape (M,) each (0 outside `check`).
+    point's fit that are against it or tell it from the next best depth, and those of
+    them that have no edge where they see it; int, shape (M,) each (0 outside
+    `check`).
 
     Notes
     -----
@@ -301,12 +302,13 @@ def left_out_views(views: PreparedViews, ref: int, edges: ReferenceEdges, rays: 
         bad = ~_on_edge(views, int(j), uv[ii], nj[ii], threshold=threshold,
                         reject_px=reject_px, border=border, lines=lines)
         # the search's next best depth seen in this view: off the edge, or on it too
-        alt, _ = views.project(views.C[ref] + (fit.world[idx[ii]] - views.C[ref])
-                               * scale[ii, None], int(j))
+        alt, z_alt = views.project(views.C[ref] + (fit.world[idx[ii]] - views.C[ref])
+                                   * scale[ii, None], int(j))
         with np.errstate(invalid="ignore"):
             apart = np.abs(((alt - uv[ii]) * nj[ii]).sum(axis=1))
-        tells = ~(apart <= reject_px)  # NaN (no next best depth): it tells
-        seen = tells & np.isfinite(alt).all(axis=1) & _inside(alt, h, w, border)
+            tells = ~(apart <= reject_px)  # NaN (no next best depth): it tells
+            seen = (tells & (z_alt > 0) & np.isfinite(alt).all(axis=1)
+                    & _inside(alt, h, w, border))
         if seen.any():  # an edge where the next best depth falls too: no telling
             tells[seen] &= ~_on_edge(views, int(j), alt[seen], nj[ii][seen],
                                      threshold=threshold, reject_px=reject_px,
