@@ -111,7 +111,9 @@ class LocatedViews:
     views_seen : ndarray of int, shape (M,)
         Other views whose image holds the point's window.
     views_checked : ndarray of int, shape (M,)
-        Other views left out of the fit in which the point falls inside the image.
+        Other views left out of the fit in which the point falls inside the image and
+        that are against it or tell it from the search's next best depth (a view that
+        would find an edge at either depth confirms nothing).
     views_against : ndarray of int, shape (M,)
         Those of them that find no edge where they see the point
         (:func:`~robostereo.robot.views.edge_votes.left_out_views`).
@@ -354,9 +356,12 @@ def views_confidence(combined: ArrayLike, distinct: ArrayLike, residual_px: Arra
     the others, all with zero residual).  What checks such a fit is the views left out
     of it: a view along whose epipolar line the edge runs cannot vote on the depth but
     must still see an edge where the point falls.  A two-view fit with a view against
-    it is not reported (``ViewsParameters.check_two_view_fits``); one that no other view
-    sees is unchecked; a fit of three or more views that a view left out finds no edge
-    for is often a fit to the wrong one of two edges.
+    it is not reported (``ViewsParameters.check_two_view_fits``); one that no view left
+    out can tell from the search's next best depth is unchecked (refitted when that
+    replaced "no other view sees it", the unchecked two-view fit's weight went from
+    -1.8 to -3.2 and the two-view fit's own from -1.4 to 0); a fit of three or more
+    views that a view left out finds no edge for is often a fit to the wrong one of two
+    edges.
     """
     terms = confidence_terms(np.column_stack(np.broadcast_arrays(
         *(np.asarray(v, float) for v in (combined, distinct, residual_px, used_share,
